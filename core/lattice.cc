@@ -1,0 +1,193 @@
+#include "core/lattice.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <utility>
+
+#include <glog/logging.h>
+
+namespace msdeform {
+namespace {
+
+constexpr int kEmpty = -1;
+constexpr int kSurfaceMark = -2;
+constexpr int kOutsideMark = -3;
+
+// Builds compressed lists from (row, value) pairs; duplicates removed.
+CompressedLists ListsFromPairs(int num_rows, std::vector<std::pair<int, int>> pairs) {
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  CompressedLists lists;
+  lists.offsets.assign(num_rows + 1, 0);
+  lists.values.reserve(pairs.size());
+  for (const auto& [row, value] : pairs) {
+    ++lists.offsets[row + 1];
+    lists.values.push_back(value);
+  }
+  for (int r = 0; r < num_rows; ++r) lists.offsets[r + 1] += lists.offsets[r];
+  return lists;
+}
+
+}  // namespace
+
+bool LatticeOptions::Check(std::string* error) const {
+  if (!(cell_width >= 0.0) || !std::isfinite(cell_width)) {
+    *error = "cell_width must be a finite number >= 0 (0: diag / cells_per_diagonal)";
+    return false;
+  }
+  if (cell_width == 0.0 && !(cells_per_diagonal > 0.0 && std::isfinite(cells_per_diagonal))) {
+    *error = "cells_per_diagonal must be a finite number > 0";
+    return false;
+  }
+  if (max_grid_cells <= 0) {
+    *error = "max_grid_cells must be > 0";
+    return false;
+  }
+  return true;
+}
+
+Eigen::Vector3i Lattice::CellCoordsOf(const Eigen::Vector3d& point) const {
+  return ((point - origin_).array() / cell_width_ + 0.5).floor().cast<int>();
+}
+
+long long Lattice::GridIndex(const Eigen::Vector3i& coords) const {
+  const Eigen::Vector3i padded = dims_ + Eigen::Vector3i::Constant(2);
+  return (coords.x() + 1) +
+         static_cast<long long>(padded.x()) *
+             ((coords.y() + 1) + static_cast<long long>(padded.y()) * (coords.z() + 1));
+}
+
+int Lattice::ParticleAt(const Eigen::Vector3i& coords) const {
+  if ((coords.array() < -1).any() || (coords.array() > dims_.array()).any()) return -1;
+  const int particle = particle_of_grid_cell_[GridIndex(coords)];
+  return particle >= 0 ? particle : -1;
+}
+
+bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* lattice,
+                    std::string* error) {
+  CHECK(lattice != nullptr);
+  if (!options.Check(error)) return false;
+  if (!ValidateMesh(mesh, error)) return false;
+  Lattice& l = *lattice;
+  l = Lattice();
+
+  const Eigen::AlignedBox3d box = BoundingBox(mesh);
+  const double diagonal = box.diagonal().norm();
+  l.cell_width_ = options.cell_width > 0.0 ? options.cell_width
+                                           : diagonal / options.cells_per_diagonal;
+  if (!(l.cell_width_ > 0.0)) {
+    *error = "the mesh has a zero-size bounding box; cannot build a lattice";
+    return false;
+  }
+  l.origin_ = box.min();
+  l.dims_ = l.CellCoordsOf(box.max()) + Eigen::Vector3i::Ones();
+  const Eigen::Vector3i padded = l.dims_ + Eigen::Vector3i::Constant(2);
+  const long long grid_size = static_cast<long long>(padded.x()) * padded.y() * padded.z();
+  if (grid_size > options.max_grid_cells) {
+    std::ostringstream message;
+    message << "cell width " << l.cell_width_ << " gives a " << l.dims_.transpose()
+            << " lattice (" << grid_size << " cells), more than max_grid_cells "
+            << options.max_grid_cells << "; use a larger cell width";
+    *error = message.str();
+    return false;
+  }
+
+  // Mark surface cells, then flood-fill the outside through empty cells.
+  std::vector<int>& grid = l.particle_of_grid_cell_;
+  grid.assign(grid_size, kEmpty);
+  std::vector<long long> grid_cell_of_vertex(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    grid_cell_of_vertex[v] = l.GridIndex(l.CellCoordsOf(mesh.vertices.col(v)));
+    grid[grid_cell_of_vertex[v]] = kSurfaceMark;
+  }
+  const long long stride[3] = {1, padded.x(), static_cast<long long>(padded.x()) * padded.y()};
+  std::vector<long long> queue = {0};  // The padded corner is always outside.
+  grid[0] = kOutsideMark;
+  while (!queue.empty()) {
+    const long long cell = queue.back();
+    queue.pop_back();
+    long long rest = cell;
+    const int coord[3] = {static_cast<int>(rest % padded.x()),
+                          static_cast<int>((rest / padded.x()) % padded.y()),
+                          static_cast<int>(rest / stride[2])};
+    for (int axis = 0; axis < 3; ++axis) {
+      for (int step : {-1, 1}) {
+        const int moved = coord[axis] + step;
+        if (moved < 0 || moved >= padded[axis]) continue;
+        const long long next = cell + step * stride[axis];
+        if (grid[next] != kEmpty) continue;
+        grid[next] = kOutsideMark;
+        queue.push_back(next);
+      }
+    }
+  }
+
+  // Number particles: surface cells in grid order, then interior cells.
+  auto coords_of = [&](long long cell) {
+    return Eigen::Vector3i(static_cast<int>(cell % padded.x()) - 1,
+                           static_cast<int>((cell / padded.x()) % padded.y()) - 1,
+                           static_cast<int>(cell / stride[2]) - 1);
+  };
+  for (long long cell = 0; cell < grid_size; ++cell) {
+    if (grid[cell] == kSurfaceMark) {
+      grid[cell] = static_cast<int>(l.cell_coords_.size());
+      l.cell_coords_.push_back(coords_of(cell));
+    }
+  }
+  l.num_surface_cells_ = static_cast<int>(l.cell_coords_.size());
+  for (long long cell = 0; cell < grid_size; ++cell) {
+    if (grid[cell] == kEmpty) {
+      grid[cell] = static_cast<int>(l.cell_coords_.size());
+      l.cell_coords_.push_back(coords_of(cell));
+    } else if (grid[cell] == kOutsideMark) {
+      grid[cell] = kEmpty;
+    }
+  }
+  l.rest_positions_.resize(3, l.num_particles());
+  for (int p = 0; p < l.num_particles(); ++p) {
+    l.rest_positions_.col(p) = l.origin_ + l.cell_width_ * l.cell_coords_[p].cast<double>();
+  }
+
+  // Vertex <-> cell maps.
+  l.cell_of_vertex_.resize(mesh.num_vertices());
+  std::vector<std::pair<int, int>> cell_vertex;
+  cell_vertex.reserve(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    l.cell_of_vertex_[v] = grid[grid_cell_of_vertex[v]];
+    cell_vertex.emplace_back(l.cell_of_vertex_[v], v);
+  }
+  l.vertices_of_cell_ = ListsFromPairs(l.num_surface_cells_, std::move(cell_vertex));
+
+  // L lists from mesh edges that cross cells.
+  std::vector<std::pair<int, int>> cell_pairs;
+  for (const auto& [a, b] : UniqueEdges(mesh)) {
+    const int ca = l.cell_of_vertex_[a], cb = l.cell_of_vertex_[b];
+    if (ca == cb) continue;
+    cell_pairs.emplace_back(ca, cb);
+    cell_pairs.emplace_back(cb, ca);
+  }
+  l.neighborhood_ = ListsFromPairs(l.num_surface_cells_, cell_pairs);
+
+  // Particle adjacency: L for surface-surface, 26 lattice neighbours when an
+  // interior particle is involved.
+  std::vector<std::pair<int, int>> particle_pairs = std::move(cell_pairs);
+  for (int p = l.num_surface_cells_; p < l.num_particles(); ++p) {
+    const Eigen::Vector3i& c = l.cell_coords_[p];
+    for (int dz = -1; dz <= 1; ++dz) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          if (dx == 0 && dy == 0 && dz == 0) continue;
+          const int q = l.ParticleAt(c + Eigen::Vector3i(dx, dy, dz));
+          if (q < 0) continue;
+          particle_pairs.emplace_back(p, q);
+          if (q < l.num_surface_cells_) particle_pairs.emplace_back(q, p);
+        }
+      }
+    }
+  }
+  l.particle_adjacency_ = ListsFromPairs(l.num_particles(), std::move(particle_pairs));
+  return true;
+}
+
+}  // namespace msdeform

@@ -1,0 +1,111 @@
+// The lattice over a mesh (paper §3.1, Eq. 1; METHOD.md §1).
+//
+// Cells have width w. Vertex i lies in cell (a, b, c) with
+//   a = floor((x_i - x_min + w/2) / w)   (likewise b from y, c from z),
+// and cell (a, b, c) has its centre at (x_min + a w, y_min + b w, z_min + c w).
+// Surface cells hold at least one vertex. Interior cells are the empty cells
+// that a 6-connected flood fill from outside the padded lattice cannot reach
+// (surface cells are walls), so a watertight mesh is filled solid and a mesh
+// with holes simply fills less.
+//
+// There is one particle per surface or interior cell, at the cell centre.
+// Particles 0 .. num_surface_cells()-1 are the surface cells (and DG1 node i is
+// surface particle i); the interior particles follow.
+//
+// The neighbourhood list L_i of surface cell i holds the surface cells j != i
+// that a mesh edge joins to cell i: geometrically touching but geodesically
+// far parts (two teeth of a comb in touching cells) are not L-neighbours.
+// Particle adjacency: surface-surface by L, interior-interior and
+// interior-surface by the 26 lattice neighbours.
+
+#ifndef MSDEFORM_CORE_LATTICE_H_
+#define MSDEFORM_CORE_LATTICE_H_
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/mesh.h"
+
+namespace msdeform {
+
+struct LatticeOptions {
+  // Cell width w in mesh units; 0 means diag / cells_per_diagonal.
+  double cell_width = 0.0;
+  // Used when cell_width is 0: w = bounding-box diagonal / this (METHOD.md: 48).
+  double cells_per_diagonal = 48.0;
+  // Upper bound on the number of cells of the padded grid (memory guard).
+  long long max_grid_cells = 1LL << 28;
+
+  bool Check(std::string* error) const;
+};
+
+// A compressed list of lists: the entries of row r are
+// values[offsets[r] .. offsets[r + 1]).
+struct CompressedLists {
+  std::vector<int> offsets{0};
+  std::vector<int> values;
+
+  int num_rows() const { return static_cast<int>(offsets.size()) - 1; }
+  int size(int row) const { return offsets[row + 1] - offsets[row]; }
+  const int* begin(int row) const { return values.data() + offsets[row]; }
+  const int* end(int row) const { return values.data() + offsets[row + 1]; }
+};
+
+class Lattice {
+ public:
+  // Builds the lattice of `mesh` (which must pass ValidateMesh). Returns false
+  // with a message when the options are invalid or the grid would be too big.
+  static bool Build(const Mesh& mesh, const LatticeOptions& options,
+                    Lattice* lattice, std::string* error);
+
+  double cell_width() const { return cell_width_; }
+  const Eigen::Vector3d& origin() const { return origin_; }  // (x_min, y_min, z_min)
+  // Cells per axis, of the unpadded lattice: indices 0 .. dims - 1.
+  const Eigen::Vector3i& dims() const { return dims_; }
+
+  int num_surface_cells() const { return num_surface_cells_; }
+  int num_interior_cells() const { return num_particles() - num_surface_cells_; }
+  int num_particles() const { return static_cast<int>(cell_coords_.size()); }
+
+  // Integer cell coordinates (a, b, c) of particle p.
+  const Eigen::Vector3i& cell_coords(int p) const { return cell_coords_[p]; }
+  // Rest positions of all particles (cell centres). 3 by #particles.
+  const Eigen::Matrix3Xd& rest_positions() const { return rest_positions_; }
+
+  // The surface cell (= surface particle) holding vertex v. O(1).
+  int cell_of_vertex(int v) const { return cell_of_vertex_[v]; }
+  const std::vector<int>& cell_of_vertex() const { return cell_of_vertex_; }
+  // Vertices of each surface cell, in increasing id order.
+  const CompressedLists& vertices_of_cell() const { return vertices_of_cell_; }
+  // L lists of the surface cells (sorted, without the cell itself).
+  const CompressedLists& neighborhood() const { return neighborhood_; }
+  // Particle adjacency as above (sorted, without the particle itself).
+  const CompressedLists& particle_adjacency() const { return particle_adjacency_; }
+
+  // Eq. 1 for an arbitrary point.
+  Eigen::Vector3i CellCoordsOf(const Eigen::Vector3d& point) const;
+  // Particle of the cell with the given coordinates, or -1 if that cell is
+  // neither surface nor interior (or outside the lattice).
+  int ParticleAt(const Eigen::Vector3i& coords) const;
+
+ private:
+  long long GridIndex(const Eigen::Vector3i& coords) const;  // padded grid
+
+  double cell_width_ = 0.0;
+  Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();
+  int num_surface_cells_ = 0;
+  std::vector<Eigen::Vector3i> cell_coords_;
+  Eigen::Matrix3Xd rest_positions_;
+  std::vector<int> cell_of_vertex_;
+  CompressedLists vertices_of_cell_;
+  CompressedLists neighborhood_;
+  CompressedLists particle_adjacency_;
+  std::vector<int> particle_of_grid_cell_;  // padded grid, -1 for empty/outside.
+};
+
+}  // namespace msdeform
+
+#endif  // MSDEFORM_CORE_LATTICE_H_

@@ -1,0 +1,184 @@
+#include "core/procedural_meshes.h"
+
+#include <cmath>
+#include <map>
+#include <tuple>
+
+#include <glog/logging.h>
+
+namespace msdeform {
+
+VoxelShape::VoxelShape(int nx, int ny, int nz)
+    : nx(nx), ny(ny), nz(nz), occupied(static_cast<size_t>(nx) * ny * nz, 0) {}
+
+bool VoxelShape::at(int i, int j, int k) const {
+  if (i < 0 || j < 0 || k < 0 || i >= nx || j >= ny || k >= nz) return false;
+  return occupied[i + nx * (j + ny * k)] != 0;
+}
+
+void VoxelShape::Set(int i, int j, int k, bool value) {
+  CHECK(i >= 0 && j >= 0 && k >= 0 && i < nx && j < ny && k < nz);
+  occupied[i + nx * (j + ny * k)] = value ? 1 : 0;
+}
+
+void VoxelShape::Fill(const Eigen::Vector3i& from, const Eigen::Vector3i& to_exclusive) {
+  for (int k = from.z(); k < to_exclusive.z(); ++k)
+    for (int j = from.y(); j < to_exclusive.y(); ++j)
+      for (int i = from.x(); i < to_exclusive.x(); ++i) Set(i, j, k);
+}
+
+Mesh MakeVoxelMesh(const VoxelShape& shape, double voxel_size, int subdivisions) {
+  CHECK_GT(subdivisions, 0);
+  const int s = subdivisions;
+  // Vertices live on a grid s times finer than the voxels; weld by grid key.
+  std::map<std::tuple<int, int, int>, int> id_of_point;
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3i> triangles;
+  auto vertex = [&](const Eigen::Vector3i& p) {
+    auto [it, inserted] = id_of_point.emplace(std::make_tuple(p.x(), p.y(), p.z()),
+                                              static_cast<int>(points.size()));
+    if (inserted) points.push_back(p.cast<double>() * (voxel_size / s));
+    return it->second;
+  };
+  for (int k = 0; k < shape.nz; ++k) {
+    for (int j = 0; j < shape.ny; ++j) {
+      for (int i = 0; i < shape.nx; ++i) {
+        if (!shape.at(i, j, k)) continue;
+        for (int axis = 0; axis < 3; ++axis) {
+          for (int side = 0; side < 2; ++side) {
+            Eigen::Vector3i neighbor(i, j, k);
+            neighbor[axis] += side == 0 ? -1 : 1;
+            if (shape.at(neighbor.x(), neighbor.y(), neighbor.z())) continue;
+            // Face on the plane axis = voxel + side, spanned by axes u, v with
+            // (u, v, axis) right-handed; flip the winding on the negative side.
+            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            Eigen::Vector3i base = Eigen::Vector3i(i, j, k) * s;
+            base[axis] += side * s;
+            for (int a = 0; a < s; ++a) {
+              for (int b = 0; b < s; ++b) {
+                Eigen::Vector3i corner[4];
+                for (int c = 0; c < 4; ++c) {
+                  corner[c] = base;
+                  corner[c][u] += a + (c == 1 || c == 2);
+                  corner[c][v] += b + (c >= 2);
+                }
+                int q[4];
+                for (int c = 0; c < 4; ++c) q[c] = vertex(corner[c]);
+                if (side == 1) {
+                  triangles.emplace_back(q[0], q[1], q[2]);
+                  triangles.emplace_back(q[0], q[2], q[3]);
+                } else {
+                  triangles.emplace_back(q[0], q[2], q[1]);
+                  triangles.emplace_back(q[0], q[3], q[2]);
+                }
+              }
+            }
+          }
+        }
+      }
+    }
+  }
+  Mesh mesh;
+  mesh.vertices.resize(3, points.size());
+  for (size_t p = 0; p < points.size(); ++p) mesh.vertices.col(p) = points[p];
+  mesh.faces.resize(3, triangles.size());
+  for (size_t f = 0; f < triangles.size(); ++f) mesh.faces.col(f) = triangles[f];
+  return mesh;
+}
+
+Mesh MakeBar(int length, double voxel_size, int subdivisions) {
+  VoxelShape shape(length, 1, 1);
+  shape.Fill({0, 0, 0}, {length, 1, 1});
+  return MakeVoxelMesh(shape, voxel_size, subdivisions);
+}
+
+Mesh MakeComb(int num_teeth, int tooth_length, double voxel_size, int subdivisions) {
+  const int length = 2 * num_teeth - 1;
+  VoxelShape shape(length, 1 + tooth_length, 1);
+  shape.Fill({0, 0, 0}, {length, 1, 1});
+  for (int t = 0; t < num_teeth; ++t) shape.Fill({2 * t, 1, 0}, {2 * t + 1, 1 + tooth_length, 1});
+  return MakeVoxelMesh(shape, voxel_size, subdivisions);
+}
+
+Mesh MakeTwoBars(int length, int gap, double voxel_size, int subdivisions) {
+  VoxelShape shape(length, 2 + gap, 1);
+  shape.Fill({0, 0, 0}, {length, 1, 1});
+  shape.Fill({0, 1 + gap, 0}, {length, 2 + gap, 1});
+  return MakeVoxelMesh(shape, voxel_size, subdivisions);
+}
+
+Mesh MakeOpenTube(double radius, double height, int segments, int rings) {
+  CHECK_GE(segments, 3);
+  CHECK_GE(rings, 1);
+  Mesh mesh;
+  mesh.vertices.resize(3, segments * (rings + 1));
+  for (int r = 0; r <= rings; ++r) {
+    for (int s = 0; s < segments; ++s) {
+      const double angle = 2.0 * M_PI * s / segments;
+      mesh.vertices.col(r * segments + s) << radius * std::cos(angle),
+          radius * std::sin(angle), height * r / rings;
+    }
+  }
+  mesh.faces.resize(3, 2 * segments * rings);
+  int f = 0;
+  for (int r = 0; r < rings; ++r) {
+    for (int s = 0; s < segments; ++s) {
+      const int a = r * segments + s, b = r * segments + (s + 1) % segments;
+      const int c = a + segments, d = b + segments;
+      mesh.faces.col(f++) << a, b, d;
+      mesh.faces.col(f++) << a, d, c;
+    }
+  }
+  return mesh;
+}
+
+Mesh MakeSphere(double radius, int segments, int rings) {
+  CHECK_GE(segments, 3);
+  CHECK_GE(rings, 2);
+  // Vertex 0 is the south pole, then rings - 1 latitude circles, then north.
+  const int num_vertices = 2 + segments * (rings - 1);
+  Mesh mesh;
+  mesh.vertices.resize(3, num_vertices);
+  mesh.vertices.col(0) << 0, 0, -radius;
+  for (int r = 1; r < rings; ++r) {
+    const double polar = M_PI * r / rings;
+    for (int s = 0; s < segments; ++s) {
+      const double azimuth = 2.0 * M_PI * s / segments;
+      mesh.vertices.col(1 + (r - 1) * segments + s)
+          << radius * std::sin(polar) * std::cos(azimuth),
+          radius * std::sin(polar) * std::sin(azimuth), -radius * std::cos(polar);
+    }
+  }
+  mesh.vertices.col(num_vertices - 1) << 0, 0, radius;
+  std::vector<Eigen::Vector3i> faces;
+  auto ring_vertex = [&](int r, int s) { return 1 + (r - 1) * segments + (s % segments); };
+  for (int s = 0; s < segments; ++s) faces.emplace_back(0, ring_vertex(1, s + 1), ring_vertex(1, s));
+  for (int r = 1; r + 1 < rings; ++r) {
+    for (int s = 0; s < segments; ++s) {
+      const int a = ring_vertex(r, s), b = ring_vertex(r, s + 1);
+      const int c = ring_vertex(r + 1, s), d = ring_vertex(r + 1, s + 1);
+      faces.emplace_back(a, b, d);
+      faces.emplace_back(a, d, c);
+    }
+  }
+  for (int s = 0; s < segments; ++s) {
+    faces.emplace_back(num_vertices - 1, ring_vertex(rings - 1, s), ring_vertex(rings - 1, s + 1));
+  }
+  mesh.faces.resize(3, faces.size());
+  for (size_t f = 0; f < faces.size(); ++f) mesh.faces.col(f) = faces[f];
+  return mesh;
+}
+
+std::vector<int> CombToothVertices(const Mesh& comb, int tooth, double voxel_size) {
+  std::vector<int> ids;
+  for (int v = 0; v < comb.num_vertices(); ++v) {
+    const Eigen::Vector3d p = comb.vertices.col(v);
+    if (p.y() > voxel_size * (1.0 + 1e-9) && p.x() >= 2 * tooth * voxel_size - 1e-9 &&
+        p.x() <= (2 * tooth + 1) * voxel_size + 1e-9) {
+      ids.push_back(v);
+    }
+  }
+  return ids;
+}
+
+}  // namespace msdeform

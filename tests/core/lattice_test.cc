@@ -1,0 +1,156 @@
+#include "core/lattice.h"
+
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "core/procedural_meshes.h"
+
+namespace msdeform {
+namespace {
+
+Lattice BuildOrDie(const Mesh& mesh, double cell_width) {
+  LatticeOptions options;
+  options.cell_width = cell_width;
+  Lattice lattice;
+  std::string error;
+  EXPECT_TRUE(Lattice::Build(mesh, options, &lattice, &error)) << error;
+  return lattice;
+}
+
+TEST(LatticeTest, Eq1CoordinatesOnHandCheckedPoints) {
+  // One triangle spanning x in [1, 3.2], y in [-1, 0], z = 5; w = 1.
+  Mesh mesh;
+  mesh.vertices.resize(3, 3);
+  mesh.vertices << 1.0, 3.2, 1.49,  //
+      -1.0, 0.0, -0.49,             //
+      5.0, 5.0, 5.0;
+  mesh.faces.resize(3, 1);
+  mesh.faces << 0, 1, 2;
+  const Lattice lattice = BuildOrDie(mesh, 1.0);
+  // a = floor((x - 1 + 0.5) / 1): x = 1 -> 0, 3.2 -> 2, 1.49 -> 0.
+  // b = floor((y + 1 + 0.5) / 1): y = -1 -> 0, 0 -> 1, -0.49 -> 1.
+  EXPECT_EQ(lattice.cell_coords(lattice.cell_of_vertex(0)), Eigen::Vector3i(0, 0, 0));
+  EXPECT_EQ(lattice.cell_coords(lattice.cell_of_vertex(1)), Eigen::Vector3i(2, 1, 0));
+  EXPECT_EQ(lattice.cell_coords(lattice.cell_of_vertex(2)), Eigen::Vector3i(0, 1, 0));
+  EXPECT_EQ(lattice.CellCoordsOf(Eigen::Vector3d(1.51, -0.51, 5.0)), Eigen::Vector3i(1, 0, 0));
+  EXPECT_EQ(lattice.dims(), Eigen::Vector3i(3, 2, 1));
+  // Cell centre of (2, 1, 0) is (x_min + 2w, y_min + w, z_min).
+  EXPECT_TRUE(lattice.rest_positions()
+                  .col(lattice.cell_of_vertex(1))
+                  .isApprox(Eigen::Vector3d(3.0, 0.0, 5.0)));
+  EXPECT_EQ(lattice.num_surface_cells(), 3);
+  EXPECT_EQ(lattice.num_interior_cells(), 0);  // A flat triangle has no inside.
+}
+
+TEST(LatticeTest, DefaultCellWidthIsDiagonalOver48) {
+  const Mesh bar = MakeBar(8);
+  LatticeOptions options;
+  Lattice lattice;
+  std::string error;
+  ASSERT_TRUE(Lattice::Build(bar, options, &lattice, &error)) << error;
+  EXPECT_DOUBLE_EQ(lattice.cell_width(), BoundingBoxDiagonal(bar) / 48.0);
+}
+
+TEST(LatticeTest, ClosedBarIsFilledSolid) {
+  // A 12 x 3 x 3 bar (voxels of 3) with w = 0.5: every lattice cell whose
+  // centre is strictly inside the bar is either surface or interior.
+  const Mesh bar = MakeBar(4, 3.0, 6);
+  const Lattice lattice = BuildOrDie(bar, 0.5);
+  EXPECT_GT(lattice.num_interior_cells(), 0);
+  int inside_centres = 0;
+  for (int a = 0; a < lattice.dims().x(); ++a)
+    for (int b = 0; b < lattice.dims().y(); ++b)
+      for (int c = 0; c < lattice.dims().z(); ++c) {
+        const Eigen::Vector3d centre =
+            lattice.origin() + 0.5 * Eigen::Vector3d(a, b, c);
+        if ((centre.array() > 0.0).all() && centre.x() < 12.0 && centre.y() < 3.0 &&
+            centre.z() < 3.0) {
+          ++inside_centres;
+          EXPECT_GE(lattice.ParticleAt({a, b, c}), 0) << a << " " << b << " " << c;
+        }
+      }
+  EXPECT_EQ(lattice.num_particles(), (12 * 2 + 1) * (3 * 2 + 1) * (3 * 2 + 1));
+  // The bar's sides sit on cell centres, so the strictly inside centres are
+  // exactly the interior cells.
+  EXPECT_EQ(inside_centres, lattice.num_interior_cells());
+}
+
+TEST(LatticeTest, OpenTubeIsNotFilled) {
+  const Mesh tube = MakeOpenTube(1.0, 4.0, 64, 32);
+  const Lattice lattice = BuildOrDie(tube, 0.25);
+  EXPECT_EQ(lattice.num_interior_cells(), 0);
+  EXPECT_GT(lattice.num_surface_cells(), 0);
+}
+
+TEST(LatticeTest, EveryVertexIsInItsSurfaceCell) {
+  const Mesh sphere = MakeSphere(1.0, 40, 20);
+  const Lattice lattice = BuildOrDie(sphere, 0.2);
+  int listed = 0;
+  for (int cell = 0; cell < lattice.num_surface_cells(); ++cell) {
+    ASSERT_GT(lattice.vertices_of_cell().size(cell), 0);
+    for (const int* v = lattice.vertices_of_cell().begin(cell);
+         v != lattice.vertices_of_cell().end(cell); ++v) {
+      EXPECT_EQ(lattice.cell_of_vertex(*v), cell);
+      EXPECT_EQ(lattice.CellCoordsOf(sphere.vertices.col(*v)), lattice.cell_coords(cell));
+      ++listed;
+    }
+  }
+  EXPECT_EQ(listed, sphere.num_vertices());
+}
+
+TEST(LatticeTest, CombTeethInTouchingCellsAreNotNeighbours) {
+  // Teeth 1 wide with 1-wide gaps; cells of 0.6 put the facing sides of
+  // neighbouring teeth into touching cells.
+  const Mesh comb = MakeComb(3, 6, 1.0, 5);
+  const Lattice lattice = BuildOrDie(comb, 0.6);
+  std::vector<std::set<int>> cells_of_tooth(3);
+  for (int t = 0; t < 3; ++t)
+    for (int v : CombToothVertices(comb, t)) {
+      if (comb.vertices(1, v) > 2.5) cells_of_tooth[t].insert(lattice.cell_of_vertex(v));
+    }
+  int touching_pairs = 0;
+  for (int t = 0; t + 1 < 3; ++t) {
+    for (int a : cells_of_tooth[t]) {
+      ASSERT_EQ(cells_of_tooth[t + 1].count(a), 0u) << "teeth share a cell";
+      for (int b : cells_of_tooth[t + 1]) {
+        const Eigen::Vector3i gap = lattice.cell_coords(a) - lattice.cell_coords(b);
+        if (gap.cwiseAbs().maxCoeff() == 1) {
+          ++touching_pairs;
+          const auto& l = lattice.neighborhood();
+          EXPECT_EQ(std::find(l.begin(a), l.end(a), b), l.end(a));
+        }
+      }
+    }
+  }
+  EXPECT_GT(touching_pairs, 0) << "the test geometry should put teeth in touching cells";
+}
+
+TEST(LatticeTest, AdjacencyIsSymmetricAndFollowsMethod) {
+  const Mesh bar = MakeBar(4, 3.0, 6);
+  const Lattice lattice = BuildOrDie(bar, 0.5);
+  const CompressedLists& adjacency = lattice.particle_adjacency();
+  for (int p = 0; p < lattice.num_particles(); ++p) {
+    for (const int* q = adjacency.begin(p); q != adjacency.end(p); ++q) {
+      EXPECT_NE(*q, p);
+      EXPECT_NE(std::find(adjacency.begin(*q), adjacency.end(*q), p), adjacency.end(*q));
+      EXPECT_LE((lattice.cell_coords(p) - lattice.cell_coords(*q)).cwiseAbs().maxCoeff(), 1);
+      if (p < lattice.num_surface_cells() && *q < lattice.num_surface_cells()) {
+        const auto& l = lattice.neighborhood();
+        EXPECT_NE(std::find(l.begin(p), l.end(p), *q), l.end(p));
+      }
+    }
+  }
+}
+
+TEST(LatticeTest, TooFineCellWidthIsAnError) {
+  LatticeOptions options;
+  options.cell_width = 1e-6;
+  Lattice lattice;
+  std::string error;
+  EXPECT_FALSE(Lattice::Build(MakeBar(4), options, &lattice, &error));
+  EXPECT_NE(error.find("cell width"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace msdeform
