@@ -1,0 +1,123 @@
+// Analytic Jacobians of the cost functions in rot_cost.h, coherence_cost.h and
+// position_cost.h. Ceres stores each Jacobian block row-major: entry
+// (residual r, parameter p) of block b is jacobians[b][r * block_size + p].
+// A rotation block is column-major, so R(a, c) is parameter c * 3 + a.
+
+#include <algorithm>
+
+#include "energies/coherence_cost.h"
+#include "energies/position_cost.h"
+#include "energies/rot_cost.h"
+
+namespace msdeform {
+
+bool RotCostAnalytic::Evaluate(double const* const* parameters, double* residuals,
+                               double** jacobians) const {
+  const double* c[3] = {parameters[0], parameters[0] + 3, parameters[0] + 6};
+  auto dot = [](const double* a, const double* b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  };
+  const double s = sqrt_weight_;
+  // Residual r pairs columns (first[r], second[r]); the last three are c.c - 1.
+  static constexpr int kFirst[6] = {0, 0, 1, 0, 1, 2};
+  static constexpr int kSecond[6] = {1, 2, 2, 0, 1, 2};
+  for (int r = 0; r < 6; ++r) {
+    residuals[r] = s * (dot(c[kFirst[r]], c[kSecond[r]]) - (r >= 3 ? 1.0 : 0.0));
+  }
+  if (jacobians != nullptr && jacobians[0] != nullptr) {
+    double* J = jacobians[0];
+    std::fill(J, J + 6 * 9, 0.0);
+    for (int r = 0; r < 6; ++r) {
+      const int a = kFirst[r], b = kSecond[r];
+      for (int i = 0; i < 3; ++i) {
+        J[r * 9 + a * 3 + i] += s * c[b][i];
+        J[r * 9 + b * 3 + i] += s * c[a][i];
+      }
+    }
+  }
+  return true;
+}
+
+bool CoherenceCostAnalytic::Evaluate(double const* const* parameters, double* residuals,
+                                     double** jacobians) const {
+  Eigen::Map<const Eigen::Matrix3d> R_j(parameters[0]);
+  Eigen::Map<const Eigen::Vector3d> t_j(parameters[1]);
+  Eigen::Map<const Eigen::Vector3d> t_k(parameters[2]);
+  const Eigen::Vector3d edge = g_k_ - g_j_;
+  Eigen::Map<Eigen::Vector3d> residual_vector(residuals);
+    residual_vector = sqrt_weight_ * (R_j * edge - edge + t_j - t_k);
+  if (jacobians == nullptr) return true;
+  if (jacobians[0] != nullptr) {
+    std::fill(jacobians[0], jacobians[0] + 27, 0.0);
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 3; ++c) jacobians[0][a * 9 + c * 3 + a] = sqrt_weight_ * edge[c];
+  }
+  for (int block = 1; block <= 2; ++block) {
+    if (jacobians[block] == nullptr) continue;
+    const double sign = block == 1 ? sqrt_weight_ : -sqrt_weight_;
+    std::fill(jacobians[block], jacobians[block] + 9, 0.0);
+    for (int a = 0; a < 3; ++a) jacobians[block][a * 3 + a] = sign;
+  }
+  return true;
+}
+
+namespace {
+std::vector<SkinningTerm> WithoutZeroWeights(std::vector<SkinningTerm> terms) {
+  terms.erase(std::remove_if(terms.begin(), terms.end(),
+                             [](const SkinningTerm& term) { return term.weight == 0.0; }),
+              terms.end());
+  return terms;
+}
+}  // namespace
+
+ceres::CostFunction* PositionCost::Create(std::vector<SkinningTerm> terms,
+                                          const Eigen::Vector3d& target, double sqrt_weight) {
+  terms = WithoutZeroWeights(std::move(terms));
+  const size_t num_terms = terms.size();
+  auto* cost = new ceres::DynamicAutoDiffCostFunction<PositionCost, 4>(
+      new PositionCost(std::move(terms), target, sqrt_weight));
+  for (size_t i = 0; i < num_terms; ++i) {
+    cost->AddParameterBlock(9);
+    cost->AddParameterBlock(3);
+  }
+  cost->SetNumResiduals(3);
+  return cost;
+}
+
+PositionCostAnalytic::PositionCostAnalytic(std::vector<SkinningTerm> terms,
+                                           const Eigen::Vector3d& target, double sqrt_weight)
+    : terms_(WithoutZeroWeights(std::move(terms))), target_(target), sqrt_weight_(sqrt_weight) {
+  for (size_t i = 0; i < terms_.size(); ++i) {
+    mutable_parameter_block_sizes()->push_back(9);
+    mutable_parameter_block_sizes()->push_back(3);
+  }
+  set_num_residuals(3);
+}
+
+bool PositionCostAnalytic::Evaluate(double const* const* parameters, double* residuals,
+                                    double** jacobians) const {
+  Eigen::Vector3d skinned = -target_;
+  for (size_t i = 0; i < terms_.size(); ++i) {
+    Eigen::Map<const Eigen::Matrix3d> R(parameters[2 * i]);
+    Eigen::Map<const Eigen::Vector3d> t(parameters[2 * i + 1]);
+    skinned += terms_[i].weight * (R * terms_[i].offset + terms_[i].position + t);
+  }
+  Eigen::Map<Eigen::Vector3d> residual_vector(residuals);
+    residual_vector = sqrt_weight_ * skinned;
+  if (jacobians == nullptr) return true;
+  for (size_t i = 0; i < terms_.size(); ++i) {
+    const double scale = sqrt_weight_ * terms_[i].weight;
+    if (double* J = jacobians[2 * i]) {
+      std::fill(J, J + 27, 0.0);
+      for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c) J[a * 9 + c * 3 + a] = scale * terms_[i].offset[c];
+    }
+    if (double* J = jacobians[2 * i + 1]) {
+      std::fill(J, J + 9, 0.0);
+      for (int a = 0; a < 3; ++a) J[a * 3 + a] = scale;
+    }
+  }
+  return true;
+}
+
+}  // namespace msdeform
