@@ -1,0 +1,937 @@
+#include "core/mesh_io.h"
+
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <string_view>
+#include <vector>
+
+#include <OpenMesh/Core/IO/IOManager.hh>
+#include <OpenMesh/Core/IO/exporter/BaseExporter.hh>
+#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+
+#include "core/atomic_file.h"
+
+namespace msdeform {
+namespace {
+
+namespace fs = std::filesystem;
+using OpenMesh::EdgeHandle;
+using OpenMesh::FaceHandle;
+using OpenMesh::HalfedgeHandle;
+using OpenMesh::Vec2f;
+using OpenMesh::Vec3d;
+using OpenMesh::Vec3f;
+using OpenMesh::Vec3i;
+using OpenMesh::Vec3uc;
+using OpenMesh::Vec3ui;
+using OpenMesh::Vec4f;
+using OpenMesh::Vec4uc;
+using OpenMesh::Vec4ui;
+using OpenMesh::VertexHandle;
+using StatusInfo = OpenMesh::Attributes::StatusInfo;
+
+bool Fail(const std::string& path, const std::string& problem, std::string* error) {
+  *error = path + ": " + problem;
+  return false;
+}
+
+// Lower-case extension without the dot ("" when there is none).
+std::string LowerExtension(const std::string& path) {
+  std::string extension = fs::path(path).extension().string();
+  if (!extension.empty()) extension.erase(0, 1);
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
+// Turns OpenMesh's own omerr/omlog/omout printing off for its lifetime: our
+// errors are the one-line messages below. (A few OpenMesh readers print to
+// std::cerr directly; those cannot be silenced here.)
+class ScopedOpenMeshSilence {
+ public:
+  ScopedOpenMeshSilence()
+      : err_(::omerr().is_enabled()), log_(::omlog().is_enabled()), out_(::omout().is_enabled()) {
+    ::omerr().disable();
+    ::omlog().disable();
+    ::omout().disable();
+  }
+  ~ScopedOpenMeshSilence() {
+    if (err_) ::omerr().enable();
+    if (log_) ::omlog().enable();
+    if (out_) ::omout().enable();
+  }
+  ScopedOpenMeshSilence(const ScopedOpenMeshSilence&) = delete;
+  ScopedOpenMeshSilence& operator=(const ScopedOpenMeshSilence&) = delete;
+
+ private:
+  bool err_, log_, out_;
+};
+
+// Records what a reader hands over, in order, and nothing else: vertices as
+// they are added and faces as raw index lists. No halfedge structure is built,
+// so nothing is dropped or duplicated for non-manifold input.
+class RawImporter : public OpenMesh::IO::BaseImporter {
+ public:
+  std::vector<double> xyz;           // 3 #V
+  std::vector<int> face_offsets{0};  // #polygons + 1
+  std::vector<int> face_ids;         // vertex ids of all polygons
+  int num_polygons() const { return static_cast<int>(face_offsets.size()) - 1; }
+
+  VertexHandle add_vertex(const Vec3f& p) override { return AddVertex(p[0], p[1], p[2]); }
+  VertexHandle add_vertex(const Vec3d& p) override { return AddVertex(p[0], p[1], p[2]); }
+  VertexHandle add_vertex() override { return AddVertex(0.0, 0.0, 0.0); }
+  void set_point(VertexHandle vh, const Vec3f& p) override {
+    const int v = vh.idx();
+    if (v < 0 || 3 * static_cast<size_t>(v) >= xyz.size()) return;
+    for (int k = 0; k < 3; ++k) xyz[3 * v + k] = p[k];
+  }
+  FaceHandle add_face(const VHandles& ids) override {
+    for (const VertexHandle& vh : ids) face_ids.push_back(vh.idx());
+    face_offsets.push_back(static_cast<int>(face_ids.size()));
+    return FaceHandle(num_polygons() - 1);
+  }
+  size_t n_vertices() const override { return xyz.size() / 3; }
+  size_t n_faces() const override { return static_cast<size_t>(num_polygons()); }
+  size_t n_edges() const override { return 0; }
+  void reserve(unsigned int num_vertices, unsigned int, unsigned int num_faces) override {
+    // Headers may lie (truncated files); cap what we trust them for.
+    xyz.reserve(3 * std::min(num_vertices, 1u << 24));
+    face_offsets.reserve(std::min(num_faces, 1u << 24) + 1);
+  }
+
+  // Everything else a reader may offer is ignored.
+  HalfedgeHandle add_edge(VertexHandle, VertexHandle) override { return HalfedgeHandle(); }
+  FaceHandle add_face(HalfedgeHandle) override { return FaceHandle(); }
+  void add_face_texcoords(FaceHandle, VertexHandle, const std::vector<Vec2f>&) override {}
+  void add_face_texcoords(FaceHandle, VertexHandle, const std::vector<Vec3f>&) override {}
+  void set_face_texindex(FaceHandle, int) override {}
+  void set_halfedge(VertexHandle, HalfedgeHandle) override {}
+  void set_normal(VertexHandle, const Vec3f&) override {}
+  void set_normal(VertexHandle, const Vec3d&) override {}
+  void set_color(VertexHandle, const Vec3uc&) override {}
+  void set_color(VertexHandle, const Vec4uc&) override {}
+  void set_color(VertexHandle, const Vec3f&) override {}
+  void set_color(VertexHandle, const Vec4f&) override {}
+  void set_texcoord(VertexHandle, const Vec2f&) override {}
+  void set_status(VertexHandle, const StatusInfo&) override {}
+  void set_next(HalfedgeHandle, HalfedgeHandle) override {}
+  void set_face(HalfedgeHandle, FaceHandle) override {}
+  void request_face_texcoords2D() override {}
+  void set_texcoord(HalfedgeHandle, const Vec2f&) override {}
+  void set_texcoord(VertexHandle, const Vec3f&) override {}
+  void set_texcoord(HalfedgeHandle, const Vec3f&) override {}
+  void set_status(HalfedgeHandle, const StatusInfo&) override {}
+  void set_color(EdgeHandle, const Vec3uc&) override {}
+  void set_color(EdgeHandle, const Vec4uc&) override {}
+  void set_color(EdgeHandle, const Vec3f&) override {}
+  void set_color(EdgeHandle, const Vec4f&) override {}
+  void set_status(EdgeHandle, const StatusInfo&) override {}
+  void set_normal(FaceHandle, const Vec3f&) override {}
+  void set_normal(FaceHandle, const Vec3d&) override {}
+  void set_color(FaceHandle, const Vec3uc&) override {}
+  void set_color(FaceHandle, const Vec4uc&) override {}
+  void set_color(FaceHandle, const Vec3f&) override {}
+  void set_color(FaceHandle, const Vec4f&) override {}
+  void set_status(FaceHandle, const StatusInfo&) override {}
+  void add_texture_information(int, std::string) override {}
+
+ private:
+  VertexHandle AddVertex(double x, double y, double z) {
+    xyz.push_back(x);
+    xyz.push_back(y);
+    xyz.push_back(z);
+    return VertexHandle(static_cast<int>(xyz.size() / 3) - 1);
+  }
+};
+
+// Presents the Mesh arrays to OpenMesh's writers: positions, triangles, and
+// no attributes.
+class RawExporter : public OpenMesh::IO::BaseExporter {
+ public:
+  explicit RawExporter(const Mesh& mesh) : mesh_(mesh) {}
+
+  Vec3f point(VertexHandle vh) const override {
+    const auto p = mesh_.vertices.col(vh.idx());
+    return Vec3f(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+  }
+  Vec3d pointd(VertexHandle vh) const override {
+    const auto p = mesh_.vertices.col(vh.idx());
+    return Vec3d(p.x(), p.y(), p.z());
+  }
+  bool is_point_double() const override { return true; }
+  unsigned int get_vhandles(FaceHandle fh, std::vector<VertexHandle>& ids) const override {
+    ids.clear();
+    for (int c = 0; c < 3; ++c) ids.emplace_back(mesh_.faces(c, fh.idx()));
+    return 3;
+  }
+  size_t n_vertices() const override { return static_cast<size_t>(mesh_.num_vertices()); }
+  size_t n_faces() const override { return static_cast<size_t>(mesh_.num_faces()); }
+  size_t n_edges() const override { return 0; }
+  bool is_triangle_mesh() const override { return true; }
+  // OpenMesh's PLY writer walks the kernel's custom properties without
+  // checking for null; an empty kernel has none.
+  const OpenMesh::BaseKernel* kernel() override { return &empty_kernel_; }
+
+  // No attributes: writers only ask for them when Options request them.
+  Vec3f normal(VertexHandle) const override { return Vec3f(0.f); }
+  Vec3d normald(VertexHandle) const override { return Vec3d(0.0); }
+  bool is_normal_double() const override { return false; }
+  Vec3uc color(VertexHandle) const override { return Vec3uc(0); }
+  Vec4uc colorA(VertexHandle) const override { return Vec4uc(0); }
+  Vec3ui colori(VertexHandle) const override { return Vec3ui(0); }
+  Vec4ui colorAi(VertexHandle) const override { return Vec4ui(0); }
+  Vec3f colorf(VertexHandle) const override { return Vec3f(0.f); }
+  Vec4f colorAf(VertexHandle) const override { return Vec4f(0.f); }
+  Vec2f texcoord(VertexHandle) const override { return Vec2f(0.f); }
+  Vec2f texcoord(HalfedgeHandle) const override { return Vec2f(0.f); }
+  StatusInfo status(VertexHandle) const override { return StatusInfo(); }
+  HalfedgeHandle getHeh(FaceHandle, VertexHandle) const override { return HalfedgeHandle(); }
+  unsigned int get_face_texcoords(std::vector<Vec2f>& texcoords) const override {
+    texcoords.clear();
+    return 0;
+  }
+  Vec3f normal(FaceHandle) const override { return Vec3f(0.f); }
+  Vec3d normald(FaceHandle) const override { return Vec3d(0.0); }
+  Vec3uc color(FaceHandle) const override { return Vec3uc(0); }
+  Vec4uc colorA(FaceHandle) const override { return Vec4uc(0); }
+  Vec3ui colori(FaceHandle) const override { return Vec3ui(0); }
+  Vec4ui colorAi(FaceHandle) const override { return Vec4ui(0); }
+  Vec3f colorf(FaceHandle) const override { return Vec3f(0.f); }
+  Vec4f colorAf(FaceHandle) const override { return Vec4f(0.f); }
+  StatusInfo status(FaceHandle) const override { return StatusInfo(); }
+  Vec3uc color(EdgeHandle) const override { return Vec3uc(0); }
+  Vec4uc colorA(EdgeHandle) const override { return Vec4uc(0); }
+  Vec3ui colori(EdgeHandle) const override { return Vec3ui(0); }
+  Vec4ui colorAi(EdgeHandle) const override { return Vec4ui(0); }
+  Vec3f colorf(EdgeHandle) const override { return Vec3f(0.f); }
+  Vec4f colorAf(EdgeHandle) const override { return Vec4f(0.f); }
+  StatusInfo status(EdgeHandle) const override { return StatusInfo(); }
+  int get_halfedge_id(VertexHandle) override { return -1; }
+  int get_halfedge_id(FaceHandle) override { return -1; }
+  int get_next_halfedge_id(HalfedgeHandle) override { return -1; }
+  int get_to_vertex_id(HalfedgeHandle) override { return -1; }
+  int get_face_id(HalfedgeHandle) override { return -1; }
+  StatusInfo status(HalfedgeHandle) const override { return StatusInfo(); }
+
+ private:
+  const Mesh& mesh_;
+  OpenMesh::BaseKernel empty_kernel_;
+};
+
+// ---------------------------------------------------------------------------
+// OFF pre-check. OpenMesh's OFF reader trusts the header: on a truncated file
+// or an unparsable number it keeps calling add_vertex/add_face with stale
+// values. So the text is checked here first, line by line, and the counts the
+// header announces are compared with what OpenMesh delivers.
+
+struct OffCheck {
+  bool binary = false;
+  int num_vertices = 0;  // as announced by the header
+  int num_faces = 0;
+  // Set when the file is valid OFF but laid out in a way OpenMesh's reader
+  // does not follow ('#' comments, counts on the header line, leading blank
+  // lines, face colours without 'C' in the header); NormalizeOff then writes
+  // the same geometry in the plain layout.
+  bool needs_normalizing = false;
+};
+
+using Tokens = std::vector<std::string_view>;
+
+// Splits one line (without '\n') into whitespace-separated tokens, dropping a
+// '#' comment. Sets *had_comment when there was one.
+void Tokenize(std::string_view line, Tokens* tokens, bool* had_comment) {
+  tokens->clear();
+  *had_comment = false;
+  const size_t hash = line.find('#');
+  if (hash != std::string_view::npos) {
+    line = line.substr(0, hash);
+    *had_comment = true;
+  }
+  size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    size_t j = i;
+    while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
+    if (j > i) tokens->push_back(line.substr(i, j - i));
+    i = j;
+  }
+}
+
+std::string Quote(std::string_view token) {
+  constexpr size_t kMax = 24;
+  if (token.size() <= kMax) return "'" + std::string(token) + "'";
+  return "'" + std::string(token.substr(0, kMax)) + "...'";
+}
+
+bool ParseInt(std::string_view token, long long* value) {
+  const char* end = token.data() + token.size();
+  const auto result = std::from_chars(token.data(), end, *value);
+  return result.ec == std::errc() && result.ptr == end;
+}
+
+// strtod rather than from_chars so that "nan" and "inf" are recognised and
+// reported as non-finite instead of as junk.
+bool ParseDouble(std::string_view token, double* value) {
+  const std::string copy(token);
+  char* end = nullptr;
+  *value = std::strtod(copy.c_str(), &end);
+  return end == copy.c_str() + copy.size() && !copy.empty();
+}
+
+// Reads the next line of `text` starting at *pos; returns false at the end.
+bool NextLine(const std::string& text, size_t* pos, std::string_view* line) {
+  if (*pos >= text.size()) return false;
+  size_t end = text.find('\n', *pos);
+  if (end == std::string::npos) end = text.size();
+  *line = std::string_view(text).substr(*pos, end - *pos);
+  if (!line->empty() && line->back() == '\r') line->remove_suffix(1);
+  *pos = end + 1;
+  return true;
+}
+
+// Header keyword [ST][C][N][4][n]OFF; sets *dimension_other_than_3.
+bool IsOffKeyword(std::string_view keyword, bool* dimension_other_than_3) {
+  *dimension_other_than_3 = false;
+  if (keyword.size() < 3 || keyword.substr(keyword.size() - 3) != "OFF") return false;
+  std::string_view prefix = keyword.substr(0, keyword.size() - 3);
+  auto take = [&prefix](std::string_view part) {
+    if (prefix.substr(0, part.size()) == part) {
+      prefix.remove_prefix(part.size());
+      return true;
+    }
+    return false;
+  };
+  take("ST");
+  take("C");
+  take("N");
+  if (take("4")) *dimension_other_than_3 = true;
+  if (take("n")) *dimension_other_than_3 = true;
+  return prefix.empty();
+}
+
+bool CheckBinaryOff(const std::string& text, size_t data_start, OffCheck* check,
+                    std::string* problem) {
+  // Binary OFF: three little-endian uint32 counts follow the header line.
+  if (text.size() < data_start + 12) {
+    *problem = "truncated: binary OFF ends before the vertex/face/edge counts";
+    return false;
+  }
+  uint32_t counts[3];
+  std::memcpy(counts, text.data() + data_start, sizeof(counts));
+  if (counts[0] > static_cast<uint32_t>(std::numeric_limits<int>::max()) ||
+      counts[1] > static_cast<uint32_t>(std::numeric_limits<int>::max())) {
+    *problem = "binary OFF header announces an impossible vertex or face count";
+    return false;
+  }
+  check->num_vertices = static_cast<int>(counts[0]);
+  check->num_faces = static_cast<int>(counts[1]);
+  // At least 3 floats per vertex and 1 + 3 ints per face.
+  const uint64_t minimum = data_start + 12 + 12ull * counts[0] + 16ull * counts[1];
+  if (text.size() < minimum) {
+    std::ostringstream message;
+    message << "truncated: the binary OFF header announces " << counts[0] << " vertices and "
+            << counts[1] << " faces, which need at least " << minimum << " bytes, but the file has "
+            << text.size();
+    *problem = message.str();
+    return false;
+  }
+  return true;
+}
+
+// Checks the OFF text; on failure puts "line N: ..." (or a whole-file problem)
+// in *problem.
+bool CheckOff(const std::string& text, OffCheck* check, std::string* problem) {
+  std::ostringstream message;
+  size_t pos = 0;
+  int line_number = 0;
+  std::string_view line;
+  Tokens tokens;
+  bool had_comment = false;
+  // Any '#' comment means OpenMesh needs a cleaned copy (binary OFF aside).
+  const bool has_hash = text.find('#') != std::string::npos;
+
+  // Header: first line with content.
+  bool found_header = false;
+  while (NextLine(text, &pos, &line)) {
+    ++line_number;
+    Tokenize(line, &tokens, &had_comment);
+    if (!tokens.empty()) {
+      found_header = true;
+      break;
+    }
+    check->needs_normalizing = true;  // OpenMesh wants the keyword on line 1.
+  }
+  if (!found_header) {
+    *problem = "no OFF header: the file holds only blank or comment lines";
+    return false;
+  }
+  bool other_dimension = false;
+  if (!IsOffKeyword(tokens[0], &other_dimension)) {
+    message << "line " << line_number << ": expected an OFF header such as 'OFF' or 'COFF', found "
+            << Quote(tokens[0]);
+    *problem = message.str();
+    return false;
+  }
+  if (other_dimension) {
+    message << "line " << line_number << ": " << Quote(tokens[0])
+            << " (4D or nD vertices) is not supported; use 3D OFF";
+    *problem = message.str();
+    return false;
+  }
+  const std::string keyword(tokens[0]);
+  if (tokens.size() >= 2 && tokens[1] == "BINARY") {
+    check->binary = true;
+    if (line_number != 1 || had_comment) {
+      *problem = "binary OFF must start with its header alone on line 1";
+      return false;
+    }
+    return CheckBinaryOff(text, pos, check, problem);
+  }
+  check->needs_normalizing |= has_hash;
+
+  // Counts "nV nF nE": on the header line after the keyword, or the next line.
+  Tokens counts(tokens.begin() + 1, tokens.end());
+  int counts_line = line_number;
+  if (counts.empty()) {
+    bool found = false;
+    while (NextLine(text, &pos, &line)) {
+      ++line_number;
+      Tokenize(line, &tokens, &had_comment);
+      if (!tokens.empty()) {
+        found = true;
+        break;
+      }
+    }
+    if (!found) {
+      *problem = "truncated: the file ends before the vertex/face/edge counts";
+      return false;
+    }
+    counts = tokens;
+    counts_line = line_number;
+  } else {
+    check->needs_normalizing = true;  // OpenMesh skips the rest of the header line.
+  }
+  long long num_vertices = -1, num_faces = -1, num_edges = -1;
+  if (counts.size() != 3 || !ParseInt(counts[0], &num_vertices) ||
+      !ParseInt(counts[1], &num_faces) || !ParseInt(counts[2], &num_edges) || num_vertices < 0 ||
+      num_faces < 0 || num_edges < 0 || num_vertices > std::numeric_limits<int>::max() ||
+      num_faces > std::numeric_limits<int>::max()) {
+    message << "line " << counts_line
+            << ": expected three counts 'vertices faces edges' after the header";
+    *problem = message.str();
+    return false;
+  }
+  check->num_vertices = static_cast<int>(num_vertices);
+  check->num_faces = static_cast<int>(num_faces);
+
+  const bool has_colors = keyword.find('C') != std::string::npos;
+  // The remaining lines: vertices, then faces. Only lines with content count.
+  const long long total = num_vertices + num_faces;
+  long long item = 0;
+  while (item < total && NextLine(text, &pos, &line)) {
+    ++line_number;
+    Tokenize(line, &tokens, &had_comment);
+    if (tokens.empty()) continue;
+    if (item < num_vertices) {
+      const long long vertex = item;
+      if (tokens.size() < 3) {
+        message << "line " << line_number << ": vertex " << vertex
+                << " has fewer than 3 coordinates";
+        *problem = message.str();
+        return false;
+      }
+      for (int k = 0; k < 3; ++k) {
+        double value = 0.0;
+        if (!ParseDouble(tokens[k], &value)) {
+          message << "line " << line_number << ": vertex " << vertex << " coordinate "
+                  << Quote(tokens[k]) << " is not a number";
+          *problem = message.str();
+          return false;
+        }
+        if (!std::isfinite(value)) {
+          message << "line " << line_number << ": vertex " << vertex << " coordinate "
+                  << Quote(tokens[k]) << " is not finite";
+          *problem = message.str();
+          return false;
+        }
+      }
+    } else {
+      const long long face = item - num_vertices;
+      long long size = 0;
+      if (!ParseInt(tokens[0], &size) || size < 3) {
+        message << "line " << line_number << ": face " << face << " starts with "
+                << Quote(tokens[0]) << "; expected its vertex count, at least 3";
+        *problem = message.str();
+        return false;
+      }
+      if (static_cast<long long>(tokens.size()) < 1 + size) {
+        message << "line " << line_number << ": face " << face << " announces " << size
+                << " vertices but lists " << tokens.size() - 1;
+        *problem = message.str();
+        return false;
+      }
+      // Without 'C' in the header OpenMesh would read trailing colour values
+      // as the next face.
+      if (static_cast<long long>(tokens.size()) > 1 + size && !has_colors) {
+        check->needs_normalizing = true;
+      }
+      for (long long k = 1; k <= size; ++k) {
+        long long id = 0;
+        if (!ParseInt(tokens[k], &id)) {
+          message << "line " << line_number << ": face " << face << " vertex id "
+                  << Quote(tokens[k]) << " is not an integer";
+          *problem = message.str();
+          return false;
+        }
+        if (id < 0 || id >= num_vertices) {
+          message << "line " << line_number << ": face " << face << " refers to vertex " << id
+                  << ", outside 0.." << num_vertices - 1;
+          *problem = message.str();
+          return false;
+        }
+      }
+    }
+    ++item;
+  }
+  if (item < total) {
+    message << "truncated: the header (line " << counts_line << ") announces " << num_vertices
+            << " vertices and " << num_faces << " faces, but the file ends after ";
+    if (item < num_vertices) {
+      message << item << " of " << num_vertices << " vertices";
+    } else {
+      message << item - num_vertices << " of " << num_faces << " faces";
+    }
+    *problem = message.str();
+    return false;
+  }
+  return true;
+}
+
+// The geometry of an OFF text that passed CheckOff, in the plain layout
+// OpenMesh reads: "OFF", the counts, 3 coordinates per vertex line and the
+// ids alone on each face line. Colours, normals and comments are dropped.
+std::string NormalizeOff(const std::string& text) {
+  std::ostringstream out;
+  size_t pos = 0;
+  std::string_view line;
+  Tokens tokens;
+  bool had_comment = false;
+  // Header, then the counts (maybe on the header line).
+  do {
+    NextLine(text, &pos, &line);
+    Tokenize(line, &tokens, &had_comment);
+  } while (tokens.empty());
+  Tokens counts(tokens.begin() + 1, tokens.end());
+  while (counts.empty()) {
+    NextLine(text, &pos, &line);
+    Tokenize(line, &counts, &had_comment);
+  }
+  out << "OFF\n" << counts[0] << " " << counts[1] << " " << counts[2] << "\n";
+  long long num_vertices = 0, num_faces = 0;
+  ParseInt(counts[0], &num_vertices);
+  ParseInt(counts[1], &num_faces);
+  for (long long item = 0; item < num_vertices + num_faces && NextLine(text, &pos, &line);) {
+    Tokenize(line, &tokens, &had_comment);
+    if (tokens.empty()) continue;
+    long long keep = 3;  // x y z
+    if (item >= num_vertices) {
+      ParseInt(tokens[0], &keep);
+      keep += 1;  // the count, then the ids
+    }
+    for (long long k = 0; k < keep; ++k) out << (k ? " " : "") << tokens[k];
+    out << "\n";
+    ++item;
+  }
+  return out.str();
+}
+
+// ---------------------------------------------------------------------------
+// PLY and OBJ pre-checks, for the same reason: OpenMesh's ASCII readers keep
+// going with stale values after a number fails to parse or the data ends.
+
+// Size in bytes of a PLY scalar type, 0 if unknown.
+int PlyTypeSize(std::string_view type) {
+  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+  if (type == "int" || type == "uint" || type == "int32" || type == "uint32" || type == "float" ||
+      type == "float32") {
+    return 4;
+  }
+  if (type == "double" || type == "float64") return 8;
+  return 0;
+}
+
+// Checks the PLY header and that the data is all there; sets the vertex and
+// face counts it announces (-1 when absent).
+bool CheckPly(const std::string& text, int* num_vertices, int* num_faces, std::string* problem) {
+  std::ostringstream message;
+  *num_vertices = -1;
+  *num_faces = -1;
+  size_t pos = 0;
+  int line_number = 0;
+  std::string_view line;
+  Tokens tokens;
+  bool had_comment = false;
+  NextLine(text, &pos, &line);
+  ++line_number;
+  Tokenize(line, &tokens, &had_comment);
+  if (tokens.size() != 1 || tokens[0] != "ply") {
+    message << "line 1: expected the PLY magic 'ply', found "
+            << (tokens.empty() ? std::string("nothing") : Quote(tokens[0]));
+    *problem = message.str();
+    return false;
+  }
+  std::string format;
+  struct Element {
+    std::string name;
+    long long count = 0;
+    long long min_bytes = 0;  // per element, lists counted with 3 items for faces.
+    bool sizes_known = true;
+  };
+  std::vector<Element> elements;
+  bool ended = false;
+  while (!ended && NextLine(text, &pos, &line)) {
+    ++line_number;
+    Tokenize(line, &tokens, &had_comment);
+    if (tokens.empty() || tokens[0] == "comment" || tokens[0] == "obj_info") continue;
+    if (tokens[0] == "format") {
+      if (tokens.size() >= 2) format = std::string(tokens[1]);
+    } else if (tokens[0] == "element") {
+      long long count = -1;
+      if (tokens.size() != 3 || !ParseInt(tokens[2], &count) || count < 0 ||
+          count > std::numeric_limits<int>::max()) {
+        message << "line " << line_number << ": expected 'element <name> <count>'";
+        *problem = message.str();
+        return false;
+      }
+      elements.push_back({std::string(tokens[1]), count, 0, true});
+      if (tokens[1] == "vertex") *num_vertices = static_cast<int>(count);
+      if (tokens[1] == "face") *num_faces = static_cast<int>(count);
+    } else if (tokens[0] == "property") {
+      if (elements.empty()) continue;
+      Element& element = elements.back();
+      if (tokens.size() >= 5 && tokens[1] == "list") {
+        const int count_size = PlyTypeSize(tokens[2]);
+        const int item_size = PlyTypeSize(tokens[3]);
+        element.sizes_known &= count_size > 0 && item_size > 0;
+        element.min_bytes += count_size + (element.name == "face" ? 3 * item_size : 0);
+      } else if (tokens.size() >= 3) {
+        const int size = PlyTypeSize(tokens[1]);
+        element.sizes_known &= size > 0;
+        element.min_bytes += size;
+      }
+    } else if (tokens[0] == "end_header") {
+      ended = true;
+    }
+  }
+  if (!ended) {
+    *problem = "truncated: the PLY header has no end_header line";
+    return false;
+  }
+  long long total = 0;
+  for (const Element& element : elements) total += element.count;
+  if (format == "ascii") {
+    // One element per line; every value a finite number.
+    long long item = 0;
+    while (item < total && NextLine(text, &pos, &line)) {
+      ++line_number;
+      Tokenize(line, &tokens, &had_comment);
+      if (tokens.empty()) continue;
+      for (const std::string_view& token : tokens) {
+        double value = 0.0;
+        if (!ParseDouble(token, &value) || !std::isfinite(value)) {
+          message << "line " << line_number << ": " << Quote(token) << " is not a finite number";
+          *problem = message.str();
+          return false;
+        }
+      }
+      ++item;
+    }
+    if (item < total) {
+      message << "truncated: the header announces " << total << " data lines ("
+              << std::max(*num_vertices, 0) << " vertices, " << std::max(*num_faces, 0)
+              << " faces), but the file ends after " << item;
+      *problem = message.str();
+      return false;
+    }
+  } else {
+    long long min_bytes = 0;
+    bool known = true;
+    for (const Element& element : elements) {
+      known &= element.sizes_known;
+      min_bytes += element.count * element.min_bytes;
+    }
+    const long long have = static_cast<long long>(text.size()) - static_cast<long long>(pos);
+    if (known && have < min_bytes) {
+      message << "truncated: the header announces data of at least " << min_bytes
+              << " bytes, but only " << have << " follow it";
+      *problem = message.str();
+      return false;
+    }
+  }
+  return true;
+}
+
+// Checks the "v x y z" lines of an OBJ file and counts them.
+bool CheckObj(const std::string& text, int* num_vertices, std::string* problem) {
+  std::ostringstream message;
+  size_t pos = 0;
+  int line_number = 0;
+  std::string_view line;
+  Tokens tokens;
+  bool had_comment = false;
+  long long count = 0;
+  while (NextLine(text, &pos, &line)) {
+    ++line_number;
+    Tokenize(line, &tokens, &had_comment);
+    if (tokens.empty() || tokens[0] != "v") continue;
+    if (tokens.size() < 4) {
+      message << "line " << line_number << ": vertex " << count << " has fewer than 3 coordinates";
+      *problem = message.str();
+      return false;
+    }
+    for (int k = 1; k <= 3; ++k) {
+      double value = 0.0;
+      if (!ParseDouble(tokens[k], &value) || !std::isfinite(value)) {
+        message << "line " << line_number << ": vertex " << count << " coordinate "
+                << Quote(tokens[k]) << " is not a finite number";
+        *problem = message.str();
+        return false;
+      }
+    }
+    ++count;
+  }
+  if (count > std::numeric_limits<int>::max()) {
+    *problem = "too many vertices";
+    return false;
+  }
+  *num_vertices = static_cast<int>(count);
+  return true;
+}
+
+// A file in the system temporary folder holding `text`, removed on scope exit.
+class ScopedTemporaryCopy {
+ public:
+  bool Create(const std::string& text, const std::string& suffix, std::string* problem) {
+    std::string pattern = (fs::temp_directory_path() / ("msdeform-XXXXXX" + suffix)).string();
+    std::vector<char> buffer(pattern.begin(), pattern.end());
+    buffer.push_back('\0');
+    const int fd = ::mkstemps(buffer.data(), static_cast<int>(suffix.size()));
+    if (fd < 0) {
+      *problem =
+          "cannot create a temporary copy for OpenMesh (" + std::string(std::strerror(errno)) + ")";
+      return false;
+    }
+    ::close(fd);
+    name_ = buffer.data();
+    std::ofstream out(name_, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.close();
+    if (!out) {
+      *problem = "cannot write a temporary copy for OpenMesh";
+      return false;
+    }
+    return true;
+  }
+  ~ScopedTemporaryCopy() {
+    if (!name_.empty()) std::remove(name_.c_str());
+  }
+  const std::string& name() const { return name_; }
+
+ private:
+  std::string name_;
+};
+
+// Merges vertices at exactly equal positions (first appearance wins, order
+// kept) and drops the triangles that collapse.
+void WeldExactDuplicates(Mesh* mesh) {
+  std::map<std::array<double, 3>, int> id_of_position;
+  std::vector<int> new_id(mesh->num_vertices());
+  int count = 0;
+  for (int v = 0; v < mesh->num_vertices(); ++v) {
+    const std::array<double, 3> key{mesh->vertices(0, v), mesh->vertices(1, v),
+                                    mesh->vertices(2, v)};
+    const auto [it, inserted] = id_of_position.emplace(key, count);
+    if (inserted) mesh->vertices.col(count++) = mesh->vertices.col(v);
+    new_id[v] = it->second;
+  }
+  mesh->vertices.conservativeResize(3, count);
+  int kept = 0;
+  for (int f = 0; f < mesh->num_faces(); ++f) {
+    const int a = new_id[mesh->faces(0, f)];
+    const int b = new_id[mesh->faces(1, f)];
+    const int c = new_id[mesh->faces(2, f)];
+    if (a == b || b == c || a == c) continue;
+    mesh->faces.col(kept++) << a, b, c;
+  }
+  mesh->faces.conservativeResize(3, kept);
+}
+
+std::string FormatName(const std::string& extension) {
+  std::string name = extension;
+  std::transform(name.begin(), name.end(), name.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+  return name;
+}
+
+}  // namespace
+
+bool ReadMesh(const std::string& path, Mesh* mesh, std::string* error) {
+  const std::string extension = LowerExtension(path);
+  if (extension != "off" && extension != "obj" && extension != "ply" && extension != "stl") {
+    return Fail(path,
+                "unknown mesh format " +
+                    (extension.empty() ? "(no extension)" : "'." + extension + "'") +
+                    "; use .off, .obj, .ply or .stl",
+                error);
+  }
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (!fs::exists(status)) return Fail(path, "no such file", error);
+  if (fs::is_directory(status)) return Fail(path, "is a folder, not a mesh file", error);
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    return Fail(path, "cannot open for reading (" + std::string(std::strerror(errno)) + ")", error);
+  std::string text(std::istreambuf_iterator<char>(in), {});
+  if (in.bad()) return Fail(path, "read error", error);
+  in.close();
+  if (text.empty()) return Fail(path, "file is empty", error);
+
+  // Check the text first (see CheckOff); remember the counts it announces.
+  int expected_vertices = -1;
+  int expected_faces = -1;
+  ScopedTemporaryCopy normalized_copy;
+  std::string read_path = path;
+  std::string problem;
+  if (extension == "off") {
+    OffCheck off;
+    if (!CheckOff(text, &off, &problem)) return Fail(path, problem, error);
+    expected_vertices = off.num_vertices;
+    expected_faces = off.num_faces;
+    if (off.needs_normalizing) {
+      if (!normalized_copy.Create(NormalizeOff(text), ".off", &problem))
+        return Fail(path, problem, error);
+      read_path = normalized_copy.name();
+    }
+  } else if (extension == "ply") {
+    if (!CheckPly(text, &expected_vertices, &expected_faces, &problem)) {
+      return Fail(path, problem, error);
+    }
+  } else if (extension == "obj") {
+    if (!CheckObj(text, &expected_vertices, &problem)) return Fail(path, problem, error);
+  }
+  text.clear();
+  text.shrink_to_fit();
+
+  RawImporter importer;
+  {
+    ScopedOpenMeshSilence silence;
+    OpenMesh::IO::Options options = OpenMesh::IO::Options::Default;
+    if (!OpenMesh::IO::IOManager().read(read_path, importer, options)) {
+      return Fail(
+          path,
+          "OpenMesh cannot read it as " + FormatName(extension) + " (wrong header or corrupt data)",
+          error);
+    }
+  }
+
+  const int num_vertices = static_cast<int>(importer.n_vertices());
+  if ((expected_vertices >= 0 && num_vertices != expected_vertices) ||
+      (expected_faces >= 0 && importer.num_polygons() != expected_faces)) {
+    std::ostringstream message;
+    message << "the file announces " << expected_vertices << " vertices";
+    if (expected_faces >= 0) message << " and " << expected_faces << " faces";
+    message << ", but OpenMesh read " << num_vertices << " and " << importer.num_polygons()
+            << " (corrupt file?)";
+    return Fail(path, message.str(), error);
+  }
+
+  // Check the polygons as the file numbers them, then fan-triangulate.
+  int num_triangles = 0;
+  for (int p = 0; p < importer.num_polygons(); ++p) {
+    const int* ids = importer.face_ids.data() + importer.face_offsets[p];
+    const int size = importer.face_offsets[p + 1] - importer.face_offsets[p];
+    std::ostringstream message;
+    if (size < 3) {
+      message << "face " << p << " has " << size << " vertices; need at least 3";
+      return Fail(path, message.str(), error);
+    }
+    for (int k = 0; k < size; ++k) {
+      if (ids[k] < 0 || ids[k] >= num_vertices) {
+        message << "face " << p << " refers to vertex " << ids[k] << ", outside 0.."
+                << num_vertices - 1;
+        return Fail(path, message.str(), error);
+      }
+      for (int j = 0; j < k; ++j) {
+        if (ids[j] == ids[k]) {
+          message << "face " << p << " repeats vertex " << ids[k];
+          return Fail(path, message.str(), error);
+        }
+      }
+    }
+    num_triangles += size - 2;
+  }
+  mesh->vertices = Eigen::Map<const Eigen::Matrix3Xd>(importer.xyz.data(), 3, num_vertices);
+  mesh->faces.resize(3, num_triangles);
+  int t = 0;
+  for (int p = 0; p < importer.num_polygons(); ++p) {
+    const int* ids = importer.face_ids.data() + importer.face_offsets[p];
+    const int size = importer.face_offsets[p + 1] - importer.face_offsets[p];
+    for (int k = 1; k + 1 < size; ++k) mesh->faces.col(t++) << ids[0], ids[k], ids[k + 1];
+  }
+
+  if (extension == "stl") WeldExactDuplicates(mesh);
+
+  if (!ValidateMesh(*mesh, &problem)) return Fail(path, problem, error);
+  return true;
+}
+
+bool WriteMesh(const std::string& path, const Mesh& mesh, std::string* error) {
+  const std::string extension = LowerExtension(path);
+  if (extension != "off" && extension != "obj" && extension != "ply") {
+    return Fail(path,
+                "cannot write format " +
+                    (extension.empty() ? "(no extension)" : "'." + extension + "'") +
+                    "; use .off, .obj or .ply",
+                error);
+  }
+  std::string problem;
+  if (!ValidateMesh(mesh, &problem)) return Fail(path, "refusing to write: " + problem, error);
+
+  return WriteFileAtomically(
+      path,
+      [&](std::ostream& out, std::string* write_error) {
+        RawExporter exporter(mesh);
+        ScopedOpenMeshSilence silence;
+        // OpenMesh's writers print single-precision values; 9 significant
+        // digits reproduce every float exactly.
+        const std::streamsize precision = std::numeric_limits<float>::max_digits10;
+        if (!OpenMesh::IO::IOManager().write(out, extension, exporter,
+                                             OpenMesh::IO::Options::Default, precision)) {
+          *write_error = "OpenMesh's " + FormatName(extension) + " writer failed";
+          return false;
+        }
+        return true;
+      },
+      error);
+}
+
+}  // namespace msdeform

@@ -1,0 +1,514 @@
+#include "core/scenario.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+namespace msdeform {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+std::string Join(const std::string& parent, const std::string& key) {
+  return parent.empty() ? key : parent + "." + key;
+}
+
+std::string Index(const std::string& parent, size_t i) {
+  return parent + "[" + std::to_string(i) + "]";
+}
+
+std::string Describe(const Json& value) {
+  switch (value.type()) {
+    case Json::value_t::null:
+      return "null";
+    case Json::value_t::boolean:
+      return "a boolean";
+    case Json::value_t::string:
+      return "a string";
+    case Json::value_t::array:
+      return "an array";
+    case Json::value_t::object:
+      return "an object";
+    case Json::value_t::number_float:
+      return "a number with a fraction";
+    default:
+      return "a number";
+  }
+}
+
+// Parses the JSON tree into a Scenario, remembering the first error as
+// "<field>: <problem>". Every method returns false once an error is set.
+class ScenarioParser {
+ public:
+  const std::string& error() const { return error_; }
+
+  bool Fail(const std::string& field, const std::string& problem) {
+    error_ = (field.empty() ? "" : field + ": ") + problem;
+    return false;
+  }
+
+  bool ExpectType(const Json& value, const std::string& field, bool ok, const char* expected) {
+    if (ok) return true;
+    return Fail(field, std::string("expected ") + expected + ", found " + Describe(value));
+  }
+
+  // An object whose keys are all in `allowed`.
+  bool ExpectObject(const Json& value, const std::string& field,
+                    const std::set<std::string>& allowed) {
+    if (!ExpectType(value, field, value.is_object(), "an object")) return false;
+    for (const auto& item : value.items()) {
+      if (allowed.count(item.key())) continue;
+      std::string list;
+      for (const std::string& key : allowed) list += (list.empty() ? "" : ", ") + key;
+      return Fail(Join(field, item.key()), "unknown field (expected one of: " + list + ")");
+    }
+    return true;
+  }
+
+  bool Number(const Json& value, const std::string& field, double* number) {
+    if (!ExpectType(value, field, value.is_number(), "a number")) return false;
+    *number = value.get<double>();
+    if (!std::isfinite(*number)) return Fail(field, "must be finite");
+    return true;
+  }
+
+  bool Integer(const Json& value, const std::string& field, int* number) {
+    if (!ExpectType(value, field, value.is_number_integer(), "an integer")) return false;
+    const auto wide = value.get<long long>();
+    if (value.is_number_unsigned() &&
+        value.get<unsigned long long>() >
+            static_cast<unsigned long long>(std::numeric_limits<int>::max())) {
+      return Fail(field, "is too large");
+    }
+    if (wide < std::numeric_limits<int>::min() || wide > std::numeric_limits<int>::max()) {
+      return Fail(field, "is too large");
+    }
+    *number = static_cast<int>(wide);
+    return true;
+  }
+
+  bool String(const Json& value, const std::string& field, std::string* text) {
+    if (!ExpectType(value, field, value.is_string(), "a string")) return false;
+    *text = value.get<std::string>();
+    return true;
+  }
+
+  bool Vector3(const Json& value, const std::string& field, Eigen::Vector3d* vector) {
+    if (!ExpectType(value, field, value.is_array() && value.size() == 3,
+                    "an array of 3 numbers [x, y, z]")) {
+      return false;
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (!Number(value[k], Index(field, k), &(*vector)[k])) return false;
+    }
+    return true;
+  }
+
+  bool Region(const Json& value, const std::string& field, VertexRegion* region) {
+    static const std::set<std::string> kKinds = {"vertices", "sphere", "slab", "any", "all"};
+    if (!ExpectObject(value, field, kKinds)) return false;
+    if (value.size() != 1) {
+      return Fail(field, "a region needs exactly one of vertices, sphere, slab, any, all; found " +
+                             std::to_string(value.size()));
+    }
+    region->field = field;
+    const std::string kind = value.begin().key();
+    const Json& body = value.begin().value();
+    const std::string at = Join(field, kind);
+    if (kind == "vertices") {
+      region->kind = VertexRegion::Kind::kVertices;
+      if (!ExpectType(body, at, body.is_array(), "an array of vertex ids")) return false;
+      if (body.empty()) return Fail(at, "empty list selects no vertex");
+      for (size_t i = 0; i < body.size(); ++i) {
+        int id = 0;
+        if (!Integer(body[i], Index(at, i), &id)) return false;
+        if (id < 0) return Fail(Index(at, i), "vertex ids are 0 or more");
+        region->vertices.push_back(id);
+      }
+      return true;
+    }
+    if (kind == "sphere") {
+      region->kind = VertexRegion::Kind::kSphere;
+      if (!ExpectObject(body, at, {"center", "center_vertex", "radius", "radius_rel"})) {
+        return false;
+      }
+      if (body.contains("center") == body.contains("center_vertex")) {
+        return Fail(at, "needs exactly one of center, center_vertex");
+      }
+      if (body.contains("center")) {
+        if (!Vector3(body["center"], Join(at, "center"), &region->center)) return false;
+      } else {
+        region->center_is_vertex = true;
+        if (!Integer(body["center_vertex"], Join(at, "center_vertex"), &region->center_vertex)) {
+          return false;
+        }
+        if (region->center_vertex < 0) {
+          return Fail(Join(at, "center_vertex"), "vertex ids are 0 or more");
+        }
+      }
+      if (body.contains("radius") == body.contains("radius_rel")) {
+        return Fail(at, "needs exactly one of radius, radius_rel");
+      }
+      region->radius_is_relative = body.contains("radius_rel");
+      const std::string radius_field =
+          Join(at, region->radius_is_relative ? "radius_rel" : "radius");
+      if (!Number(body[region->radius_is_relative ? "radius_rel" : "radius"], radius_field,
+                  &region->radius)) {
+        return false;
+      }
+      if (region->radius < 0.0) return Fail(radius_field, "must not be negative");
+      return true;
+    }
+    if (kind == "slab") {
+      region->kind = VertexRegion::Kind::kSlab;
+      if (!ExpectObject(body, at, {"axis", "from", "to"})) return false;
+      for (const char* key : {"axis", "from", "to"}) {
+        if (!body.contains(key)) return Fail(Join(at, key), "missing");
+      }
+      std::string axis;
+      if (!String(body["axis"], Join(at, "axis"), &axis)) return false;
+      if (axis != "x" && axis != "y" && axis != "z") {
+        return Fail(Join(at, "axis"), "expected \"x\", \"y\" or \"z\", found \"" + axis + "\"");
+      }
+      region->axis = axis[0] - 'x';
+      if (!Number(body["from"], Join(at, "from"), &region->from)) return false;
+      if (!Number(body["to"], Join(at, "to"), &region->to)) return false;
+      if (region->from > region->to) {
+        return Fail(at, "from must not exceed to (fractions of the extent, e.g. 0 to 0.1)");
+      }
+      return true;
+    }
+    // any / all
+    region->kind = kind == "any" ? VertexRegion::Kind::kAny : VertexRegion::Kind::kAll;
+    if (!ExpectType(body, at, body.is_array(), "an array of regions")) return false;
+    if (body.empty()) return Fail(at, "needs at least one region");
+    region->children.resize(body.size());
+    for (size_t i = 0; i < body.size(); ++i) {
+      if (!Region(body[i], Index(at, i), &region->children[i])) return false;
+    }
+    return true;
+  }
+
+  bool Motion(const Json& value, const std::string& field, HandleMotion* motion) {
+    if (!ExpectObject(value, field, {"translation", "translation_rel", "rotation"})) return false;
+    if (value.contains("translation") && value.contains("translation_rel")) {
+      return Fail(field, "give translation or translation_rel, not both");
+    }
+    if (value.contains("translation")) {
+      if (!Vector3(value["translation"], Join(field, "translation"), &motion->translation)) {
+        return false;
+      }
+    }
+    if (value.contains("translation_rel")) {
+      motion->translation_is_relative = true;
+      if (!Vector3(value["translation_rel"], Join(field, "translation_rel"),
+                   &motion->translation)) {
+        return false;
+      }
+    }
+    if (value.contains("rotation")) {
+      const std::string at = Join(field, "rotation");
+      const Json& rotation = value["rotation"];
+      if (!ExpectObject(rotation, at, {"axis", "angle_deg", "center"})) return false;
+      for (const char* key : {"axis", "angle_deg"}) {
+        if (!rotation.contains(key)) return Fail(Join(at, key), "missing");
+      }
+      Eigen::Vector3d axis;
+      if (!Vector3(rotation["axis"], Join(at, "axis"), &axis)) return false;
+      if (!(axis.norm() > 0.0)) return Fail(Join(at, "axis"), "must not be zero");
+      motion->rotation_axis = axis.normalized();
+      if (!Number(rotation["angle_deg"], Join(at, "angle_deg"), &motion->rotation_angle_deg)) {
+        return false;
+      }
+      if (rotation.contains("center")) {
+        const Json& center = rotation["center"];
+        if (center.is_string()) {
+          if (center.get<std::string>() != "centroid") {
+            return Fail(Join(at, "center"), "expected [x, y, z] or \"centroid\"");
+          }
+          motion->rotate_about_centroid = true;
+        } else {
+          motion->rotate_about_centroid = false;
+          if (!Vector3(center, Join(at, "center"), &motion->rotation_center)) return false;
+        }
+      }
+    }
+    return true;
+  }
+
+  bool Parse(const Json& root, const std::string& path, Scenario* scenario) {
+    if (!ExpectObject(
+            root, "",
+            {"name", "description", "mesh", "fixed", "handle", "watch", "transform", "frames"})) {
+      return false;
+    }
+    scenario->name = fs::path(path).stem().string();
+    if (root.contains("name") && !String(root["name"], "name", &scenario->name)) return false;
+    if (root.contains("description")) {
+      std::string ignored;
+      if (!String(root["description"], "description", &ignored)) return false;
+    }
+    if (!root.contains("mesh")) return Fail("mesh", "missing (the mesh file to edit)");
+    std::string mesh;
+    if (!String(root["mesh"], "mesh", &mesh)) return false;
+    if (mesh.empty()) return Fail("mesh", "is empty");
+    const fs::path mesh_path(mesh);
+    scenario->mesh_path =
+        mesh_path.is_absolute()
+            ? mesh
+            : (fs::path(path).parent_path() / mesh_path).lexically_normal().string();
+    if (root.contains("fixed")) {
+      const Json& fixed = root["fixed"];
+      if (!ExpectType(fixed, "fixed", fixed.is_array(), "an array of regions")) return false;
+      scenario->fixed.resize(fixed.size());
+      for (size_t i = 0; i < fixed.size(); ++i) {
+        if (!Region(fixed[i], Index("fixed", i), &scenario->fixed[i])) return false;
+      }
+    }
+    if (!root.contains("handle")) return Fail("handle", "missing (the region to drag)");
+    if (!Region(root["handle"], "handle", &scenario->handle)) return false;
+    if (root.contains("watch")) {
+      scenario->has_watch = true;
+      if (!Region(root["watch"], "watch", &scenario->watch)) return false;
+    }
+    if (root.contains("transform")) {
+      if (!Motion(root["transform"], "transform", &scenario->motion)) return false;
+    }
+    if (root.contains("frames")) {
+      if (!Integer(root["frames"], "frames", &scenario->frames)) return false;
+      if (scenario->frames < 1) return Fail("frames", "must be at least 1");
+    }
+    return true;
+  }
+
+ private:
+  std::string error_;
+};
+
+// ---------------------------------------------------------------------------
+// Resolution against a mesh.
+
+struct MeshFrame {
+  Eigen::AlignedBox3d box;
+  double diagonal = 0.0;
+};
+
+std::string Point(const Eigen::Vector3d& p) {
+  std::ostringstream text;
+  text << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return text.str();
+}
+
+// Selects the region's vertices (sorted, unique). On failure *problem is
+// "<field>: <what>".
+bool Select(const VertexRegion& region, const Mesh& mesh, const MeshFrame& frame,
+            std::vector<int>* ids, std::string* problem) {
+  const int n = mesh.num_vertices();
+  ids->clear();
+  std::string what;
+  switch (region.kind) {
+    case VertexRegion::Kind::kVertices: {
+      for (size_t i = 0; i < region.vertices.size(); ++i) {
+        const int id = region.vertices[i];
+        if (id < 0 || id >= n) {
+          *problem = Index(Join(region.field, "vertices"), i) + ": vertex " + std::to_string(id) +
+                     " is outside the mesh's 0.." + std::to_string(n - 1);
+          return false;
+        }
+        ids->push_back(id);
+      }
+      std::sort(ids->begin(), ids->end());
+      ids->erase(std::unique(ids->begin(), ids->end()), ids->end());
+      what = "vertex list";
+      break;
+    }
+    case VertexRegion::Kind::kSphere: {
+      Eigen::Vector3d center = region.center;
+      if (region.center_is_vertex) {
+        if (region.center_vertex >= n) {
+          *problem = Join(region.field, "sphere.center_vertex") + ": vertex " +
+                     std::to_string(region.center_vertex) + " is outside the mesh's 0.." +
+                     std::to_string(n - 1);
+          return false;
+        }
+        center = mesh.vertices.col(region.center_vertex);
+      }
+      const double radius = region.radius * (region.radius_is_relative ? frame.diagonal : 1.0);
+      const double radius_squared = radius * radius;
+      for (int v = 0; v < n; ++v) {
+        if ((mesh.vertices.col(v) - center).squaredNorm() <= radius_squared) ids->push_back(v);
+      }
+      std::ostringstream text;
+      text << "sphere of radius " << radius << " around " << Point(center);
+      what = text.str();
+      break;
+    }
+    case VertexRegion::Kind::kSlab: {
+      const double low = frame.box.min()[region.axis];
+      const double extent = frame.box.max()[region.axis] - low;
+      // A little slack so that "0 to 0.1" keeps a vertex sitting exactly at
+      // 10% despite rounding in low + 0.1 * extent.
+      const double slack = 1e-9 * extent;
+      const double from = low + region.from * extent - slack;
+      const double to = low + region.to * extent + slack;
+      for (int v = 0; v < n; ++v) {
+        const double x = mesh.vertices(region.axis, v);
+        if (x >= from && x <= to) ids->push_back(v);
+      }
+      std::ostringstream text;
+      text << "slab " << static_cast<char>('x' + region.axis) << " from " << region.from << " to "
+           << region.to << " of the extent [" << low << ", " << low + extent << "]";
+      what = text.str();
+      break;
+    }
+    case VertexRegion::Kind::kAny:
+    case VertexRegion::Kind::kAll: {
+      const bool any = region.kind == VertexRegion::Kind::kAny;
+      for (size_t i = 0; i < region.children.size(); ++i) {
+        std::vector<int> child;
+        if (!Select(region.children[i], mesh, frame, &child, problem)) return false;
+        std::vector<int> merged;
+        if (i == 0) {
+          merged = std::move(child);
+        } else if (any) {
+          std::set_union(ids->begin(), ids->end(), child.begin(), child.end(),
+                         std::back_inserter(merged));
+        } else {
+          std::set_intersection(ids->begin(), ids->end(), child.begin(), child.end(),
+                                std::back_inserter(merged));
+        }
+        ids->swap(merged);
+      }
+      what = any ? "union" : "intersection of its regions";
+      break;
+    }
+  }
+  if (ids->empty()) {
+    *problem = region.field + ": " + what + " selects no vertex of the mesh";
+    return false;
+  }
+  return true;
+}
+
+Eigen::Vector3d Centroid(const Mesh& mesh, const std::vector<int>& ids) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int v : ids) sum += mesh.vertices.col(v);
+  return ids.empty() ? sum : Eigen::Vector3d(sum / static_cast<double>(ids.size()));
+}
+
+// The motion carried `fraction` of the way (0 = identity, 1 = all of it).
+Eigen::Affine3d PartialMotion(const HandleMotion& motion, const Eigen::Vector3d& centroid,
+                              double diagonal, double fraction) {
+  const Eigen::Vector3d center = motion.rotate_about_centroid ? centroid : motion.rotation_center;
+  const Eigen::Vector3d translation =
+      motion.translation * (motion.translation_is_relative ? diagonal : 1.0);
+  const double angle = fraction * motion.rotation_angle_deg * M_PI / 180.0;
+  Eigen::Affine3d transform = Eigen::Affine3d::Identity();
+  transform.translate(fraction * translation);
+  transform.translate(center);
+  transform.rotate(Eigen::AngleAxisd(angle, motion.rotation_axis));
+  transform.translate(-center);
+  return transform;
+}
+
+}  // namespace
+
+bool ReadScenario(const std::string& path, Scenario* scenario, std::string* error) {
+  std::ifstream in(path);
+  if (!in) {
+    *error = path + ": cannot open for reading (missing or unreadable file)";
+    return false;
+  }
+  std::stringstream text;
+  text << in.rdbuf();
+  Json root;
+  try {
+    root = Json::parse(text.str(), /*cb=*/nullptr, /*allow_exceptions=*/true,
+                       /*ignore_comments=*/true);
+  } catch (const Json::exception& e) {
+    // e.what() is "[json.exception.parse_error.101] parse error at line 3, ...".
+    std::string what = e.what();
+    const size_t bracket = what.find("] ");
+    if (bracket != std::string::npos) what.erase(0, bracket + 2);
+    *error = path + ": invalid JSON: " + what;
+    return false;
+  }
+  Scenario result;
+  result.path = path;
+  ScenarioParser parser;
+  if (!parser.Parse(root, path, &result)) {
+    *error = path + ": " + parser.error();
+    return false;
+  }
+  *scenario = std::move(result);
+  return true;
+}
+
+bool ResolveScenario(const Scenario& scenario, const Mesh& mesh, HandleLayout* layout,
+                     std::vector<int>* watch, Eigen::Affine3d* deformed_from_rest,
+                     std::string* error) {
+  const std::string& where = scenario.path.empty() ? std::string("scenario") : scenario.path;
+  if (mesh.num_vertices() == 0) {
+    *error = where + ": the mesh has no vertices";
+    return false;
+  }
+  MeshFrame frame;
+  frame.box = BoundingBox(mesh);
+  frame.diagonal = BoundingBoxDiagonal(mesh);
+
+  HandleLayout result;
+  std::string problem;
+  for (const VertexRegion& region : scenario.fixed) {
+    std::vector<int> ids;
+    std::vector<int> merged;
+    if (!Select(region, mesh, frame, &ids, &problem)) {
+      *error = where + ": " + problem;
+      return false;
+    }
+    std::set_union(result.fixed.begin(), result.fixed.end(), ids.begin(), ids.end(),
+                   std::back_inserter(merged));
+    result.fixed.swap(merged);
+  }
+  if (!Select(scenario.handle, mesh, frame, &result.moveable, &problem)) {
+    *error = where + ": " + problem;
+    return false;
+  }
+  std::vector<int> watched;
+  if (scenario.has_watch && !Select(scenario.watch, mesh, frame, &watched, &problem)) {
+    *error = where + ": " + problem;
+    return false;
+  }
+  if (!ValidateHandles(result, mesh.num_vertices(), &problem)) {
+    *error = where + ": fixed and handle regions: " + problem;
+    return false;
+  }
+  *deformed_from_rest =
+      PartialMotion(scenario.motion, Centroid(mesh, result.moveable), frame.diagonal, 1.0);
+  *layout = std::move(result);
+  *watch = std::move(watched);
+  return true;
+}
+
+std::vector<Eigen::Affine3d> DragPath(const Scenario& scenario, const Mesh& mesh,
+                                      const HandleLayout& layout) {
+  const Eigen::Vector3d centroid = Centroid(mesh, layout.moveable);
+  const double diagonal = BoundingBoxDiagonal(mesh);
+  const int frames = std::max(1, scenario.frames);
+  std::vector<Eigen::Affine3d> path;
+  path.reserve(frames);
+  for (int k = 1; k <= frames; ++k) {
+    path.push_back(
+        PartialMotion(scenario.motion, centroid, diagonal, static_cast<double>(k) / frames));
+  }
+  return path;
+}
+
+}  // namespace msdeform

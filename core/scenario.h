@@ -1,0 +1,124 @@
+// Editing scenarios: a JSON file naming a mesh, the regions held fixed, the
+// one moveable handle, the handle's motion, and an optional "watch" region of
+// vertices that should not move (to measure leakage).
+//
+// Example (comments are allowed in the file):
+//
+//   {
+//     "name": "armadillo_arm_raise",                  // optional; default: file stem
+//     "description": "free text",                     // optional, ignored
+//     "mesh": "../../data/meshes/armadillo.off",      // relative to this file's folder
+//     "fixed": [                                      // optional; union; may be empty
+//       {"slab": {"axis": "y", "from": 0.0, "to": 0.1}}
+//     ],
+//     "handle": {"sphere": {"center_vertex": 1234, "radius_rel": 0.05}},
+//     "watch": {"vertices": [10, 11, 12]},            // optional
+//     "transform": {                                  // optional; default identity
+//       "translation_rel": [0, 0.2, 0],               // or "translation": [x, y, z]
+//       "rotation": {"axis": [0, 0, 1], "angle_deg": 30,
+//                    "center": "centroid"}            // or [x, y, z]; default centroid
+//     },
+//     "frames": 30                                    // optional, default 1
+//   }
+//
+// A REGION is exactly one of:
+//   {"vertices": [ids...]}
+//   {"sphere": {"center": [x,y,z] | "center_vertex": id,
+//               "radius": r | "radius_rel": r_over_bbox_diagonal}}
+//   {"slab": {"axis": "x"|"y"|"z", "from": f0, "to": f1}}
+//       f0, f1 are fractions of the bounding box extent along the axis:
+//       the lowest 10% along y is {"axis": "y", "from": 0, "to": 0.1}.
+//   {"any": [REGION, ...]}   union
+//   {"all": [REGION, ...]}   intersection
+// Spheres and slabs are closed (boundary included). Every region, nested ones
+// too, must select at least one vertex: an empty selection is almost always a
+// typo, so it is an error naming the region.
+//
+// The handle transform is: rotate about the centre (the handle's rest
+// centroid unless given), then translate; "translation_rel" is in units of
+// the bounding box diagonal. Frame k of n (k = 1..n) of the drag path applies
+// the fraction k/n of the angle and of the translation, about the same centre.
+
+#ifndef MSDEFORM_CORE_SCENARIO_H_
+#define MSDEFORM_CORE_SCENARIO_H_
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "core/handles.h"
+#include "core/mesh.h"
+
+namespace msdeform {
+
+// One node of a region expression; see the format above.
+struct VertexRegion {
+  enum class Kind { kVertices, kSphere, kSlab, kAny, kAll };
+  Kind kind = Kind::kVertices;
+  // Where the region sits in the file, e.g. "fixed[1].any[0]", for messages.
+  std::string field;
+
+  std::vector<int> vertices;  // kVertices, as listed.
+
+  // kSphere: centre is a point or the rest position of a vertex.
+  bool center_is_vertex = false;
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  int center_vertex = -1;
+  double radius = 0.0;
+  bool radius_is_relative = false;  // radius times the bbox diagonal.
+
+  // kSlab: coordinate `axis` (0, 1, 2) between these fractions of the extent.
+  int axis = 0;
+  double from = 0.0;
+  double to = 0.0;
+
+  std::vector<VertexRegion> children;  // kAny, kAll.
+};
+
+// The handle's motion as written in the file, before a mesh gives it scale
+// and a centroid.
+struct HandleMotion {
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  bool translation_is_relative = false;                      // times the bbox diagonal.
+  Eigen::Vector3d rotation_axis = Eigen::Vector3d::UnitZ();  // unit length.
+  double rotation_angle_deg = 0.0;
+  bool rotate_about_centroid = true;  // else about rotation_center.
+  Eigen::Vector3d rotation_center = Eigen::Vector3d::Zero();
+};
+
+struct Scenario {
+  std::string path;       // the scenario file itself, for messages.
+  std::string name;       // "name", or the file stem.
+  std::string mesh_path;  // "mesh" resolved against the scenario's folder.
+  std::vector<VertexRegion> fixed;
+  VertexRegion handle;
+  bool has_watch = false;
+  VertexRegion watch;
+  HandleMotion motion;
+  int frames = 1;  // >= 1.
+};
+
+// Parses a scenario file. Missing, mistyped, unknown or out-of-range fields
+// give false and one line naming the file and the field path, e.g.
+// "s.json: fixed[1].sphere.radius: expected a number, found a string".
+bool ReadScenario(const std::string& path, Scenario* scenario, std::string* error);
+
+// Applies a scenario to its mesh: selects the fixed, handle and watch
+// vertices (sorted, unique) and computes the final handle transform. Fails,
+// naming the region, when a region selects nothing or names a vertex outside
+// the mesh, or when the layout does not validate (e.g. a vertex both fixed
+// and moveable).
+bool ResolveScenario(const Scenario& scenario, const Mesh& mesh, HandleLayout* layout,
+                     std::vector<int>* watch, Eigen::Affine3d* deformed_from_rest,
+                     std::string* error);
+
+// The drag path: scenario.frames transforms, frame k (1-based) carrying the
+// fraction k / frames of the motion; the last equals ResolveScenario's
+// transform. `layout` is the resolved layout (its handle gives the centroid).
+std::vector<Eigen::Affine3d> DragPath(const Scenario& scenario, const Mesh& mesh,
+                                      const HandleLayout& layout);
+
+}  // namespace msdeform
+
+#endif  // MSDEFORM_CORE_SCENARIO_H_

@@ -1,0 +1,196 @@
+#include "core/handles.h"
+
+#include <stdlib.h>
+
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace msdeform {
+namespace {
+
+std::string FreshFolder() {
+  std::string pattern = testing::TempDir() + "/handles_test_XXXXXX";
+  EXPECT_NE(::mkdtemp(pattern.data()), nullptr);
+  return pattern;
+}
+
+std::string WriteText(const std::string& name, const std::string& text) {
+  const std::string path = FreshFolder() + "/" + name;
+  std::ofstream out(path);
+  out << text;
+  EXPECT_TRUE(out.good()) << path;
+  return path;
+}
+
+TEST(HandlesTest, ReadSelSplitsStatusesIntoFixedAndMoveable) {
+  const std::string path = WriteText("six.sel",
+                                     "# per vertex status: 0=fixed, 1=deformable-region, 2=handle\n"
+                                     "# 6 vertices\n"
+                                     "1\n0\n2\n  0  \n\n2\r\n1\n");
+  HandleLayout layout;
+  std::string error;
+  ASSERT_TRUE(ReadSel(path, 6, &layout, &error)) << error;
+  EXPECT_EQ(layout.fixed, (std::vector<int>{1, 3}));
+  EXPECT_EQ(layout.moveable, (std::vector<int>{2, 4}));
+}
+
+struct BadSel {
+  const char* name;
+  const char* contents;
+  int num_vertices;
+  const char* expected;
+};
+
+void PrintTo(const BadSel& bad, std::ostream* out) { *out << bad.name; }
+
+class BadSelTest : public testing::TestWithParam<BadSel> {};
+
+TEST_P(BadSelTest, FailsNamingFileAndProblem) {
+  const BadSel& bad = GetParam();
+  const std::string path = WriteText(bad.name, bad.contents);
+  HandleLayout layout;
+  std::string error;
+  EXPECT_FALSE(ReadSel(path, bad.num_vertices, &layout, &error));
+  EXPECT_EQ(error.rfind(path + ": ", 0), 0u) << error;
+  EXPECT_NE(error.find(bad.expected), std::string::npos) << error;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Errors, BadSelTest,
+    testing::Values(BadSel{"too_few", "# c\n0\n2\n", 3, "has 2 statuses but the mesh has 3"},
+                    BadSel{"too_many", "0\n2\n1\n1\n", 3, "line 4: more statuses"},
+                    BadSel{"status_three", "0\n3\n2\n", 3, "line 2: status 3 for vertex 1"},
+                    BadSel{"negative", "0\n-1\n2\n", 3, "line 2: status -1"},
+                    BadSel{"junk", "# c\n0\nfixed\n2\n", 3,
+                           "line 3: 'fixed' is not a vertex status"},
+                    BadSel{"two_per_line", "0 2\n1\n", 3, "line 1: expected one status"},
+                    BadSel{"fraction", "0\n1.5\n2\n", 3, "line 2: '1.5' is not"},
+                    BadSel{"no_handle", "0\n1\n0\n", 3, "no handle vertex"}),
+    [](const testing::TestParamInfo<BadSel>& info) { return std::string(info.param.name); });
+
+TEST(HandlesTest, ReadSelOfMissingFileFails) {
+  const std::string path = FreshFolder() + "/missing.sel";
+  HandleLayout layout;
+  std::string error;
+  EXPECT_FALSE(ReadSel(path, 3, &layout, &error));
+  EXPECT_NE(error.find(path), std::string::npos) << error;
+}
+
+TEST(HandlesTest, WriteSelRoundTrips) {
+  const std::string path = FreshFolder() + "/out.sel";
+  HandleLayout layout;
+  layout.fixed = {0, 4, 5};
+  layout.moveable = {2, 6};
+  std::string error;
+  ASSERT_TRUE(WriteSel(path, layout, 8, &error)) << error;
+  HandleLayout read;
+  ASSERT_TRUE(ReadSel(path, 8, &read, &error)) << error;
+  EXPECT_EQ(read.fixed, layout.fixed);
+  EXPECT_EQ(read.moveable, layout.moveable);
+}
+
+TEST(HandlesTest, WriteSelRefusesAnInvalidLayout) {
+  const std::string folder = FreshFolder();
+  HandleLayout layout;
+  layout.fixed = {1};
+  layout.moveable = {1};
+  std::string error;
+  EXPECT_FALSE(WriteSel(folder + "/bad.sel", layout, 3, &error));
+  EXPECT_NE(error.find("both fixed and moveable"), std::string::npos) << error;
+  EXPECT_FALSE(std::ifstream(folder + "/bad.sel").good());
+}
+
+TEST(HandlesTest, ValidateHandlesNamesTheProblem) {
+  std::string error;
+  HandleLayout layout;
+  layout.fixed = {0, 1};
+  layout.moveable = {3};
+  EXPECT_TRUE(ValidateHandles(layout, 4, &error)) << error;
+
+  layout.moveable = {4};
+  EXPECT_FALSE(ValidateHandles(layout, 4, &error));
+  EXPECT_NE(error.find("vertex 4 is outside 0..3"), std::string::npos) << error;
+
+  layout.moveable = {};
+  EXPECT_FALSE(ValidateHandles(layout, 4, &error));
+  EXPECT_NE(error.find("no vertex"), std::string::npos) << error;
+
+  layout.moveable = {1, 2};
+  EXPECT_FALSE(ValidateHandles(layout, 4, &error));
+  EXPECT_NE(error.find("vertex 1 is both fixed and moveable"), std::string::npos) << error;
+
+  layout.moveable = {3, 2};
+  EXPECT_FALSE(ValidateHandles(layout, 4, &error));
+  EXPECT_NE(error.find("sorted"), std::string::npos) << error;
+}
+
+// cactus.def from CGAL's Surface_mesh_deformation example.
+constexpr char kCactusDef[] =
+    "# 4x4 handle transformation matrix\n"
+    "0.999641 0.021031 0.016579 -0.019322\n"
+    "-0.022776 0.342021 0.939416 -0.134331\n"
+    "0.014087 -0.939457 0.342378 0.821073\n"
+    "0.000000 0.000000 0.000000 1.000000\n";
+
+TEST(HandlesTest, ReadDefReadsRowByRow) {
+  const std::string path = WriteText("cactus.def", kCactusDef);
+  Eigen::Affine3d transform;
+  std::string error;
+  ASSERT_TRUE(ReadDef(path, &transform, &error)) << error;
+  EXPECT_DOUBLE_EQ(transform.matrix()(0, 1), 0.021031);
+  EXPECT_DOUBLE_EQ(transform.matrix()(1, 0), -0.022776);
+  EXPECT_DOUBLE_EQ(transform.translation().z(), 0.821073);
+  // Applying it moves the origin to the translation column.
+  EXPECT_TRUE((transform * Eigen::Vector3d::Zero())
+                  .isApprox(Eigen::Vector3d(-0.019322, -0.134331, 0.821073)));
+}
+
+TEST(HandlesTest, WriteDefRoundTripsExactly) {
+  const std::string path = FreshFolder() + "/out.def";
+  Eigen::Affine3d transform = Eigen::Affine3d::Identity();
+  transform.rotate(Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()));
+  transform.pretranslate(Eigen::Vector3d(0.1, -2.0 / 3.0, 5));
+  std::string error;
+  ASSERT_TRUE(WriteDef(path, transform, &error)) << error;
+  Eigen::Affine3d read;
+  ASSERT_TRUE(ReadDef(path, &read, &error)) << error;
+  EXPECT_EQ(read.matrix(), transform.matrix());
+}
+
+struct BadDef {
+  const char* name;
+  const char* contents;
+  const char* expected;
+};
+
+void PrintTo(const BadDef& bad, std::ostream* out) { *out << bad.name; }
+
+class BadDefTest : public testing::TestWithParam<BadDef> {};
+
+TEST_P(BadDefTest, FailsNamingFileAndProblem) {
+  const BadDef& bad = GetParam();
+  const std::string path = WriteText(bad.name, bad.contents);
+  Eigen::Affine3d transform;
+  std::string error;
+  EXPECT_FALSE(ReadDef(path, &transform, &error));
+  EXPECT_EQ(error.rfind(path + ": ", 0), 0u) << error;
+  EXPECT_NE(error.find(bad.expected), std::string::npos) << error;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Errors, BadDefTest,
+    testing::Values(
+        BadDef{"fifteen", "1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0\n", "has 15 numbers"},
+        BadDef{"seventeen", "1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1 7\n", "line 4: more than 16"},
+        BadDef{"junk", "1 0 0 0\n0 1 zero 0\n0 0 1 0\n0 0 0 1\n", "line 2: 'zero' is not a number"},
+        BadDef{"nan", "1 0 0 0\n0 1 0 nan\n0 0 1 0\n0 0 0 1\n",
+               "line 2: matrix entry 'nan' is not finite"},
+        BadDef{"projective", "1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0.5 1\n", "expected 0 0 0 1"},
+        BadDef{"empty", "# only a comment\n", "has 0 numbers"}),
+    [](const testing::TestParamInfo<BadDef>& info) { return std::string(info.param.name); });
+
+}  // namespace
+}  // namespace msdeform

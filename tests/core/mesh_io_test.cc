@@ -1,0 +1,435 @@
+#include "core/mesh_io.h"
+
+#include <stdlib.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace msdeform {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh, empty folder under the test temp dir, one per test.
+std::string FreshFolder() {
+  std::string pattern = testing::TempDir() + "/mesh_io_test_XXXXXX";
+  EXPECT_NE(::mkdtemp(pattern.data()), nullptr);
+  return pattern;
+}
+
+void WriteText(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  ASSERT_TRUE(out.good()) << path;
+}
+
+// Two triangles forming a unit square, plus a third triangle off to the side;
+// coordinates are exact in float.
+Mesh SmallMesh() {
+  Mesh mesh;
+  mesh.vertices.resize(3, 6);
+  mesh.vertices << 0, 1, 0, 1, 2.5, 3.125,  //
+      0, 0, 1, 1, -0.5, 0.25,               //
+      0, 0.5, 0, -0.75, 8, 16;
+  mesh.faces.resize(3, 3);
+  mesh.faces << 0, 1, 3,  //
+      1, 3, 4,            //
+      2, 2, 5;
+  return mesh;
+}
+
+// Random doubles in [-100, 100], not representable in float.
+Mesh RandomMesh(int num_vertices, int num_faces, unsigned seed) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> coordinate(-100.0, 100.0);
+  Mesh mesh;
+  mesh.vertices.resize(3, num_vertices);
+  for (int v = 0; v < num_vertices; ++v) {
+    for (int k = 0; k < 3; ++k) mesh.vertices(k, v) = coordinate(random);
+  }
+  std::uniform_int_distribution<int> id(0, num_vertices - 1);
+  mesh.faces.resize(3, num_faces);
+  for (int f = 0; f < num_faces; ++f) {
+    int a = id(random), b = id(random), c = id(random);
+    while (b == a) b = id(random);
+    while (c == a || c == b) c = id(random);
+    mesh.faces.col(f) << a, b, c;
+  }
+  return mesh;
+}
+
+class MeshRoundTripTest : public testing::TestWithParam<std::string> {};
+
+TEST_P(MeshRoundTripTest, KeepsVertexOrderAndFacesExactlyForFloatCoordinates) {
+  const std::string path = FreshFolder() + "/small." + GetParam();
+  const Mesh mesh = SmallMesh();
+  std::string error;
+  ASSERT_TRUE(WriteMesh(path, mesh, &error)) << error;
+  Mesh read;
+  ASSERT_TRUE(ReadMesh(path, &read, &error)) << error;
+  EXPECT_EQ(read.vertices, mesh.vertices);
+  EXPECT_EQ(read.faces, mesh.faces);
+}
+
+TEST_P(MeshRoundTripTest, DoublesComeBackWithinFloatPrecisionAndThenExactly) {
+  const std::string folder = FreshFolder();
+  const std::string path = folder + "/random." + GetParam();
+  const Mesh mesh = RandomMesh(200, 300, 7);
+  std::string error;
+  ASSERT_TRUE(WriteMesh(path, mesh, &error)) << error;
+  Mesh read;
+  ASSERT_TRUE(ReadMesh(path, &read, &error)) << error;
+  ASSERT_EQ(read.num_vertices(), mesh.num_vertices());
+  EXPECT_EQ(read.faces, mesh.faces);
+  double worst = 0.0;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    for (int k = 0; k < 3; ++k) {
+      const double relative = std::abs(read.vertices(k, v) - mesh.vertices(k, v)) /
+                              std::max(1.0, std::abs(mesh.vertices(k, v)));
+      worst = std::max(worst, relative);
+    }
+  }
+  EXPECT_LT(worst, 1e-6);
+  EXPECT_GT(worst, 0.0) << "doubles should pass through float";
+
+  // What was read is float-exact, so a second round trip changes nothing.
+  const std::string again = folder + "/again." + GetParam();
+  ASSERT_TRUE(WriteMesh(again, read, &error)) << error;
+  Mesh read_again;
+  ASSERT_TRUE(ReadMesh(again, &read_again, &error)) << error;
+  EXPECT_EQ(read_again.vertices, read.vertices);
+  EXPECT_EQ(read_again.faces, read.faces);
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, MeshRoundTripTest, testing::Values("off", "obj", "ply"));
+
+// Edge (0, 1) is shared by three triangles, vertex 5 is a bowtie (two fans
+// touching only there), and vertex 10 is used by no face. A halfedge mesh
+// would drop a face or duplicate vertices here.
+constexpr char kNonManifoldOff[] =
+    "OFF\n"
+    "11 5 0\n"
+    "0 0 0\n1 0 0\n0.5 1 0\n0.5 -1 0\n0.5 0 1\n"
+    "5 0 0\n6 1 0\n6 -1 0\n4 1 0\n4 -1 0\n"
+    "9 9 9\n"
+    "3 0 1 2\n3 1 0 3\n3 0 1 4\n3 5 6 7\n3 5 8 9\n";
+
+TEST(MeshIoTest, NonManifoldOffKeepsEveryVertexAndFace) {
+  const std::string folder = FreshFolder();
+  const std::string path = folder + "/nonmanifold.off";
+  WriteText(path, kNonManifoldOff);
+  Mesh mesh;
+  std::string error;
+  ASSERT_TRUE(ReadMesh(path, &mesh, &error)) << error;
+  EXPECT_EQ(mesh.num_vertices(), 11);
+  Eigen::Matrix3Xi expected(3, 5);
+  expected << 0, 1, 0, 5, 5,  //
+      1, 0, 1, 6, 8,          //
+      2, 3, 4, 7, 9;
+  EXPECT_EQ(mesh.faces, expected);
+  EXPECT_EQ(mesh.vertices.col(10), Eigen::Vector3d(9, 9, 9));
+
+  // And it writes back unchanged.
+  const std::string copy = folder + "/copy.ply";
+  ASSERT_TRUE(WriteMesh(copy, mesh, &error)) << error;
+  Mesh read;
+  ASSERT_TRUE(ReadMesh(copy, &read, &error)) << error;
+  EXPECT_EQ(read.vertices, mesh.vertices);
+  EXPECT_EQ(read.faces, mesh.faces);
+}
+
+TEST(MeshIoTest, PolygonsAreSplitIntoFans) {
+  const std::string path = FreshFolder() + "/polygons.off";
+  WriteText(path,
+            "OFF\n6 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 0 0\n2 1 0\n"
+            "4 0 1 2 3\n"
+            "5 1 4 5 2 3\n");
+  Mesh mesh;
+  std::string error;
+  ASSERT_TRUE(ReadMesh(path, &mesh, &error)) << error;
+  Eigen::Matrix3Xi expected(3, 5);
+  expected << 0, 0, 1, 1, 1,  //
+      1, 2, 4, 5, 2,          //
+      2, 3, 5, 2, 3;
+  EXPECT_EQ(mesh.faces, expected);
+}
+
+TEST(MeshIoTest, ReadsCommentedCoffWithColorsAndBlankLines) {
+  // Laid out like CGAL's data/meshes/mesh_with_colors.off.
+  const std::string path = FreshFolder() + "/colored.off";
+  WriteText(path,
+            "# a comment\n"
+            "#another\n"
+            "COFF\n"
+            "4 2 0\n"
+            "\n"
+            "-1 -1 0 0.9 0.0 0.0 #red\n"
+            "1 -1 0 0 0 0.9\n"
+            "\n"
+            "1 1 0 255 0 0 255\n"
+            "-1 1 0.5 0 0 255 255   # blue\n"
+            "3 0 1 2  0.9 0 0 # face colour\n"
+            "3 0 2 3\n");
+  Mesh mesh;
+  std::string error;
+  ASSERT_TRUE(ReadMesh(path, &mesh, &error)) << error;
+  ASSERT_EQ(mesh.num_vertices(), 4);
+  EXPECT_EQ(mesh.vertices.col(3), Eigen::Vector3d(-1, 1, 0.5));
+  Eigen::Matrix3Xi expected(3, 2);
+  expected << 0, 0,  //
+      1, 2,          //
+      2, 3;
+  EXPECT_EQ(mesh.faces, expected);
+}
+
+TEST(MeshIoTest, ReadsPlainCoffAndCountsOnTheHeaderLine) {
+  const std::string folder = FreshFolder();
+  const std::string coff = folder + "/plain.off";
+  WriteText(coff,
+            "COFF\n3 1 0\n0 0 0 192 192 192 255\n1 0 0 192 192 192 255\n"
+            "0 2 0 192 192 192 255\n3 0 1 2\n");
+  const std::string one_line = folder + "/one_line.off";
+  WriteText(one_line, "OFF 3 1 0\n0 0 0\n1 0 0\n0 2 0\n3 0 1 2\n");
+  for (const std::string& path : {coff, one_line}) {
+    Mesh mesh;
+    std::string error;
+    ASSERT_TRUE(ReadMesh(path, &mesh, &error)) << error;
+    EXPECT_EQ(mesh.num_vertices(), 3) << path;
+    EXPECT_EQ(mesh.vertices.col(2), Eigen::Vector3d(0, 2, 0)) << path;
+    EXPECT_EQ(mesh.num_faces(), 1) << path;
+  }
+}
+
+TEST(MeshIoTest, ReadsFaceColoursUnderAPlainOffHeader) {
+  // Like CGAL's quint_tris.off: OpenMesh alone would read ".7" as the next
+  // face's vertex count.
+  const std::string path = FreshFolder() + "/face_colours.off";
+  WriteText(path,
+            "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n"
+            "3 0 1 2 .7 0 0\n"
+            "3 0 2 3 .7 0 0\n");
+  Mesh mesh;
+  std::string error;
+  ASSERT_TRUE(ReadMesh(path, &mesh, &error)) << error;
+  Eigen::Matrix3Xi expected(3, 2);
+  expected << 0, 0,  //
+      1, 2,          //
+      2, 3;
+  EXPECT_EQ(mesh.faces, expected);
+}
+
+TEST(MeshIoTest, BinaryOffReadsAndTruncationIsCaught) {
+  // OpenMesh's binary OFF layout: little-endian int32 counts and ids, float32
+  // coordinates.
+  std::string bytes = "OFF BINARY\n";
+  auto append = [&bytes](const auto& value) {
+    bytes.append(reinterpret_cast<const char*>(&value), sizeof(value));
+  };
+  for (int32_t count : {4, 2, 0}) append(count);
+  for (float coordinate : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 1.f, 1.f, 0.f, 0.f, 1.f, 0.25f}) {
+    append(coordinate);
+  }
+  for (int32_t id : {3, 0, 1, 2, 3, 0, 2, 3}) append(id);
+  const std::string folder = FreshFolder();
+  WriteText(folder + "/binary.off", bytes);
+  Mesh mesh;
+  std::string error;
+  ASSERT_TRUE(ReadMesh(folder + "/binary.off", &mesh, &error)) << error;
+  EXPECT_EQ(mesh.vertices.col(3), Eigen::Vector3d(0, 1, 0.25));
+  Eigen::Matrix3Xi expected(3, 2);
+  expected << 0, 0,  //
+      1, 2,          //
+      2, 3;
+  EXPECT_EQ(mesh.faces, expected);
+
+  WriteText(folder + "/short.off", bytes.substr(0, bytes.size() - 8));
+  EXPECT_FALSE(ReadMesh(folder + "/short.off", &mesh, &error));
+  EXPECT_NE(error.find("short.off: truncated"), std::string::npos) << error;
+}
+
+TEST(MeshIoTest, ExtensionIsCaseInsensitive) {
+  const std::string path = FreshFolder() + "/SHOUT.OFF";
+  WriteText(path, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  Mesh mesh;
+  std::string error;
+  ASSERT_TRUE(ReadMesh(path, &mesh, &error)) << error;
+  EXPECT_EQ(mesh.num_faces(), 1);
+}
+
+TEST(MeshIoTest, ReadsObjWithTextureAndNormalIndices) {
+  const std::string path = FreshFolder() + "/textured.obj";
+  WriteText(path,
+            "# comment\n"
+            "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+            "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+            "vn 0 0 1\n"
+            "f 1/1/1 2/2/1 3/3/1 4/4/1\n");
+  Mesh mesh;
+  std::string error;
+  ASSERT_TRUE(ReadMesh(path, &mesh, &error)) << error;
+  EXPECT_EQ(mesh.num_vertices(), 4);
+  Eigen::Matrix3Xi expected(3, 2);
+  expected << 0, 0,  //
+      1, 2,          //
+      2, 3;
+  EXPECT_EQ(mesh.faces, expected);
+}
+
+// Two facets of a unit square sharing the edge (1,0,0)-(0,1,0).
+constexpr float kStlTriangles[2][3][3] = {{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}},
+                                          {{1, 0, 0}, {1, 1, 0}, {0, 1, 0}}};
+
+TEST(MeshIoTest, AsciiStlIsWeldedToSharedVertices) {
+  const std::string path = FreshFolder() + "/square.stl";
+  std::ostringstream text;
+  text << "solid square\n";
+  for (const auto& triangle : kStlTriangles) {
+    text << "  facet normal 0 0 1\n    outer loop\n";
+    for (const auto& p : triangle)
+      text << "      vertex " << p[0] << " " << p[1] << " " << p[2] << "\n";
+    text << "    endloop\n  endfacet\n";
+  }
+  text << "endsolid square\n";
+  WriteText(path, text.str());
+  Mesh mesh;
+  std::string error;
+  ASSERT_TRUE(ReadMesh(path, &mesh, &error)) << error;
+  EXPECT_EQ(mesh.num_vertices(), 4);
+  Eigen::Matrix3Xi expected(3, 2);
+  expected << 0, 1,  //
+      1, 3,          //
+      2, 2;
+  EXPECT_EQ(mesh.faces, expected);
+  EXPECT_EQ(mesh.vertices.col(3), Eigen::Vector3d(1, 1, 0));
+}
+
+TEST(MeshIoTest, BinaryStlIsWeldedToSharedVertices) {
+  const std::string path = FreshFolder() + "/square_binary.stl";
+  std::string bytes(80, ' ');
+  const uint32_t count = 2;
+  bytes.append(reinterpret_cast<const char*>(&count), 4);
+  for (const auto& triangle : kStlTriangles) {
+    const float normal[3] = {0, 0, 1};
+    bytes.append(reinterpret_cast<const char*>(normal), 12);
+    for (const auto& p : triangle) bytes.append(reinterpret_cast<const char*>(p), 12);
+    bytes.append(2, '\0');
+  }
+  WriteText(path, bytes);
+  Mesh mesh;
+  std::string error;
+  ASSERT_TRUE(ReadMesh(path, &mesh, &error)) << error;
+  EXPECT_EQ(mesh.num_vertices(), 4);
+  EXPECT_EQ(mesh.num_faces(), 2);
+  EXPECT_EQ(mesh.faces(1, 0), mesh.faces(0, 1)) << "shared vertex (1,0,0) is merged";
+}
+
+struct BadFile {
+  const char* name;      // file name, also the test name
+  const char* contents;  // nullptr: do not create the file
+  const char* expected;  // part of the error message
+};
+
+void PrintTo(const BadFile& bad, std::ostream* out) { *out << bad.name; }
+
+class BadMeshFileTest : public testing::TestWithParam<BadFile> {};
+
+TEST_P(BadMeshFileTest, FailsWithOneLineNamingTheFile) {
+  const BadFile& bad = GetParam();
+  const std::string path = FreshFolder() + "/" + bad.name;
+  if (bad.contents != nullptr) WriteText(path, bad.contents);
+  Mesh mesh;
+  std::string error;
+  EXPECT_FALSE(ReadMesh(path, &mesh, &error));
+  EXPECT_NE(error.find(path), std::string::npos) << error;
+  EXPECT_NE(error.find(bad.expected), std::string::npos) << error;
+  EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Errors, BadMeshFileTest,
+    testing::Values(
+        BadFile{"missing.off", nullptr, "no such file"}, BadFile{"empty.off", "", "empty"},
+        BadFile{"empty.obj", "", "empty"},
+        BadFile{"wrong_header.off", "PLY\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+                "line 1: expected an OFF header"},
+        BadFile{"ply_header.ply", "PLX\nformat ascii 1.0\nend_header\n",
+                "line 1: expected the PLY magic 'ply'"},
+        BadFile{"truncated_faces.ply",
+                "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                "property float z\nelement face 2\nproperty list uchar int vertex_indices\n"
+                "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+                "ends after 4"},
+        BadFile{"nan.ply",
+                "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                "end_header\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n",
+                "line 11: 'nan' is not a finite number"},
+        BadFile{"nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n",
+                "line 2: vertex 1 coordinate 'nan' is not a finite number"},
+        BadFile{"bad_counts.off", "OFF\n3 one 0\n", "line 2: expected three counts"},
+        BadFile{"truncated_vertices.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n",
+                "ends after 3 of 4 vertices"},
+        BadFile{"truncated_faces.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+                "ends after 1 of 2 faces"},
+        BadFile{"nan.off", "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n",
+                "line 4: vertex 1 coordinate 'nan' is not finite"},
+        BadFile{"junk.off", "OFF\n3 1 0\n0 0 0\n1 x 0\n0 1 0\n3 0 1 2\n", "'x' is not a number"},
+        BadFile{"out_of_range.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n",
+                "line 6: face 0 refers to vertex 3, outside 0..2"},
+        BadFile{"two_corner_face.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n", "at least 3"},
+        BadFile{"out_of_range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 7\n",
+                "face 1 refers to vertex 6, outside 0..2"},
+        BadFile{"no_faces.obj", "v 0 0 0\nv 1 0 0\n", "need at least one triangle"},
+        BadFile{"repeated_vertex.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 1\n",
+                "face 0 repeats vertex 1"},
+        BadFile{"unknown.xyz", "0 0 0\n", "unknown mesh format '.xyz'"}),
+    [](const testing::TestParamInfo<BadFile>& info) {
+      std::string name = info.param.name;
+      for (char& c : name) {
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+      }
+      return name;
+    });
+
+TEST(MeshIoTest, FailedWriteLeavesNoFile) {
+  const std::string folder = FreshFolder();
+  std::string error;
+  // Unknown format.
+  EXPECT_FALSE(WriteMesh(folder + "/out.stl", SmallMesh(), &error));
+  EXPECT_NE(error.find("out.stl"), std::string::npos) << error;
+  // Invalid mesh: a face id out of range.
+  Mesh broken = SmallMesh();
+  broken.faces(0, 0) = 99;
+  EXPECT_FALSE(WriteMesh(folder + "/broken.off", broken, &error));
+  EXPECT_NE(error.find("broken.off"), std::string::npos) << error;
+  // Folder that does not exist.
+  EXPECT_FALSE(WriteMesh(folder + "/no/such/folder/out.off", SmallMesh(), &error));
+  EXPECT_NE(error.find("out.off"), std::string::npos) << error;
+  EXPECT_TRUE(fs::is_empty(folder)) << "no output and no temporaries";
+}
+
+TEST(MeshIoTest, FailedWriteKeepsThePreviousFile) {
+  const std::string path = FreshFolder() + "/keep.off";
+  std::string error;
+  ASSERT_TRUE(WriteMesh(path, SmallMesh(), &error)) << error;
+  Mesh broken = SmallMesh();
+  broken.vertices(0, 0) = std::nan("");
+  EXPECT_FALSE(WriteMesh(path, broken, &error));
+  Mesh read;
+  ASSERT_TRUE(ReadMesh(path, &read, &error)) << error;
+  EXPECT_EQ(read.vertices, SmallMesh().vertices);
+}
+
+}  // namespace
+}  // namespace msdeform
