@@ -1,0 +1,372 @@
+#include "scales/rigidity.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <sstream>
+#include <unordered_map>
+
+#include <glog/logging.h>
+
+#include "scales/polar_decomposition.h"
+
+namespace msdeform {
+namespace {
+
+// A uniformly random unit vector from the raw 64-bit outputs of the engine
+// (std::mt19937_64's outputs are fixed by the standard; the std::*_distribution
+// algorithms are not), so a seed gives the same direction on every platform.
+Eigen::Vector3d RandomDirection(std::uint64_t seed) {
+  std::mt19937_64 engine(seed);
+  const double u1 = static_cast<double>(engine() >> 11) * 0x1.0p-53;
+  const double u2 = static_cast<double>(engine() >> 11) * 0x1.0p-53;
+  const double z = 2.0 * u1 - 1.0;
+  const double radius = std::sqrt(std::max(0.0, 1.0 - z * z));
+  const double phi = 2.0 * M_PI * u2;
+  return Eigen::Vector3d(radius * std::cos(phi), radius * std::sin(phi), z);
+}
+
+// Regions R_i: i and its r-ring in `adjacency`, sorted.
+CompressedLists RingsOf(const CompressedLists& adjacency, int half_width) {
+  const int n = adjacency.num_rows();
+  CompressedLists rings;
+  rings.offsets.assign(1, 0);
+  rings.offsets.reserve(n + 1);
+  std::vector<int> stamp(n, -1);
+  std::vector<int> ring;
+  for (int i = 0; i < n; ++i) {
+    ring.assign(1, i);
+    stamp[i] = i;
+    std::size_t front = 0;
+    for (int depth = 0; depth < half_width; ++depth) {
+      const std::size_t back = ring.size();
+      for (; front < back; ++front) {
+        for (const int* j = adjacency.begin(ring[front]); j != adjacency.end(ring[front]); ++j) {
+          if (stamp[*j] == i) continue;
+          stamp[*j] = i;
+          ring.push_back(*j);
+        }
+      }
+    }
+    std::sort(ring.begin(), ring.end());
+    rings.values.insert(rings.values.end(), ring.begin(), ring.end());
+    rings.offsets.push_back(static_cast<int>(rings.values.size()));
+  }
+  return rings;
+}
+
+bool ValidParticles(const std::vector<int>& particles, int num_particles, const char* what,
+                    std::string* error) {
+  for (std::size_t k = 0; k < particles.size(); ++k) {
+    if (particles[k] < 0 || particles[k] >= num_particles) {
+      std::ostringstream message;
+      message << what << " particle id " << particles[k] << " (entry " << k
+              << ") is out of range [0, " << num_particles << ")";
+      *error = message.str();
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+bool RigidityOptions::Check(std::string* error) const {
+  auto fail = [error](const char* message) {
+    *error = message;
+    return false;
+  };
+  if (num_steps < 1) return fail("num_steps (S) must be >= 1");
+  if (!(time_step > 0.0) || !std::isfinite(time_step)) {
+    return fail("time_step (h) must be a finite number > 0");
+  }
+  if (!(external_stiffness >= 0.0) || !std::isfinite(external_stiffness)) {
+    return fail("external_stiffness (k_ext) must be a finite number >= 0");
+  }
+  if (external_stiffness * time_step * time_step > 1.0) {
+    return fail("external_stiffness * time_step^2 (k_ext h^2) must be <= 1 for a stable step");
+  }
+  if (!(initial_speed > 0.0) || !std::isfinite(initial_speed)) {
+    return fail("initial_speed (|v0| in w / h) must be a finite number > 0");
+  }
+  if (!(damping >= 0.0 && damping < 1.0)) return fail("damping must be in [0, 1)");
+  if (region_half_width < 1) return fail("region_half_width must be >= 1");
+  if (max_rotation_iterations < 1) return fail("max_rotation_iterations must be >= 1");
+  if (!(rotation_tolerance > 0.0) || !std::isfinite(rotation_tolerance)) {
+    return fail("rotation_tolerance must be a finite number > 0");
+  }
+  return true;
+}
+
+bool ParticlesOfVertices(const Lattice& lattice, const std::vector<int>& vertices,
+                         std::vector<int>* particles, std::string* error) {
+  CHECK(particles != nullptr);
+  const int num_vertices = static_cast<int>(lattice.cell_of_vertex().size());
+  particles->clear();
+  particles->reserve(vertices.size());
+  for (std::size_t k = 0; k < vertices.size(); ++k) {
+    if (vertices[k] < 0 || vertices[k] >= num_vertices) {
+      std::ostringstream message;
+      message << "vertex id " << vertices[k] << " (entry " << k << ") is out of range [0, "
+              << num_vertices << ")";
+      *error = message.str();
+      return false;
+    }
+    particles->push_back(lattice.cell_of_vertex(vertices[k]));
+  }
+  std::sort(particles->begin(), particles->end());
+  particles->erase(std::unique(particles->begin(), particles->end()), particles->end());
+  return true;
+}
+
+bool RigidityEstimator::Init(const Lattice& lattice, const RigidityOptions& options,
+                             std::string* error) {
+  if (!options.Check(error)) return false;
+  if (lattice.num_particles() == 0) {
+    *error = "the lattice has no particles";
+    return false;
+  }
+  options_ = options;
+  const int n = lattice.num_particles();
+  const int r = options.region_half_width;
+  cell_width_ = lattice.cell_width();
+  centre_ = lattice.origin() +
+            0.5 * cell_width_ * (lattice.dims() - Eigen::Vector3i::Ones()).cast<double>();
+  rest_ = (lattice.rest_positions().colwise() - centre_) / cell_width_;
+
+  regions_ = RingsOf(lattice.particle_adjacency(), r);
+  // Goals average over the regions holding i, which are R_i itself only when
+  // membership is symmetric; the lattice adjacency is.
+  for (int i = 0; i < n; ++i) {
+    for (const int* j = regions_.begin(i); j != regions_.end(i); ++j) {
+      CHECK(std::binary_search(regions_.begin(*j), regions_.end(*j), i))
+          << "particle adjacency is not symmetric at " << i << ", " << *j;
+    }
+  }
+  inverse_region_size_.resize(n);
+  rest_centroids_.resize(3, n);
+  for (int i = 0; i < n; ++i) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (const int* j = regions_.begin(i); j != regions_.end(i); ++j) sum += rest_.col(*j);
+    inverse_region_size_[i] = 1.0 / regions_.size(i);
+    rest_centroids_.col(i) = sum * inverse_region_size_[i];
+  }
+
+  // Box summation: particles whose region is exactly the particles of their
+  // (2r+1)^3 box sum plates of bars; the others sum their lists.
+  box_particles_.clear();
+  listed_particles_.clear();
+  bar_members_ = CompressedLists();
+  plate_members_ = CompressedLists();
+  box_members_ = CompressedLists();
+  for (int i = 0; i < n; ++i) {
+    bool is_box = options.region_summation == RegionSummation::kBox;
+    const Eigen::Vector3i& c = lattice.cell_coords(i);
+    for (const int* j = regions_.begin(i); j != regions_.end(i) && is_box; ++j) {
+      is_box = (lattice.cell_coords(*j) - c).cwiseAbs().maxCoeff() <= r;
+    }
+    int box_count = 0;
+    for (int dz = -r; dz <= r && is_box; ++dz)
+      for (int dy = -r; dy <= r; ++dy)
+        for (int dx = -r; dx <= r; ++dx)
+          box_count += lattice.ParticleAt(c + Eigen::Vector3i(dx, dy, dz)) >= 0;
+    if (is_box && box_count == regions_.size(i)) {
+      box_particles_.push_back(i);
+    } else {
+      listed_particles_.push_back(i);
+    }
+  }
+  // Cells get ids in order of first use; a hash map keeps Init linear.
+  auto key = [](const Eigen::Vector3i& c) {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.x())) << 42) ^
+           (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.y())) << 21) ^
+           static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.z()));
+  };
+  auto add_cells = [&](const std::vector<Eigen::Vector3i>& centres, int axis,
+                       CompressedLists* members, std::vector<Eigen::Vector3i>* cells) {
+    std::unordered_map<std::uint64_t, int> id_of_cell;
+    for (const Eigen::Vector3i& centre : centres) {
+      for (int d = -r; d <= r; ++d) {
+        Eigen::Vector3i cell = centre;
+        cell[axis] += d;
+        const auto [it, inserted] =
+            id_of_cell.emplace(key(cell), static_cast<int>(cells->size()));
+        if (inserted) cells->push_back(cell);
+        members->values.push_back(it->second);
+      }
+      members->offsets.push_back(static_cast<int>(members->values.size()));
+    }
+  };
+  std::vector<Eigen::Vector3i> box_cells, plate_cells, bar_cells;
+  for (int i : box_particles_) box_cells.push_back(lattice.cell_coords(i));
+  add_cells(box_cells, 2, &box_members_, &plate_cells);
+  add_cells(plate_cells, 1, &plate_members_, &bar_cells);
+  for (const Eigen::Vector3i& cell : bar_cells) {
+    for (int d = -r; d <= r; ++d) {
+      const int particle = lattice.ParticleAt(cell + Eigen::Vector3i(d, 0, 0));
+      if (particle >= 0) bar_members_.values.push_back(particle);
+    }
+    bar_members_.offsets.push_back(static_cast<int>(bar_members_.values.size()));
+  }
+  bar_sums_.resize(12, bar_members_.num_rows());
+  plate_sums_.resize(12, plate_members_.num_rows());
+
+  rotations_.assign(n, Eigen::Quaterniond::Identity());
+  particle_values_.resize(12, n);
+  region_sums_.resize(12, n);
+  region_transforms_.resize(12, n);
+  goal_sums_.resize(12, n);
+  return true;
+}
+
+void RigidityEstimator::SumOverRegions(const Matrix12Xd& values, Matrix12Xd* sums) {
+  for (int i : listed_particles_) {
+    Vector12d sum = Vector12d::Zero();
+    for (const int* j = regions_.begin(i); j != regions_.end(i); ++j) sum += values.col(*j);
+    sums->col(i) = sum;
+  }
+  if (box_particles_.empty()) return;
+  // Separable (2r+1)-wide sums along x (bars), y (plates), z (boxes).
+  auto sum_rows = [](const CompressedLists& members, const Matrix12Xd& in, int row) {
+    Vector12d sum = Vector12d::Zero();
+    for (const int* j = members.begin(row); j != members.end(row); ++j) sum += in.col(*j);
+    return sum;
+  };
+  for (int k = 0; k < bar_members_.num_rows(); ++k) {
+    bar_sums_.col(k) = sum_rows(bar_members_, values, k);
+  }
+  for (int k = 0; k < plate_members_.num_rows(); ++k) {
+    plate_sums_.col(k) = sum_rows(plate_members_, bar_sums_, k);
+  }
+  for (int k = 0; k < box_members_.num_rows(); ++k) {
+    sums->col(box_particles_[k]) = sum_rows(box_members_, plate_sums_, k);
+  }
+}
+
+void RigidityEstimator::ComputeGoalsInLatticeUnits(const Eigen::Matrix3Xd& positions,
+                                                   Eigen::Matrix3Xd* goals,
+                                                   long long* iterations) {
+  const int n = num_particles();
+  // Per particle: x_j and vec(x_j x0_j^T) (column-major).
+  for (int j = 0; j < n; ++j) {
+    const Eigen::Vector3d x = positions.col(j);
+    const Eigen::Vector3d x0 = rest_.col(j);
+    particle_values_.col(j).head<3>() = x;
+    particle_values_.col(j).segment<3>(3) = x * x0.x();
+    particle_values_.col(j).segment<3>(6) = x * x0.y();
+    particle_values_.col(j).segment<3>(9) = x * x0.z();
+  }
+  SumOverRegions(particle_values_, &region_sums_);
+  // Per region: A = sum x x0^T - (sum x) c0^T, R = rotation of A,
+  // t = c - R c0; stored as [vec(R); t].
+  long long updates = 0;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d sum_x = region_sums_.col(i).head<3>();
+    const Eigen::Vector3d c0 = rest_centroids_.col(i);
+    const Eigen::Matrix3d a =
+        Eigen::Map<const Eigen::Matrix3d>(region_sums_.col(i).data() + 3) -
+        sum_x * c0.transpose();
+    updates += ExtractRotation(a, options_.max_rotation_iterations,
+                               options_.rotation_tolerance, &rotations_[i]);
+    const Eigen::Matrix3d rotation = rotations_[i].toRotationMatrix();
+    Eigen::Map<Eigen::Matrix3d>(region_transforms_.col(i).data()) = rotation;
+    region_transforms_.col(i).tail<3>() = sum_x * inverse_region_size_[i] - rotation * c0;
+  }
+  *iterations += updates;
+  // Eq. 2: g_i = (sum_r R_r x0_i + t_r) / |R_i| over the regions holding i.
+  SumOverRegions(region_transforms_, &goal_sums_);
+  goals->resize(3, n);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Map<const Eigen::Matrix3d> rotation_sum(goal_sums_.col(i).data());
+    goals->col(i) = (rotation_sum * rest_.col(i) + goal_sums_.col(i).tail<3>()) *
+                    inverse_region_size_[i];
+  }
+}
+
+void RigidityEstimator::ComputeGoals(const Eigen::Matrix3Xd& positions,
+                                     Eigen::Matrix3Xd* goals) {
+  CHECK_EQ(positions.cols(), num_particles());
+  CHECK(goals != nullptr);
+  std::fill(rotations_.begin(), rotations_.end(), Eigen::Quaterniond::Identity());
+  const Eigen::Matrix3Xd lattice_positions = (positions.colwise() - centre_) / cell_width_;
+  long long iterations = 0;
+  ComputeGoalsInLatticeUnits(lattice_positions, goals, &iterations);
+  *goals = ((*goals) * cell_width_).colwise() + centre_;
+}
+
+bool RigidityEstimator::Estimate(const std::vector<int>& fixed_particles,
+                                 const std::vector<int>& moveable_particles,
+                                 RigidityEstimate* estimate, std::string* error) {
+  return Estimate(fixed_particles, moveable_particles, options_.seed, estimate, error);
+}
+
+bool RigidityEstimator::Estimate(const std::vector<int>& fixed_particles,
+                                 const std::vector<int>& moveable_particles,
+                                 std::uint64_t seed, RigidityEstimate* estimate,
+                                 std::string* error) {
+  CHECK(estimate != nullptr);
+  CHECK_GT(num_particles(), 0) << "call Init first";
+  const int n = num_particles();
+  if (!ValidParticles(fixed_particles, n, "fixed-handle", error)) return false;
+  if (!ValidParticles(moveable_particles, n, "moveable-handle", error)) return false;
+  if (moveable_particles.empty()) {
+    *error = "the moveable handle has no particles";
+    return false;
+  }
+  std::vector<char> fixed(n, 0);
+  for (int p : fixed_particles) fixed[p] = 1;
+
+  // Lattice units: lengths in cell widths. Time keeps its unit.
+  const double h = options_.time_step;
+  const double spring = h * options_.external_stiffness;  // h k_ext / m
+  const double keep = 1.0 - options_.damping;
+  estimate->initial_direction = RandomDirection(seed);
+  const Eigen::Vector3d v0 = estimate->initial_direction * (options_.initial_speed / h);
+
+  Eigen::Matrix3Xd x = rest_;
+  Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, n);
+  for (int p : moveable_particles) {
+    if (!fixed[p]) v.col(p) = v0;
+  }
+  Eigen::Matrix3Xd goals = rest_;  // At t0 every region is at rest.
+  Eigen::VectorXd squared_extent = Eigen::VectorXd::Zero(n);
+  std::fill(rotations_.begin(), rotations_.end(), Eigen::Quaterniond::Identity());
+  estimate->rotation_iterations = 0;
+
+  for (int step = 1; step <= options_.num_steps; ++step) {
+    for (int i = 0; i < n; ++i) {
+      if (fixed[i]) continue;  // Pinned: x = x0, v = 0.
+      const Eigen::Vector3d displacement = x.col(i) - rest_.col(i);
+      v.col(i) = keep * (v.col(i) + (goals.col(i) - x.col(i)) / h - spring * displacement);
+      x.col(i) += h * v.col(i);
+    }
+    ComputeGoalsInLatticeUnits(x, &goals, &estimate->rotation_iterations);
+    squared_extent = squared_extent.cwiseMax((goals - rest_).colwise().squaredNorm().transpose());
+  }
+
+  estimate->extent.resize(n);
+  for (int i = 0; i < n; ++i) estimate->extent[i] = std::sqrt(squared_extent[i]) * cell_width_;
+  double handle_extent = 0.0;
+  for (int p : moveable_particles) handle_extent = std::max(handle_extent, estimate->extent[p]);
+  if (!(handle_extent > 0.0)) {
+    *error =
+        "the moveable handle does not move: every moveable-handle particle is also a "
+        "fixed-handle particle; separate the handles";
+    return false;
+  }
+  estimate->handle_extent = handle_extent;
+  estimate->relative_extent = estimate->extent / handle_extent;
+  return true;
+}
+
+bool EstimateRigidity(const Lattice& lattice, const std::vector<int>& fixed_particles,
+                      const std::vector<int>& moveable_particles,
+                      const RigidityOptions& options, RigidityEstimate* estimate,
+                      std::string* error) {
+  RigidityEstimator estimator;
+  if (!estimator.Init(lattice, options, error)) return false;
+  return estimator.Estimate(fixed_particles, moveable_particles, estimate, error);
+}
+
+}  // namespace msdeform

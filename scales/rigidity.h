@@ -1,0 +1,173 @@
+// Rigidity estimation by lattice shape matching (paper §4.1-4.2, Eq. 2-5;
+// METHOD.md §2).
+//
+// The lattice particles (unit mass) are simulated for S steps with FastLSM
+// shape matching (Rivers & James 2007). Region R_i is particle i with its
+// r-ring in the particle adjacency (r = 1: i and its adjacent particles).
+// Each step, each region fits the rigid transform T_r = [R_r t_r] of its rest
+// positions onto its current ones (centroids c0, c; A = sum (x_j - c)(x0_j - c0)^T;
+// R_r the rotation of A, no reflection, warm-started from the previous step);
+// particle i gets the goal (Eq. 2)
+//   g_i = average over the regions holding i of T_r x0_i,
+// and moves by (Eq. 3, 4)
+//   v_i += (g_i - x_i) / h + h f_ext / m,  f_ext = -k_ext (x_i - x0_i),
+//   v_i *= 1 - damping,  x_i += h v_i.
+// Fixed-handle particles stay at x0; moveable-handle particles start with
+// velocity v0 in one random direction (seeded). The deforming extent (Eq. 5) is
+//   e_i = max_{n=1..S} |g_i(t0 + n h) - x0_i|,
+// normalised by the extent of the moveable handle e_h = max over its particles:
+// e'_i = e_i / e_h. Small e' means rigid (stays still).
+//
+// The work per step is linear in the number of particles (region sums, see
+// RegionSummation). Runs only when the handle layout changes.
+
+#ifndef MSDEFORM_SCALES_RIGIDITY_H_
+#define MSDEFORM_SCALES_RIGIDITY_H_
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "core/lattice.h"
+
+namespace msdeform {
+
+// How region sums are formed (both give the same numbers up to rounding).
+enum class RegionSummation {
+  // Each region adds up precomputed per-particle quantities over its list.
+  kPerRegion,
+  // FastLSM box summation: separable x, y, z sums for the particles whose
+  // region is exactly the particles of their (2r+1)^3 lattice box (the
+  // regular interior); per-region sums for the others.
+  kBox,
+};
+
+struct RigidityOptions {
+  // S: number of shape-matching steps (METHOD.md: 20).
+  int num_steps = 20;
+  // h: time step, in lattice-time units. With positions in mesh units the
+  // trajectory depends only on k_ext h^2 and |v0| h, so h just fixes the
+  // unit of time.
+  double time_step = 1.0;
+  // k_ext: stiffness per unit mass of the spring pulling each particle to its
+  // rest position, in 1 / time^2. The force is linear in the displacement, so
+  // k_ext carries no length unit: scaling the mesh scales every displacement
+  // and e by the same factor and leaves e' unchanged. Check() asks for
+  // k_ext h^2 <= 1 (a conservative stability bound).
+  double external_stiffness = 0.05;
+  // |v0| of the moveable-handle particles, in cell widths w per time step h
+  // (METHOD.md: 0.5 w / h). Set before the first step, so damping applies.
+  double initial_speed = 0.5;
+  // Fraction of each particle's velocity removed per step, in [0, 1).
+  double damping = 0.1;
+  // r: a region is a particle and its r-ring in the particle adjacency.
+  int region_half_width = 1;
+  // Seed of the direction of v0 (std::mt19937_64).
+  std::uint64_t seed = 1;
+  // How region sums are formed (kBox measured slightly faster; see
+  // docs/decisions.md).
+  RegionSummation region_summation = RegionSummation::kBox;
+  // Polar decomposition: at most this many warm-started updates per region and
+  // step, stopping when an update rotates by less than rotation_tolerance
+  // (radians).
+  int max_rotation_iterations = 20;
+  double rotation_tolerance = 1e-6;
+
+  bool Check(std::string* error) const;
+};
+
+struct RigidityEstimate {
+  Eigen::VectorXd extent;           // e_i in mesh units. #particles.
+  Eigen::VectorXd relative_extent;  // e'_i = e_i / e_h. #particles.
+  double handle_extent = 0.0;       // e_h in mesh units (> 0).
+  Eigen::Vector3d initial_direction = Eigen::Vector3d::Zero();  // of v0 (unit).
+  long long rotation_iterations = 0;  // Polar updates over all regions and steps.
+};
+
+// The unique particles (sorted) of the surface cells holding `vertices`.
+// Returns false and names the first bad vertex id in *error when an id is not
+// a vertex of the mesh the lattice was built from.
+bool ParticlesOfVertices(const Lattice& lattice, const std::vector<int>& vertices,
+                         std::vector<int>* particles, std::string* error);
+
+// Precomputes the regions and rest data of one lattice, then estimates
+// rigidity for any number of handle layouts. Not thread-safe (scratch buffers).
+class RigidityEstimator {
+ public:
+  // Returns false with a message when the options are invalid. The lattice is
+  // copied from; it need not outlive the estimator.
+  bool Init(const Lattice& lattice, const RigidityOptions& options, std::string* error);
+
+  // Runs the S steps with the given fixed and moveable handle particles
+  // (particle ids, duplicates allowed; a particle in both stays fixed) and the
+  // given seed for the direction of v0. Returns false with a message when an
+  // id is out of range, the moveable handle is empty, or it does not move
+  // (every moveable particle is also fixed).
+  bool Estimate(const std::vector<int>& fixed_particles,
+                const std::vector<int>& moveable_particles, std::uint64_t seed,
+                RigidityEstimate* estimate, std::string* error);
+  // The same with options().seed.
+  bool Estimate(const std::vector<int>& fixed_particles,
+                const std::vector<int>& moveable_particles, RigidityEstimate* estimate,
+                std::string* error);
+
+  // Goals (Eq. 2) for the given current positions, 3 by #particles in mesh
+  // units, with rotations cold-started from the identity. Exposes one shape
+  // matching step; shape matching is exact for a rigid motion.
+  void ComputeGoals(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* goals);
+
+  const RigidityOptions& options() const { return options_; }
+  int num_particles() const { return static_cast<int>(rest_.cols()); }
+  // R_i: particle i and its r-ring, sorted.
+  const CompressedLists& regions() const { return regions_; }
+  // Particles whose region sums come from box sums (kBox only).
+  int num_box_particles() const { return static_cast<int>(box_particles_.size()); }
+
+ private:
+  using Vector12d = Eigen::Matrix<double, 12, 1>;
+  using Matrix12Xd = Eigen::Matrix<double, 12, Eigen::Dynamic>;
+
+  // Sums columns of `values` over each region into `sums` (12 by #particles).
+  void SumOverRegions(const Matrix12Xd& values, Matrix12Xd* sums);
+  // Goals in lattice units from positions in lattice units; updates the
+  // warm-started rotations and adds the polar updates to *iterations.
+  void ComputeGoalsInLatticeUnits(const Eigen::Matrix3Xd& positions,
+                                  Eigen::Matrix3Xd* goals, long long* iterations);
+
+  RigidityOptions options_;
+  // Lattice units: positions are (x - centre_) / cell_width_.
+  double cell_width_ = 1.0;
+  Eigen::Vector3d centre_ = Eigen::Vector3d::Zero();
+  Eigen::Matrix3Xd rest_;              // x0, lattice units. 3 by #particles.
+  CompressedLists regions_;
+  Eigen::VectorXd inverse_region_size_;  // 1 / |R_i|. #particles.
+  Eigen::Matrix3Xd rest_centroids_;      // c0 of each region. 3 by #particles.
+
+  // Box summation (kBox), FastLSM's separable sums on the cells they need:
+  // bar sums along x (particles at x offsets -r..r of a bar cell), plate sums
+  // along y of bars, box sums along z of plates. Bar and plate cells may be
+  // empty cells; neighbouring box particles share their bars and plates.
+  std::vector<int> box_particles_;     // sums from plates
+  std::vector<int> listed_particles_;  // sums from their region lists
+  CompressedLists bar_members_;        // per bar: particles
+  CompressedLists plate_members_;      // per plate: bars
+  CompressedLists box_members_;        // per box particle: plates
+  Matrix12Xd bar_sums_, plate_sums_;
+
+  // Scratch.
+  std::vector<Eigen::Quaterniond> rotations_;  // warm starts, one per region
+  Matrix12Xd particle_values_, region_sums_, region_transforms_, goal_sums_;
+};
+
+// One-off estimation: builds a RigidityEstimator and runs it with options.seed.
+bool EstimateRigidity(const Lattice& lattice, const std::vector<int>& fixed_particles,
+                      const std::vector<int>& moveable_particles,
+                      const RigidityOptions& options, RigidityEstimate* estimate,
+                      std::string* error);
+
+}  // namespace msdeform
+
+#endif  // MSDEFORM_SCALES_RIGIDITY_H_
