@@ -1,0 +1,227 @@
+#include "core/nearest_nodes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/deformation_graph.h"
+#include "core/procedural_meshes.h"
+
+namespace msdeform {
+namespace {
+
+using Edges = std::vector<std::pair<int, int>>;
+
+Lattice BuildLattice(const Mesh& mesh, double cell_width) {
+  LatticeOptions options;
+  options.cell_width = cell_width;
+  Lattice lattice;
+  std::string error;
+  EXPECT_TRUE(Lattice::Build(mesh, options, &lattice, &error)) << error;
+  return lattice;
+}
+
+// The ring search done literally, one cell at a time: whole rings of
+// L-neighbours until min_count distinct nodes, then extra_rings more rings.
+std::vector<int> RingSearch(const Lattice& lattice, const std::vector<int>& node_of_cell, int cell,
+                            int min_count, int extra_rings) {
+  const CompressedLists& l = lattice.neighborhood();
+  std::set<int> visited = {cell};
+  std::set<int> nodes = {node_of_cell[cell]};
+  std::vector<int> ring = {cell};
+  int last_ring = static_cast<int>(nodes.size()) >= min_count ? extra_rings : -1;
+  for (int r = 1; !ring.empty() && (last_ring < 0 || r <= last_ring); ++r) {
+    std::vector<int> next;
+    for (int c : ring) {
+      for (const int* n = l.begin(c); n != l.end(c); ++n) {
+        if (visited.insert(*n).second) {
+          next.push_back(*n);
+          nodes.insert(node_of_cell[*n]);
+        }
+      }
+    }
+    ring = std::move(next);
+    if (last_ring < 0 && static_cast<int>(nodes.size()) >= min_count) last_ring = r + extra_rings;
+  }
+  return std::vector<int>(nodes.begin(), nodes.end());
+}
+
+void ExpectSameAsRingSearch(const Lattice& lattice, const std::vector<int>& node_of_cell,
+                            int num_nodes, int min_count, int extra_rings) {
+  const CompressedLists candidates =
+      CandidateNodesOfCells(lattice, node_of_cell, num_nodes, min_count, extra_rings);
+  ASSERT_EQ(candidates.num_rows(), lattice.num_surface_cells());
+  for (int c = 0; c < lattice.num_surface_cells(); ++c) {
+    const std::vector<int> expected = RingSearch(lattice, node_of_cell, c, min_count, extra_rings);
+    const std::vector<int> actual(candidates.begin(c), candidates.end(c));
+    ASSERT_EQ(actual, expected) << "cell " << c << " min_count " << min_count << " extra "
+                                << extra_rings << " nodes " << num_nodes;
+  }
+}
+
+TEST(NearestNodesTest, PropagationEqualsPerCellRingSearch) {
+  const Mesh comb = MakeComb(4, 5, 1.0, 4);
+  const Lattice lattice = BuildLattice(comb, 0.45);
+  const int num_cells = lattice.num_surface_cells();
+  std::vector<int> identity(num_cells);
+  for (int c = 0; c < num_cells; ++c) identity[c] = c;
+
+  // Coarse node maps as the multi-scale graphs make them.
+  GraphOptions options;
+  options.nodes_per_scale = 10;
+  std::vector<DeformationGraph> graphs;
+  std::string error;
+  ASSERT_TRUE(BuildMultiScaleGraphs(comb, lattice, options, &graphs, &error)) << error;
+  ASSERT_GT(graphs.size(), 4u);
+
+  // A scattered map: nodes made of cells all over the mesh.
+  std::mt19937 rng(7);
+  std::vector<int> scattered(num_cells);
+  for (int& node : scattered) node = static_cast<int>(rng() % 13);
+
+  for (int extra = 0; extra <= 2; ++extra) {
+    for (int min_count : {1, 3, 5, 8}) {
+      ExpectSameAsRingSearch(lattice, identity, num_cells, min_count, extra);
+      ExpectSameAsRingSearch(lattice, scattered, 13, min_count, extra);
+      for (size_t i = 1; i < graphs.size(); i += 3) {
+        ExpectSameAsRingSearch(lattice, graphs[i].node_of_dg1, graphs[i].num_nodes(), min_count,
+                               extra);
+      }
+    }
+  }
+}
+
+TEST(NearestNodesTest, WeightsFollowEq11OverTheRingCandidates) {
+  const Mesh sphere = MakeSphere(1.0, 48, 24);
+  const Lattice lattice = BuildLattice(sphere, 0.15);
+  const int num_cells = lattice.num_surface_cells();
+  // Nodes on the first vertex of each cell.
+  Eigen::Matrix3Xd positions(3, num_cells);
+  std::vector<int> node_of_cell(num_cells);
+  for (int c = 0; c < num_cells; ++c) {
+    positions.col(c) = sphere.vertices.col(*lattice.vertices_of_cell().begin(c));
+    node_of_cell[c] = c;
+  }
+  NearestNodeOptions options;
+  SkinningWeights weights;
+  std::vector<std::pair<int, int>> edges;
+  ComputeNearestNodes(sphere.vertices, lattice, positions, node_of_cell, options, &weights, &edges);
+  ASSERT_EQ(weights.k, 4);
+  ASSERT_EQ(weights.nodes.rows(), 4);
+  ASSERT_EQ(weights.nodes.cols(), sphere.num_vertices());
+
+  std::set<std::pair<int, int>> expected_edges;
+  for (int v = 0; v < sphere.num_vertices(); ++v) {
+    const std::vector<int> candidates =
+        RingSearch(lattice, node_of_cell, lattice.cell_of_vertex(v), 5, options.extra_rings);
+    ASSERT_GE(candidates.size(), 5u);
+    std::vector<std::pair<double, int>> ranked;
+    for (int node : candidates) {
+      ranked.emplace_back((sphere.vertices.col(v) - positions.col(node)).squaredNorm(), node);
+    }
+    // Ranked by distance, ties by node id (the sphere has exact ties).
+    std::sort(ranked.begin(), ranked.end());
+    for (auto& entry : ranked) entry.first = std::sqrt(entry.first);
+    const double d_max = ranked[4].first;
+    double sum = 0.0;
+    for (int i = 0; i < 4; ++i) sum += std::pow(1.0 - ranked[i].first / d_max, 2);
+    for (int i = 0; i < 4; ++i) {
+      EXPECT_EQ(weights.nodes(i, v), ranked[i].second) << "vertex " << v << " slot " << i;
+      EXPECT_NEAR(weights.weights(i, v), std::pow(1.0 - ranked[i].first / d_max, 2) / sum, 1e-12);
+      for (int j = i + 1; j < 4; ++j) {
+        expected_edges.emplace(std::min(ranked[i].second, ranked[j].second),
+                               std::max(ranked[i].second, ranked[j].second));
+      }
+    }
+  }
+  EXPECT_EQ(edges, Edges(expected_edges.begin(), expected_edges.end()));
+}
+
+TEST(NearestNodesTest, ResultDoesNotDependOnThreadCount) {
+  const Mesh sphere = MakeSphere(1.0, 64, 32);
+  const Lattice lattice = BuildLattice(sphere, 0.1);
+  const int num_cells = lattice.num_surface_cells();
+  Eigen::Matrix3Xd positions(3, num_cells);
+  std::vector<int> node_of_cell(num_cells);
+  for (int c = 0; c < num_cells; ++c) {
+    positions.col(c) = lattice.rest_positions().col(c);
+    node_of_cell[c] = c;
+  }
+  SkinningWeights one, two;
+  std::vector<std::pair<int, int>> edges_one, edges_two;
+  NearestNodeOptions options;
+  options.num_threads = 1;
+  ComputeNearestNodes(sphere.vertices, lattice, positions, node_of_cell, options, &one, &edges_one);
+  options.num_threads = 2;
+  ComputeNearestNodes(sphere.vertices, lattice, positions, node_of_cell, options, &two, &edges_two);
+  EXPECT_EQ(one.nodes, two.nodes);
+  EXPECT_EQ(one.weights, two.weights);
+  EXPECT_EQ(edges_one, edges_two);
+}
+
+TEST(NearestNodesTest, VertexWithFewerThanKPlusOneCandidatesGetsValidWeights) {
+  // A single triangle whose vertices lie in three cells: 3 candidate nodes < k + 1.
+  Mesh triangle;
+  triangle.vertices.resize(3, 3);
+  triangle.vertices << 0.0, 2.0, 0.0,  //
+      0.0, 0.0, 2.0,                   //
+      0.0, 0.0, 0.0;
+  triangle.faces.resize(3, 1);
+  triangle.faces << 0, 1, 2;
+  const Lattice lattice = BuildLattice(triangle, 1.0);
+  ASSERT_EQ(lattice.num_surface_cells(), 3);
+  // Node c sits on the vertex of cell c; node 0 is moved off its vertex.
+  Eigen::Matrix3Xd positions(3, 3);
+  std::vector<int> node_of_cell = {0, 1, 2};
+  for (int c = 0; c < 3; ++c) {
+    positions.col(c) = triangle.vertices.col(*lattice.vertices_of_cell().begin(c));
+  }
+  positions.col(0) = triangle.vertices.col(*lattice.vertices_of_cell().begin(0)) +
+                     Eigen::Vector3d(0.1, 0.1, 0.0);
+  SkinningWeights weights;
+  std::vector<std::pair<int, int>> edges;
+  ComputeNearestNodes(triangle.vertices, lattice, positions, node_of_cell, NearestNodeOptions(),
+                      &weights, &edges);
+  for (int v = 0; v < 3; ++v) {
+    EXPECT_NEAR(weights.weights.col(v).sum(), 1.0, 1e-15);
+    EXPECT_GE(weights.weights.col(v).minCoeff(), 0.0);
+    EXPECT_EQ(weights.weights(3, v), 0.0) << "unused slot";
+    EXPECT_EQ(weights.nodes(3, v), weights.nodes(0, v)) << "unused slot holds the nearest node";
+    // All three candidates carry weight (d_max = twice the farthest distance).
+    EXPECT_GT(weights.weights(2, v), 0.0);
+    EXPECT_GT(weights.weights(0, v), weights.weights(2, v));
+  }
+  EXPECT_EQ(edges, (Edges{{0, 1}, {0, 2}, {1, 2}}));
+}
+
+TEST(NearestNodesTest, SingleNodeComponentFallsBackToWeightOne) {
+  // A small triangle inside one cell: one candidate at distance 0 for its node vertex.
+  Mesh triangle;
+  triangle.vertices.resize(3, 3);
+  triangle.vertices << 0.0, 0.1, 0.0,  //
+      0.0, 0.0, 0.1,                   //
+      0.0, 0.0, 0.0;
+  triangle.faces.resize(3, 1);
+  triangle.faces << 0, 1, 2;
+  const Lattice lattice = BuildLattice(triangle, 1.0);
+  ASSERT_EQ(lattice.num_surface_cells(), 1);
+  Eigen::Matrix3Xd positions = triangle.vertices.col(0);
+  SkinningWeights weights;
+  std::vector<std::pair<int, int>> edges;
+  ComputeNearestNodes(triangle.vertices, lattice, positions, {0}, NearestNodeOptions(), &weights,
+                      &edges);
+  for (int v = 0; v < 3; ++v) {
+    EXPECT_EQ(weights.weights(0, v), 1.0) << v;
+    EXPECT_EQ(weights.weights.col(v).sum(), 1.0) << v;
+    EXPECT_EQ(weights.nodes.col(v), Eigen::Vector4i::Zero()) << v;
+  }
+  EXPECT_TRUE(edges.empty());
+}
+
+}  // namespace
+}  // namespace msdeform

@@ -1,0 +1,217 @@
+#include "core/skinning.h"
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <gtest/gtest.h>
+
+#include "core/procedural_meshes.h"
+
+namespace msdeform {
+namespace {
+
+struct Fixture {
+  Mesh mesh;
+  Lattice lattice;
+  std::vector<DeformationGraph> graphs;
+};
+
+Fixture Build(Mesh mesh, double cell_width) {
+  Fixture f;
+  f.mesh = std::move(mesh);
+  LatticeOptions lattice_options;
+  lattice_options.cell_width = cell_width;
+  std::string error;
+  EXPECT_TRUE(Lattice::Build(f.mesh, lattice_options, &f.lattice, &error)) << error;
+  GraphOptions options;
+  options.nodes_per_scale = 10;
+  EXPECT_TRUE(BuildMultiScaleGraphs(f.mesh, f.lattice, options, &f.graphs, &error)) << error;
+  EXPECT_GE(f.graphs.size(), 3u);
+  return f;
+}
+
+std::vector<Fixture> Fixtures() {
+  std::vector<Fixture> fixtures;
+  fixtures.push_back(Build(MakeSphere(1.0, 48, 24), 0.15));
+  fixtures.push_back(Build(MakeComb(4, 5, 1.0, 4), 0.45));
+  fixtures.push_back(Build(MakeTwoBars(8, 2, 1.0, 4), 0.4));
+  return fixtures;
+}
+
+Eigen::Matrix3d RandomRotation(std::mt19937* rng) {
+  std::normal_distribution<double> normal;
+  Eigen::Quaterniond q(normal(*rng), normal(*rng), normal(*rng), normal(*rng));
+  return q.normalized().toRotationMatrix();
+}
+
+// Eq. 9 and Eq. 10 (R^{-T}) written out directly.
+Eigen::Vector3d ReferencePosition(const DeformationGraph& graph, const NodeTransforms& transforms,
+                                  const Eigen::Vector3d& v, int vertex) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int i = 0; i < graph.weights.k; ++i) {
+    const int j = graph.weights.nodes(i, vertex);
+    const Eigen::Vector3d g = graph.positions.col(j);
+    sum += graph.weights.weights(i, vertex) *
+           (transforms.rotation(j) * (v - g) + g + transforms.translations.col(j));
+  }
+  return sum;
+}
+
+Eigen::Vector3d ReferenceNormal(const DeformationGraph& graph, const NodeTransforms& transforms,
+                                const Eigen::Vector3d& n, int vertex) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int i = 0; i < graph.weights.k; ++i) {
+    const int j = graph.weights.nodes(i, vertex);
+    const Eigen::Matrix3d r = transforms.rotation(j);
+    sum += graph.weights.weights(i, vertex) * (r.inverse().transpose() * n);
+  }
+  return sum.normalized();
+}
+
+TEST(SkinningTest, IdentityTransformsReproduceTheRestMeshExactly) {
+  for (const Fixture& f : Fixtures()) {
+    const Eigen::Matrix3Xd normals = VertexNormals(f.mesh);
+    for (const DeformationGraph& graph : f.graphs) {
+      const NodeTransforms identity = NodeTransforms::Identity(graph.num_nodes());
+      Eigen::Matrix3Xd deformed, deformed_normals;
+      SkinPositions(f.mesh.vertices, graph, identity, &deformed);
+      SkinNormals(normals, graph, identity, &deformed_normals);
+      EXPECT_TRUE(deformed == f.mesh.vertices) << "positions differ at " << graph.num_nodes()
+                                               << " nodes";
+      EXPECT_LE((deformed_normals - normals).cwiseAbs().maxCoeff(), 4e-16);
+    }
+  }
+}
+
+TEST(SkinningTest, OneRigidTransformMovesTheMeshRigidlyAtEveryScale) {
+  std::mt19937 rng(4);
+  for (const Fixture& f : Fixtures()) {
+    const Eigen::Matrix3Xd normals = VertexNormals(f.mesh);
+    const Eigen::Matrix3d rotation = RandomRotation(&rng);
+    const Eigen::Vector3d translation(3.0, -1.5, 0.25);
+    for (const DeformationGraph& graph : f.graphs) {
+      // R (v - g) + g + t = R v + T for every node: t = T + R g - g.
+      NodeTransforms transforms = NodeTransforms::Identity(graph.num_nodes());
+      for (int j = 0; j < graph.num_nodes(); ++j) {
+        transforms.rotation(j) = rotation;
+        transforms.translations.col(j) =
+            translation + rotation * graph.positions.col(j) - graph.positions.col(j);
+      }
+      Eigen::Matrix3Xd deformed, deformed_normals;
+      SkinPositions(f.mesh.vertices, graph, transforms, &deformed);
+      SkinNormals(normals, graph, transforms, &deformed_normals);
+      const Eigen::Matrix3Xd expected = (rotation * f.mesh.vertices).colwise() + translation;
+      EXPECT_LE((deformed - expected).cwiseAbs().maxCoeff(), 1e-12) << graph.num_nodes();
+      EXPECT_LE((deformed_normals - rotation * normals).cwiseAbs().maxCoeff(), 1e-12)
+          << graph.num_nodes();
+    }
+  }
+}
+
+TEST(SkinningTest, GeneralTransformsFollowEq9AndInverseTransposedNormals) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (const Fixture& f : Fixtures()) {
+    const Eigen::Matrix3Xd normals = VertexNormals(f.mesh);
+    for (const DeformationGraph& graph : f.graphs) {
+      NodeTransforms transforms = NodeTransforms::Identity(graph.num_nodes());
+      for (int j = 0; j < graph.num_nodes(); ++j) {
+        // A rotation times a stretch and a shear: far from rigid, det > 0.
+        Eigen::Matrix3d stretch = Eigen::Matrix3d::Identity();
+        stretch.diagonal() << 1.5 + uniform(rng), 1.0, 0.7;
+        stretch(0, 1) = 0.4 * uniform(rng);
+        transforms.rotation(j) = RandomRotation(&rng) * stretch;
+        transforms.translations.col(j) << uniform(rng), uniform(rng), uniform(rng);
+      }
+      Eigen::Matrix3Xd deformed, deformed_normals;
+      SkinPositions(f.mesh.vertices, graph, transforms, &deformed);
+      SkinNormals(normals, graph, transforms, &deformed_normals);
+      for (int v = 0; v < f.mesh.num_vertices(); ++v) {
+        ASSERT_LE((deformed.col(v) - ReferencePosition(graph, transforms, f.mesh.vertices.col(v), v))
+                      .norm(),
+                  1e-12)
+            << "vertex " << v;
+        ASSERT_LE((deformed_normals.col(v) - ReferenceNormal(graph, transforms, normals.col(v), v))
+                      .norm(),
+                  1e-12)
+            << "vertex " << v;
+        ASSERT_NEAR(deformed_normals.col(v).norm(), 1.0, 1e-14);
+      }
+    }
+  }
+}
+
+TEST(SkinningTest, NormalsUseTheInverseTransposeNotTheMatrix) {
+  // One anisotropic scale on all nodes: the plane x + y = const keeps its
+  // normal direction under R^{-T} = diag(1/2, 1, 1), but not under R = diag(2, 1, 1).
+  const Fixture f = Build(MakeSphere(1.0, 32, 16), 0.2);
+  const DeformationGraph& graph = f.graphs[0];
+  NodeTransforms transforms = NodeTransforms::Identity(graph.num_nodes());
+  for (int j = 0; j < graph.num_nodes(); ++j) {
+    transforms.rotation(j) = Eigen::Vector3d(2.0, 1.0, 1.0).asDiagonal();
+  }
+  Eigen::Matrix3Xd normals(3, f.mesh.num_vertices());
+  normals.colwise() = Eigen::Vector3d(1.0, 1.0, 0.0).normalized();
+  Eigen::Matrix3Xd deformed_normals;
+  SkinNormals(normals, graph, transforms, &deformed_normals);
+  // Tangent (1, -1, 0) maps to (2, -1, 0); the new normal is orthogonal to it.
+  const Eigen::Vector3d expected = Eigen::Vector3d(0.5, 1.0, 0.0).normalized();
+  for (int v = 0; v < f.mesh.num_vertices(); ++v) {
+    ASSERT_LE((deformed_normals.col(v) - expected).norm(), 1e-14) << v;
+    ASSERT_NEAR(deformed_normals.col(v).dot(Eigen::Vector3d(2.0, -1.0, 0.0)), 0.0, 1e-14);
+  }
+}
+
+TEST(SkinningTest, SingularMatricesGiveFiniteNormals) {
+  const Fixture f = Build(MakeSphere(1.0, 32, 16), 0.2);
+  const DeformationGraph& graph = f.graphs[0];
+  NodeTransforms transforms = NodeTransforms::Identity(graph.num_nodes());
+  for (int j = 0; j < graph.num_nodes(); ++j) {
+    transforms.rotation(j) = Eigen::Vector3d(1.0, 1.0, 0.0).asDiagonal();  // Flattens z.
+  }
+  Eigen::Matrix3Xd deformed_normals;
+  SkinNormals(VertexNormals(f.mesh), graph, transforms, &deformed_normals);
+  ASSERT_TRUE(deformed_normals.allFinite());
+  for (int v = 0; v < f.mesh.num_vertices(); ++v) {
+    const double length = deformed_normals.col(v).norm();
+    // The cofactor of diag(1, 1, 0) is diag(0, 0, 1): the flattened sheet's normal.
+    EXPECT_TRUE(length == 0.0 || std::abs(std::abs(deformed_normals(2, v)) - 1.0) < 1e-12) << v;
+  }
+}
+
+TEST(SkinningTest, ThreadCountDoesNotChangeTheResult) {
+  std::mt19937 rng(6);
+  const Fixture f = Build(MakeSphere(1.0, 96, 48), 0.1);
+  const DeformationGraph& graph = f.graphs[1];
+  NodeTransforms transforms = NodeTransforms::Identity(graph.num_nodes());
+  for (int j = 0; j < graph.num_nodes(); ++j) {
+    transforms.rotation(j) = RandomRotation(&rng);
+    transforms.translations.col(j) = Eigen::Vector3d::Random();
+  }
+  const Eigen::Matrix3Xd normals = VertexNormals(f.mesh);
+  Eigen::Matrix3Xd positions[2], deformed_normals[2];
+  for (int threads : {1, 2}) {
+    SkinningOptions options;
+    options.num_threads = threads;
+    SkinPositions(f.mesh.vertices, graph, transforms, &positions[threads - 1], options);
+    SkinNormals(normals, graph, transforms, &deformed_normals[threads - 1], options);
+  }
+  EXPECT_TRUE(positions[0] == positions[1]);
+  EXPECT_TRUE(deformed_normals[0] == deformed_normals[1]);
+}
+
+TEST(SkinningTest, OptionsCheck) {
+  SkinningOptions options;
+  std::string error;
+  EXPECT_TRUE(options.Check(&error));
+  options.num_threads = -1;
+  EXPECT_FALSE(options.Check(&error));
+  EXPECT_NE(error.find("num_threads"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace msdeform
