@@ -1,0 +1,165 @@
+// The multi-scale deformer: the method of the paper end to end, and the two
+// single-static-graph baselines it is compared against.
+//
+//   Deformer deformer;
+//   deformer.Init(mesh, options, &error);          // lattice, all graphs, weights
+//   deformer.SetHandles(layout, &error);           // rigidity, scale, classes, problem
+//   deformer.Drag(deformed_from_rest, &stats, &error);  // one frame, warm-started
+//   deformer.deformed_vertices();
+//
+// Method::kMultiScale follows METHOD.md §2-5: rigidity by lattice shape
+// matching, scale s by Eq. 6-7, node classes as parameter-block fixing
+// (Totally Free: R and t, Half Free: R with t = 0, Fixed: nothing), the
+// coherence edge set without the left-out terms, alpha weights, and position
+// constraints on the moveable handle only.
+// Method::kStatic / kStaticDense are embedded deformation as in Sumner et al.
+// 2007 on one graph (about 220 nodes, or DG1): all nodes free, every directed
+// edge, alpha = 1, and the fixed handles held by position constraints to their
+// rest positions.
+//
+// Energy weights (Eq. 17) are 1 / 10 / 100 as sqrt residual scales. Lengths
+// in the coherence and position residuals are measured in lattice cells
+// (divided by the cell width), so results do not depend on the mesh's units
+// (docs/decisions.md).
+
+#ifndef MSDEFORM_SCALES_DEFORMER_H_
+#define MSDEFORM_SCALES_DEFORMER_H_
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <ceres/ceres.h>
+
+#include "core/deformation_graph.h"
+#include "core/handles.h"
+#include "core/lattice.h"
+#include "core/mesh.h"
+#include "scales/rigidity.h"
+#include "scales/scale_selection.h"
+
+namespace msdeform {
+
+enum class Method { kMultiScale, kStatic, kStaticDense };
+
+// "multiscale", "static", "static_dense".
+const char* MethodName(Method method);
+bool ParseMethod(const std::string& name, Method* method);
+
+struct DeformerOptions {
+  Method method = Method::kMultiScale;
+  LatticeOptions lattice;            // cell width (default diag / 48)
+  GraphOptions graph;                // k = 4, P = 100, seed
+  RigidityOptions rigidity;          // S = 20 steps, ...
+  ScaleSelectionOptions selection;   // thresholds, alpha, ablation switches
+  // Nodes of the static baseline graph (Sumner et al. 2007 used about 220).
+  int static_nodes = 220;
+  // Eq. 17 weights (used as sqrt residual scales).
+  double w_rot = 1.0;
+  double w_coh = 10.0;
+  double w_con = 100.0;
+  // Ablation "Deformed 2" (paper Fig. 5): keep E(j, k) for Half Free j.
+  bool keep_left_out_terms = false;
+  // Ablation "Deformed 3": fixed-handle nodes get no rotation (Fixed, not Half Free).
+  bool fix_fixed_handle_nodes = false;
+  // Threads for skinning and the Ceres solve.
+  int num_threads = 2;
+  // Ceres settings. Defaults (set by the constructor; docs/decisions.md):
+  // Levenberg-Marquardt, SPARSE_NORMAL_CHOLESKY, at most 20 iterations,
+  // function tolerance 1e-8, gradient 1e-10, parameter 1e-10.
+  ceres::Solver::Options solver;
+
+  DeformerOptions();
+  bool Check(std::string* error) const;
+};
+
+// Per-frame numbers.
+struct DragStats {
+  double solve_ms = 0.0;
+  double skin_ms = 0.0;
+  int iterations = 0;
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+  bool converged = false;
+};
+
+class Deformer {
+ public:
+  Deformer();
+  ~Deformer();
+
+  // Builds everything that depends only on the mesh. Returns false with a
+  // message on invalid options or a mesh the lattice cannot take.
+  bool Init(const Mesh& mesh, const DeformerOptions& options, std::string* error);
+
+  // A new handle layout: rigidity estimation, scale selection and node
+  // classes (multi-scale), and a Ceres problem reused by every Drag. Resets
+  // the deformation to the rest pose.
+  bool SetHandles(const HandleLayout& layout, std::string* error);
+
+  // Moves the moveable handle to deformed_from_rest * (its rest position),
+  // solves warm-started from the previous frame and skins the mesh.
+  bool Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats, std::string* error);
+
+  const Mesh& rest_mesh() const { return mesh_; }
+  const Eigen::Matrix3Xd& deformed_vertices() const { return deformed_vertices_; }
+  const Eigen::Matrix3Xd& deformed_normals() const { return deformed_normals_; }
+  const DeformerOptions& options() const { return options_; }
+  const Lattice& lattice() const { return lattice_; }
+  // graphs()[i] is DG_{i+1}; the static baselines add their graph last.
+  const std::vector<DeformationGraph>& graphs() const { return graphs_; }
+  // The graph being solved on, and its index in graphs().
+  int active_graph() const { return active_graph_; }
+  const DeformationGraph& active() const { return graphs_[active_graph_]; }
+  const NodeTransforms& transforms() const { return transforms_; }
+  // Multi-scale only (empty for the baselines).
+  const RigidityEstimate& rigidity() const { return rigidity_; }
+  const ScaleSelection& selection() const { return selection_; }
+  // Node class per node of the active graph (all Totally Free for baselines).
+  const std::vector<NodeClass>& node_classes() const { return node_classes_; }
+  int num_variables() const;
+  int num_coherence_terms() const { return num_coherence_terms_; }
+  int num_position_terms() const { return static_cast<int>(position_costs_.size()); }
+  double diagonal() const { return diagonal_; }
+  // Milliseconds spent in Init's graph/lattice build, and SetHandles's parts.
+  double precompute_ms() const { return precompute_ms_; }
+  double rigidity_ms() const { return rigidity_ms_; }
+  double setup_ms() const { return setup_ms_; }
+
+ private:
+  void BuildProblem();
+
+  DeformerOptions options_;
+  Mesh mesh_;
+  Eigen::Matrix3Xd rest_normals_;
+  double diagonal_ = 0.0;
+  Lattice lattice_;
+  std::vector<DeformationGraph> graphs_;
+  int static_graph_ = -1;  // index of the static baselines' graph
+  std::unique_ptr<RigidityEstimator> rigidity_estimator_;
+
+  HandleLayout layout_;
+  RigidityEstimate rigidity_;
+  ScaleSelection selection_;
+  int active_graph_ = 0;
+  std::vector<NodeClass> node_classes_;
+  NodeTransforms transforms_;
+  std::unique_ptr<ceres::Problem> problem_;
+  struct PositionTerm {
+    class PositionCostAnalytic* cost;  // owned by problem_
+    Eigen::Vector3d rest;
+  };
+  std::vector<PositionTerm> position_costs_;
+  int num_coherence_terms_ = 0;
+  Eigen::Matrix3Xd deformed_vertices_;
+  Eigen::Matrix3Xd deformed_normals_;
+  double precompute_ms_ = 0.0;
+  double rigidity_ms_ = 0.0;
+  double setup_ms_ = 0.0;
+};
+
+}  // namespace msdeform
+
+#endif  // MSDEFORM_SCALES_DEFORMER_H_

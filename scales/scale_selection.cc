@@ -1,0 +1,187 @@
+#include "scales/scale_selection.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <sstream>
+
+#include <glog/logging.h>
+
+namespace msdeform {
+
+const char* NodeClassName(NodeClass node_class) {
+  switch (node_class) {
+    case NodeClass::kFixed:
+      return "fixed";
+    case NodeClass::kHalfFree:
+      return "half_free";
+    case NodeClass::kTotallyFree:
+      return "totally_free";
+  }
+  return "unknown";
+}
+
+bool ScaleSelectionOptions::Check(std::string* error) const {
+  if (nodes_per_scale < 1) {
+    *error = "nodes_per_scale (P) must be >= 1";
+    return false;
+  }
+  if (!(threshold_floor >= 0.0 && threshold_floor < 1.0)) {
+    *error = "threshold_floor must be in [0, 1)";
+    return false;
+  }
+  if (!(fixed_extent_cutoff > 0.0 && fixed_extent_cutoff <= 1.0)) {
+    *error = "fixed_extent_cutoff must be in (0, 1]";
+    return false;
+  }
+  if (!(local_detail_distance >= 0.0) || !std::isfinite(local_detail_distance)) {
+    *error = "local_detail_distance must be a finite number >= 0";
+    return false;
+  }
+  if (!(omega_max >= 1.0) || !std::isfinite(omega_max)) {
+    *error = "omega_max must be a finite number >= 1";
+    return false;
+  }
+  return true;
+}
+
+double ScaleSelection::Alpha(int j, int k) const {
+  if (node_class[j] == NodeClass::kTotallyFree && node_class[k] == NodeClass::kTotallyFree) {
+    return std::min(omega[j], omega[k]);
+  }
+  return 1.0;
+}
+
+namespace {
+
+// Shortest distance along DG1 edges from any moveable-handle node to any
+// fixed-handle node (infinity when none is reachable).
+double GeodesicHandleDistance(const DeformationGraph& dg1, const HandleNodes& handles) {
+  const int n = dg1.num_nodes();
+  std::vector<double> distance(n, std::numeric_limits<double>::infinity());
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  for (int i = 0; i < n; ++i) {
+    if (handles.holds_moveable[i]) {
+      distance[i] = 0.0;
+      queue.emplace(0.0, i);
+    }
+  }
+  while (!queue.empty()) {
+    const auto [d, i] = queue.top();
+    queue.pop();
+    if (d > distance[i]) continue;
+    if (handles.holds_fixed[i]) return d;  // Popped in increasing distance.
+    for (const int* j = dg1.neighbors.begin(i); j != dg1.neighbors.end(i); ++j) {
+      const double through = d + (dg1.positions.col(i) - dg1.positions.col(*j)).norm();
+      if (through < distance[*j]) {
+        distance[*j] = through;
+        queue.emplace(through, *j);
+      }
+    }
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
+bool SelectScale(const std::vector<DeformationGraph>& graphs,
+                 const std::vector<double>& dg1_extent, const HandleNodes& handles,
+                 double diagonal, const ScaleSelectionOptions& options,
+                 ScaleSelection* selection, std::string* error) {
+  CHECK(!graphs.empty());
+  if (!options.Check(error)) return false;
+  const DeformationGraph& dg1 = graphs[0];
+  const int d1 = dg1.num_nodes();
+  CHECK_EQ(static_cast<int>(dg1_extent.size()), d1);
+  CHECK_EQ(static_cast<int>(handles.holds_fixed.size()), d1);
+  CHECK_EQ(static_cast<int>(handles.holds_moveable.size()), d1);
+  ScaleSelection& result = *selection;
+  result = ScaleSelection();
+
+  // Eq. 7.
+  double fixed_extent = -1.0;
+  for (int i = 0; i < d1; ++i) {
+    if (handles.holds_fixed[i] && dg1_extent[i] < options.fixed_extent_cutoff) {
+      fixed_extent = std::max(fixed_extent, dg1_extent[i]);
+    }
+  }
+  if (fixed_extent < 0.0) fixed_extent = options.fixed_extent_cutoff;
+  result.threshold = std::max(options.threshold_floor, fixed_extent);
+
+  // Eq. 6.
+  for (int i = 0; i < d1; ++i) result.group1_size += dg1_extent[i] > result.threshold;
+  const int num_scales = static_cast<int>(graphs.size());
+  int scale = 1;
+  while (scale < num_scales && !(result.group1_size < scale * options.nodes_per_scale)) ++scale;
+  result.eq6_scale = scale;
+
+  // Classes, moving finer while a node would hold both kinds of handle.
+  for (; scale >= 1; --scale) {
+    const DeformationGraph& graph = graphs[scale - 1];
+    const int n = graph.num_nodes();
+    bool conflict = false;
+    result.node_extent.assign(n, 0.0);
+    result.node_class.assign(n, NodeClass::kFixed);
+    for (int j = 0; j < n && !conflict; ++j) {
+      bool fixed = false, moveable = false;
+      double extent = 0.0;
+      for (const int* m = graph.members.begin(j); m != graph.members.end(j); ++m) {
+        fixed |= handles.holds_fixed[*m] != 0;
+        moveable |= handles.holds_moveable[*m] != 0;
+        extent = options.member_extent == MemberExtent::kMax ? std::max(extent, dg1_extent[*m])
+                                                             : extent + dg1_extent[*m];
+      }
+      if (options.member_extent == MemberExtent::kMean) extent /= graph.members.size(j);
+      result.node_extent[j] = extent;
+      if (fixed && moveable) {
+        conflict = true;
+      } else if (fixed) {
+        result.node_class[j] = NodeClass::kHalfFree;
+      } else if (moveable || extent > result.threshold) {
+        result.node_class[j] = NodeClass::kTotallyFree;
+      }
+    }
+    if (!conflict) break;
+  }
+  if (scale < 1) {
+    *error =
+        "a lattice cell holds both fixed and moveable handle vertices; separate the handles "
+        "or use a smaller cell width";
+    return false;
+  }
+  result.scale = scale;
+
+  // Counts and alpha weights (omega per Totally Free node).
+  const int n = graphs[scale - 1].num_nodes();
+  result.omega.assign(n, 1.0);
+  double e_l = std::numeric_limits<double>::infinity(), e_f = -e_l;
+  for (int j = 0; j < n; ++j) {
+    switch (result.node_class[j]) {
+      case NodeClass::kTotallyFree:
+        ++result.num_totally_free;
+        e_l = std::min(e_l, result.node_extent[j]);
+        e_f = std::max(e_f, result.node_extent[j]);
+        break;
+      case NodeClass::kHalfFree:
+        ++result.num_half_free;
+        break;
+      case NodeClass::kFixed:
+        ++result.num_fixed;
+        break;
+    }
+  }
+  result.local_detail_edit =
+      scale == 1 && GeodesicHandleDistance(dg1, handles) < options.local_detail_distance * diagonal;
+  if (!options.alpha_all_one && !result.local_detail_edit && e_f > e_l) {
+    for (int j = 0; j < n; ++j) {
+      if (result.node_class[j] != NodeClass::kTotallyFree) continue;
+      result.omega[j] = 1.0 + (options.omega_max - 1.0) * (result.node_extent[j] - e_l) / (e_f - e_l);
+    }
+  }
+  return true;
+}
+
+}  // namespace msdeform

@@ -1,0 +1,91 @@
+// Scale selection and node classes (paper §4.2, Eq. 6-7; METHOD.md §4) and
+// the coherence weights alpha_jk (Eq. 15; METHOD.md §5).
+//
+// From the normalised deforming extent e' of each DG1 node (= surface
+// particle), the threshold is
+//   T = max(0.1, max{ e'_i : e'_i < 0.5, i a fixed-handle node })   (Eq. 7)
+// (0.5 in place of the inner max when no fixed-handle node qualifies).
+// Group 1 is the DG1 nodes with e' > T (P1 of them), and the scale is
+//   s = min{ i : P1 < i P }, clamped to [1, N]                      (Eq. 6).
+// At scale s a node's e' is the max (or, as an ablation, the mean) over its
+// DG1 members, and each node is
+//   Half Free    if a member's cell holds a fixed-handle vertex (9 variables),
+//   Totally Free if it holds a moveable-handle vertex or has e' > T (12),
+//   Fixed        otherwise (0).
+// A node holding both fixed and moveable vertices cannot serve both, so the
+// selection moves to finer scales until no node does.
+
+#ifndef MSDEFORM_SCALES_SCALE_SELECTION_H_
+#define MSDEFORM_SCALES_SCALE_SELECTION_H_
+
+#include <string>
+#include <vector>
+
+#include "core/deformation_graph.h"
+
+namespace msdeform {
+
+enum class NodeClass { kFixed = 0, kHalfFree = 1, kTotallyFree = 2 };
+
+// "fixed", "half_free", "totally_free".
+const char* NodeClassName(NodeClass node_class);
+
+// How a coarse node's e' is made from its DG1 members' e'.
+enum class MemberExtent { kMax, kMean };
+
+struct ScaleSelectionOptions {
+  // P: nodes per scale step in Eq. 6 (paper: 100).
+  int nodes_per_scale = 100;
+  // Lower bound of the threshold T (Eq. 7: 0.1).
+  double threshold_floor = 0.1;
+  // Fixed-handle nodes with e' below this count towards T (Eq. 7: 0.5).
+  double fixed_extent_cutoff = 0.5;
+  // Coarse node e' from members (METHOD.md Decision: max; mean is an ablation).
+  MemberExtent member_extent = MemberExtent::kMax;
+  // A DG1 edit is "local detail" (alpha all 1) when a fixed-handle node lies
+  // within this geodesic distance, along DG1 edges, of the moveable handle;
+  // as a fraction of the bounding-box diagonal (METHOD.md: 0.1).
+  double local_detail_distance = 0.1;
+  // Totally Free nodes map e linearly from [e_l, e_f] to omega in [1, omega_max].
+  double omega_max = 4.0;
+  // Ablation: alpha_jk = 1 for every edge.
+  bool alpha_all_one = false;
+
+  bool Check(std::string* error) const;
+};
+
+// Which DG1 nodes (surface cells) hold handle vertices.
+struct HandleNodes {
+  std::vector<char> holds_fixed;     // per DG1 node
+  std::vector<char> holds_moveable;  // per DG1 node
+};
+
+struct ScaleSelection {
+  double threshold = 0.0;        // T (Eq. 7)
+  int group1_size = 0;           // P1
+  int eq6_scale = 1;             // s from Eq. 6, 1-based
+  int scale = 1;                 // selected scale after conflicts, 1-based
+  bool local_detail_edit = false;
+  std::vector<double> node_extent;       // e' per node of the selected scale
+  std::vector<NodeClass> node_class;     // per node of the selected scale
+  std::vector<double> omega;             // per node; 1 unless Totally Free
+  int num_totally_free = 0;              // m
+  int num_half_free = 0;                 // q
+  int num_fixed = 0;
+
+  int num_variables() const { return 12 * num_totally_free + 9 * num_half_free; }
+  // alpha_jk of Eq. 15: min(omega_j, omega_k) when both are Totally Free, else 1.
+  double Alpha(int j, int k) const;
+};
+
+// `graphs[i]` is DG_{i+1}; `dg1_extent` is e' per DG1 node; `diagonal` the
+// mesh's bounding-box diagonal. Returns false (with a message) when even DG1
+// has a node holding both fixed and moveable vertices.
+bool SelectScale(const std::vector<DeformationGraph>& graphs,
+                 const std::vector<double>& dg1_extent, const HandleNodes& handles,
+                 double diagonal, const ScaleSelectionOptions& options,
+                 ScaleSelection* selection, std::string* error);
+
+}  // namespace msdeform
+
+#endif  // MSDEFORM_SCALES_SCALE_SELECTION_H_

@@ -1,0 +1,167 @@
+#include "scales/scale_selection.h"
+
+#include <numeric>
+
+#include <gtest/gtest.h>
+
+namespace msdeform {
+namespace {
+
+// DG1 of `d1` nodes on a line (spacing 1, edges between neighbours) and
+// coarser scales DG_i made of runs of i consecutive DG1 nodes.
+std::vector<DeformationGraph> LineGraphs(int d1, int num_scales) {
+  std::vector<DeformationGraph> graphs;
+  for (int scale = 1; scale <= num_scales; ++scale) {
+    DeformationGraph graph;
+    const int n = (d1 + scale - 1) / scale;
+    graph.positions = Eigen::Matrix3Xd::Zero(3, n);
+    graph.node_of_dg1.resize(d1);
+    graph.members.offsets.assign(1, 0);
+    for (int j = 0; j < n; ++j) {
+      graph.positions(0, j) = j * scale;
+      for (int m = j * scale; m < std::min(d1, (j + 1) * scale); ++m) {
+        graph.members.values.push_back(m);
+        graph.node_of_dg1[m] = j;
+      }
+      graph.members.offsets.push_back(static_cast<int>(graph.members.values.size()));
+    }
+    graph.neighbors.offsets.assign(1, 0);
+    for (int j = 0; j < n; ++j) {
+      if (j > 0) graph.neighbors.values.push_back(j - 1);
+      if (j + 1 < n) graph.neighbors.values.push_back(j + 1);
+      graph.neighbors.offsets.push_back(static_cast<int>(graph.neighbors.values.size()));
+      if (j + 1 < n) graph.edges.emplace_back(j, j + 1);
+    }
+    graphs.push_back(std::move(graph));
+  }
+  return graphs;
+}
+
+HandleNodes NoHandles(int d1) {
+  return {std::vector<char>(d1, 0), std::vector<char>(d1, 0)};
+}
+
+ScaleSelection Select(const std::vector<DeformationGraph>& graphs, const std::vector<double>& e,
+                      const HandleNodes& handles, ScaleSelectionOptions options = {},
+                      double diagonal = 1e9) {
+  ScaleSelection selection;
+  std::string error;
+  EXPECT_TRUE(SelectScale(graphs, e, handles, diagonal, options, &selection, &error)) << error;
+  return selection;
+}
+
+TEST(ScaleSelectionTest, Eq7ThresholdFromFixedHandleNodes) {
+  const auto graphs = LineGraphs(10, 1);
+  std::vector<double> e = {1.0, 0.9, 0.8, 0.3, 0.45, 0.7, 0.2, 0.1, 0.05, 0.0};
+  HandleNodes handles = NoHandles(10);
+  handles.holds_moveable[0] = 1;
+  EXPECT_DOUBLE_EQ(Select(graphs, e, handles).threshold, 0.5);  // no fixed node
+  handles.holds_fixed[3] = handles.holds_fixed[4] = handles.holds_fixed[5] = 1;
+  // max{e' < 0.5 over fixed nodes} = 0.45; 0.7 does not count.
+  EXPECT_DOUBLE_EQ(Select(graphs, e, handles).threshold, 0.45);
+  handles = NoHandles(10);
+  handles.holds_moveable[0] = 1;
+  handles.holds_fixed[8] = 1;  // e' = 0.05 -> T = max(0.1, 0.05)
+  EXPECT_DOUBLE_EQ(Select(graphs, e, handles).threshold, 0.1);
+  handles.holds_fixed[8] = 0;
+  handles.holds_fixed[5] = 1;  // only e' = 0.7 >= 0.5: as if none.
+  EXPECT_DOUBLE_EQ(Select(graphs, e, handles).threshold, 0.5);
+}
+
+TEST(ScaleSelectionTest, Eq6ScaleIsSmallestIWithP1BelowIP) {
+  const int d1 = 1000;
+  const auto graphs = LineGraphs(d1, 10);  // N = floor(1000 / 100)
+  HandleNodes handles = NoHandles(d1);
+  handles.holds_moveable[0] = 1;
+  for (const auto& [p1, expected] : std::vector<std::pair<int, int>>{
+           {1, 1}, {99, 1}, {100, 2}, {250, 3}, {999, 10}, {1000, 10}}) {
+    std::vector<double> e(d1, 0.0);
+    for (int i = 0; i < p1; ++i) e[i] = 0.9;
+    const ScaleSelection selection = Select(graphs, e, handles);
+    EXPECT_EQ(selection.group1_size, p1);
+    EXPECT_EQ(selection.eq6_scale, expected) << "P1 = " << p1;
+    EXPECT_EQ(selection.scale, expected) << "P1 = " << p1;
+  }
+}
+
+TEST(ScaleSelectionTest, ClassesAndVariableCount) {
+  // DG_2 over 8 DG1 nodes: nodes {0,1} {2,3} {4,5} {6,7}.
+  const auto graphs = LineGraphs(8, 2);
+  std::vector<double> e = {1.0, 0.8, 0.6, 0.05, 0.3, 0.02, 0.01, 0.0};
+  HandleNodes handles = NoHandles(8);
+  handles.holds_moveable[0] = 1;
+  handles.holds_fixed[7] = 1;
+  ScaleSelectionOptions options;
+  options.nodes_per_scale = 2;  // P1 = 4 -> s = 3, clamped to N = 2
+  const ScaleSelection selection = Select(graphs, e, handles, options);
+  EXPECT_DOUBLE_EQ(selection.threshold, 0.1);
+  EXPECT_EQ(selection.group1_size, 4);  // 1.0, 0.8, 0.6, 0.3
+  ASSERT_EQ(selection.scale, 2);
+  EXPECT_EQ(selection.node_class,
+            (std::vector<NodeClass>{NodeClass::kTotallyFree, NodeClass::kTotallyFree,
+                                    NodeClass::kTotallyFree, NodeClass::kHalfFree}));
+  // Node e' is the max over members.
+  EXPECT_EQ(selection.node_extent, (std::vector<double>{1.0, 0.6, 0.3, 0.01}));
+  EXPECT_EQ(selection.num_totally_free, 3);
+  EXPECT_EQ(selection.num_half_free, 1);
+  EXPECT_EQ(selection.num_variables(), 12 * 3 + 9 * 1);
+
+  options.member_extent = MemberExtent::kMean;
+  const ScaleSelection mean = Select(graphs, e, handles, options);
+  EXPECT_NEAR(mean.node_extent[2], 0.16, 1e-12);
+  EXPECT_EQ(mean.node_class[2], NodeClass::kTotallyFree);
+  EXPECT_NEAR(mean.node_extent[1], 0.325, 1e-12);
+}
+
+TEST(ScaleSelectionTest, NodeHoldingBothHandlesMovesToFinerScale) {
+  const auto graphs = LineGraphs(400, 4);
+  std::vector<double> e(400, 0.0);
+  for (int i = 0; i < 350; ++i) e[i] = 0.9;  // P1 = 350 -> s = 4
+  HandleNodes handles = NoHandles(400);
+  handles.holds_moveable[0] = 1;
+  handles.holds_fixed[2] = 1;  // same DG_4 and DG_3 node as 0, not DG_2's... node {2,3}
+  const ScaleSelection selection = Select(graphs, e, handles);
+  EXPECT_EQ(selection.eq6_scale, 4);
+  EXPECT_EQ(selection.scale, 2);
+  handles.holds_fixed[2] = 0;
+  handles.holds_fixed[0] = 1;
+  ScaleSelection failed;
+  std::string error;
+  EXPECT_FALSE(SelectScale(graphs, e, handles, 1e9, {}, &failed, &error));
+  EXPECT_NE(error.find("cell"), std::string::npos) << error;
+}
+
+TEST(ScaleSelectionTest, AlphaMapsExtentToOmegaAndTakesTheMin) {
+  const auto graphs = LineGraphs(5, 1);
+  const std::vector<double> e = {1.0, 0.6, 0.2, 0.0, 0.0};
+  HandleNodes handles = NoHandles(5);
+  handles.holds_moveable[0] = 1;
+  handles.holds_fixed[4] = 1;  // 4 DG1 edges (length 1) away
+  const ScaleSelection selection = Select(graphs, e, handles, {}, /*diagonal=*/10.0);
+  EXPECT_FALSE(selection.local_detail_edit);  // 4 > 0.1 * 10
+  // Totally Free: nodes 0, 1, 2 with e' 1.0, 0.6, 0.2 -> omega 4, 2.5, 1.
+  EXPECT_DOUBLE_EQ(selection.omega[0], 4.0);
+  EXPECT_DOUBLE_EQ(selection.omega[1], 2.5);
+  EXPECT_DOUBLE_EQ(selection.omega[2], 1.0);
+  EXPECT_DOUBLE_EQ(selection.Alpha(0, 1), 2.5);
+  EXPECT_DOUBLE_EQ(selection.Alpha(1, 0), 2.5);
+  EXPECT_DOUBLE_EQ(selection.Alpha(2, 3), 1.0);  // 3 is Fixed
+  ScaleSelectionOptions all_one;
+  all_one.alpha_all_one = true;
+  EXPECT_DOUBLE_EQ(Select(graphs, e, handles, all_one, 10.0).Alpha(0, 1), 1.0);
+}
+
+TEST(ScaleSelectionTest, LocalDetailEditOnDg1HasUnitAlpha) {
+  const auto graphs = LineGraphs(5, 1);
+  const std::vector<double> e = {1.0, 0.6, 0.2, 0.0, 0.0};
+  HandleNodes handles = NoHandles(5);
+  handles.holds_moveable[0] = 1;
+  handles.holds_fixed[4] = 1;
+  // Geodesic distance 4 along DG1 edges, below 0.1 * 100.
+  const ScaleSelection selection = Select(graphs, e, handles, {}, /*diagonal=*/100.0);
+  EXPECT_TRUE(selection.local_detail_edit);
+  EXPECT_DOUBLE_EQ(selection.Alpha(0, 1), 1.0);
+}
+
+}  // namespace
+}  // namespace msdeform
