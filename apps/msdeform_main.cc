@@ -42,6 +42,16 @@ DEFINE_int32(max_iterations, 20, "Solver iteration cap per frame.");
 DEFINE_bool(keep_left_out_terms, false, "Ablation: keep E(j,k) for Half Free j.");
 DEFINE_bool(fix_fixed_handle_nodes, false, "Ablation: fixed-handle nodes get no rotation.");
 DEFINE_bool(alpha_all_one, false, "Ablation: every coherence weight alpha = 1.");
+DEFINE_double(rigidity_stiffness, msdeform::RigidityOptions().external_stiffness,
+              "k_ext h^2 of the rigidity estimation (METHOD.md §2).");
+DEFINE_double(rigidity_damping, msdeform::RigidityOptions().damping,
+              "Velocity damping per shape-matching step, in [0, 1).");
+DEFINE_int32(rigidity_steps, msdeform::RigidityOptions().num_steps,
+             "S: shape-matching steps of the rigidity estimation.");
+DEFINE_int32(rigidity_region, msdeform::RigidityOptions().region_half_width,
+             "Region half-width r of the shape matching (METHOD.md: 1).");
+DEFINE_double(threshold_floor, msdeform::ScaleSelectionOptions().threshold_floor,
+              "Lower bound of the rigidity threshold T (Eq. 7: 0.1).");
 DEFINE_bool(quiet, false, "Print nothing but errors.");
 
 namespace msdeform {
@@ -82,11 +92,16 @@ bool FillOptions(DeformerOptions* options, std::string* error) {
   options->lattice.cell_width = FLAGS_cell_width;
   options->graph.seed = FLAGS_seed;
   options->rigidity.seed = FLAGS_seed;
+  options->rigidity.external_stiffness = FLAGS_rigidity_stiffness;
+  options->rigidity.damping = FLAGS_rigidity_damping;
+  options->rigidity.num_steps = FLAGS_rigidity_steps;
+  options->rigidity.region_half_width = FLAGS_rigidity_region;
   options->num_threads = FLAGS_threads;
   options->solver.max_num_iterations = FLAGS_max_iterations;
   options->keep_left_out_terms = FLAGS_keep_left_out_terms;
   options->fix_fixed_handle_nodes = FLAGS_fix_fixed_handle_nodes;
   options->selection.alpha_all_one = FLAGS_alpha_all_one;
+  options->selection.threshold_floor = FLAGS_threshold_floor;
   if (FLAGS_frames < 0) {
     *error = "--frames must be >= 0";
     return false;

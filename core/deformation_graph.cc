@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include <glog/logging.h>
+#include <omp.h>
 
 namespace msdeform {
 namespace {
@@ -338,7 +339,18 @@ bool BuildCollapsedGraphs(const Mesh& mesh, const Lattice& lattice, const GraphO
     collapse.CollapseTo(count);
     graphs->push_back(collapse.Snapshot());
   }
-  for (size_t i = 1; i < graphs->size(); ++i) ConnectGraph(mesh, lattice, options, &(*graphs)[i]);
+  // The coarse scales are independent: with enough of them, one thread per
+  // scale also shares out the serial parts (candidate search, edge lists).
+  const int num_coarse = static_cast<int>(graphs->size()) - 1;
+  const int num_threads = options.num_threads > 0 ? options.num_threads : omp_get_max_threads();
+  if (num_threads > 1 && num_coarse >= 2 * num_threads) {
+    GraphOptions one_thread = options;
+    one_thread.num_threads = 1;
+#pragma omp parallel for num_threads(num_threads) schedule(dynamic, 1)
+    for (int i = 1; i <= num_coarse; ++i) ConnectGraph(mesh, lattice, one_thread, &(*graphs)[i]);
+  } else {
+    for (int i = 1; i <= num_coarse; ++i) ConnectGraph(mesh, lattice, options, &(*graphs)[i]);
+  }
   return true;
 }
 

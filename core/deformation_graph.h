@@ -6,8 +6,11 @@
 // one pass down to D_N nodes with a snapshot at each D_i:
 //   N = max(1, floor(D1 / P)),   D_i = round(D1 / i) = floor(D1 / i + 1/2).
 // Each DG_i node knows the DG1 nodes merged into it and sits on a mesh vertex
-// (the member node vertex nearest the members' centroid). Every scale has its
-// own nearest nodes, skinning weights (Eq. 11) and edges (core/nearest_nodes.h).
+// (the member node vertex nearest the members' centroid). Edges never join two
+// mesh components, so when no edge is left before D_i is reached the two
+// nodes nearest each other are merged instead, keeping every D_i exact. Every
+// scale has its own nearest nodes, skinning weights (Eq. 11) and edges
+// (core/nearest_nodes.h). Choices and timings: docs/decisions.md.
 //
 // A node j maps a point p to R_j (p - g_j) + g_j + t_j (Eq. 8); skinning with
 // these transforms is in core/skinning.h.

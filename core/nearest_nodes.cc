@@ -205,7 +205,9 @@ void ComputeNearestNodes(const Eigen::Matrix3Xd& vertices, const Lattice& lattic
       const int m = candidates.size(c);
       for (int64_t word = word_offset[c]; word < word_offset[c + 1]; ++word) {
         uint64_t merged = 0;
-        for (const std::vector<uint64_t>& table : thread_bits) merged |= table[word];
+        for (const std::vector<uint64_t>& table : thread_bits) {
+          if (!table.empty()) merged |= table[word];  // Empty: the team had fewer threads.
+        }
         for (; merged != 0; merged &= merged - 1) {
           const int64_t bit = (word - word_offset[c]) * 64 + __builtin_ctzll(merged);
           local_pairs.emplace_back(candidate[bit / m], candidate[bit % m]);

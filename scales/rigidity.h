@@ -57,14 +57,14 @@ struct RigidityOptions {
   // k_ext carries no length unit: scaling the mesh scales every displacement
   // and e by the same factor and leaves e' unchanged. Check() asks for
   // k_ext h^2 <= 1 (a conservative stability bound).
-  double external_stiffness = 0.05;
+  double external_stiffness = 0.01;  // docs/decisions.md: "Rigidity defaults for scale selection"
   // |v0| of the moveable-handle particles, in cell widths w per time step h
   // (METHOD.md: 0.5 w / h). Set before the first step, so damping applies.
   double initial_speed = 0.5;
   // Fraction of each particle's velocity removed per step, in [0, 1).
-  double damping = 0.1;
+  double damping = 0.0;
   // r: a region is a particle and its r-ring in the particle adjacency.
-  int region_half_width = 1;
+  int region_half_width = 2;  // METHOD.md said 1; see docs/decisions.md
   // Seed of the direction of v0 (std::mt19937_64).
   std::uint64_t seed = 1;
   // How region sums are formed (kBox measured slightly faster; see

@@ -237,6 +237,7 @@ TEST(DeformationGraphTest, ComponentsAreMergedOnlyWhenEdgesRunOut) {
   const Components components = ConnectedComponents(mesh);
   ASSERT_EQ(components.count, 31);
   ASSERT_LT(graphs.back().num_nodes(), components.count);
+  int scales_without_mixing = 0;
   for (const DeformationGraph& graph : graphs) {
     // Number of nodes holding more than one component.
     int mixed = 0;
@@ -249,9 +250,17 @@ TEST(DeformationGraphTest, ComponentsAreMergedOnlyWhenEdgesRunOut) {
     }
     if (graph.num_nodes() >= components.count) {
       EXPECT_EQ(mixed, 0) << graph.num_nodes() << " nodes";
+      ++scales_without_mixing;
     } else {
       EXPECT_GT(mixed, 0) << graph.num_nodes() << " nodes";
     }
+  }
+  EXPECT_GE(scales_without_mixing, 2);
+  EXPECT_LT(scales_without_mixing, static_cast<int>(graphs.size()));
+  // Each cube is a one-node component in DG1: its vertices follow that node alone.
+  for (int v = 0; v < 30 * 8; ++v) {
+    EXPECT_EQ(graphs[0].weights.nodes(0, v), lattice.cell_of_vertex(v));
+    EXPECT_EQ(graphs[0].weights.weights(0, v), 1.0);
   }
 }
 
@@ -268,7 +277,7 @@ TEST(DeformationGraphTest, FirstCollapseMergesTheShortestDg1Edge) {
   std::pair<int, int> shortest;
   double shortest_length = std::numeric_limits<double>::infinity();
   for (const auto& [a, b] : dg1.edges) {
-    const double length = (dg1.positions.col(a) - dg1.positions.col(b)).norm();
+    const double length = (dg1.positions.col(a) - dg1.positions.col(b)).squaredNorm();
     if (length < shortest_length) {
       shortest_length = length;
       shortest = {a, b};

@@ -235,6 +235,7 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(RigidityTest, RegionsAreRingsOfTheAdjacency) {
   const Lattice lattice = BuildLattice(MakeComb(3, 4));
   RigidityOptions options;
+  options.region_half_width = 1;
   RigidityEstimator estimator;
   std::string error;
   ASSERT_TRUE(estimator.Init(lattice, options, &error)) << error;
