@@ -44,11 +44,8 @@ DeformationGraph MakeFinestGraph(const Mesh& mesh, const Lattice& lattice, uint6
 // already placed.
 void ConnectGraph(const Mesh& mesh, const Lattice& lattice, const GraphOptions& options,
                   DeformationGraph* graph) {
-  NearestNodeOptions nearest;
-  nearest.k = options.k;
-  nearest.extra_rings = options.extra_rings;
-  nearest.num_threads = options.num_threads;
-  ComputeNearestNodes(mesh.vertices, lattice, graph->positions, graph->node_of_dg1, nearest,
+  ComputeNearestNodes(mesh.vertices, lattice, graph->positions, graph->node_of_dg1,
+                      options.nearest_nodes(),
                       &graph->weights, &graph->edges);
   const int num_nodes = graph->num_nodes();
   CompressedLists& neighbors = graph->neighbors;
@@ -257,24 +254,20 @@ class EdgeCollapse {
 
 }  // namespace
 
+NearestNodeOptions GraphOptions::nearest_nodes() const {
+  NearestNodeOptions nearest;
+  nearest.k = k;
+  nearest.extra_rings = extra_rings;
+  nearest.num_threads = num_threads;
+  return nearest;
+}
+
 bool GraphOptions::Check(std::string* error) const {
-  if (k < 1) {
-    *error = "k (nearest nodes per vertex) must be >= 1, got " + std::to_string(k);
-    return false;
-  }
   if (nodes_per_scale < 1) {
     *error = "nodes_per_scale (P) must be >= 1, got " + std::to_string(nodes_per_scale);
     return false;
   }
-  if (extra_rings < 0) {
-    *error = "extra_rings must be >= 0, got " + std::to_string(extra_rings);
-    return false;
-  }
-  if (num_threads < 0) {
-    *error = "num_threads must be >= 0 (0: OpenMP default), got " + std::to_string(num_threads);
-    return false;
-  }
-  return true;
+  return nearest_nodes().Check(error);
 }
 
 NodeTransforms NodeTransforms::Identity(int num_nodes) {

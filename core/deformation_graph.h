@@ -73,6 +73,8 @@ struct GraphOptions {
   // OpenMP threads for building; 0 uses the OpenMP default.
   int num_threads = 0;
 
+  // The nearest-node part of these options.
+  NearestNodeOptions nearest_nodes() const;
   bool Check(std::string* error) const;
 };
 
