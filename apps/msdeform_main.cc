@@ -6,11 +6,14 @@
 // fixed and a claw dragged (data/scenarios/armadillo_claw.json).
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include <gflags/gflags.h>
 #include <glog/logging.h>
@@ -29,6 +32,7 @@ DEFINE_string(def, "", "Botsch-Sorkine .def 4x4 handle transform (needs --sel)."
 DEFINE_string(scenario, "", "JSON scenario (docs/scenarios.md). Default when neither --sel "
                             "nor --scenario is given: data/scenarios/armadillo_claw.json.");
 DEFINE_string(method, "multiscale", "multiscale, static or static_dense.");
+DEFINE_string(solver, "ceres", "Solver backend: ceres or gauss_newton (docs/performance.md).");
 DEFINE_int32(static_nodes, 220, "Nodes of the static baseline graph.");
 DEFINE_int32(frames, 0, "Drag frames from rest to the target (0: the scenario's, or 1).");
 DEFINE_string(out, "", "Deformed mesh (OFF, OBJ or PLY by extension). Default: "
@@ -53,6 +57,7 @@ DEFINE_int32(rigidity_region, msdeform::RigidityOptions().region_half_width,
 DEFINE_double(threshold_floor, msdeform::ScaleSelectionOptions().threshold_floor,
               "Lower bound of the rigidity threshold T (Eq. 7: 0.1).");
 DEFINE_bool(quiet, false, "Print nothing but errors.");
+DEFINE_bool(verbose, false, "Also print the solver's own log (Ceres warnings and errors).");
 
 namespace msdeform {
 namespace {
@@ -88,6 +93,10 @@ bool FillOptions(DeformerOptions* options, std::string* error) {
     *error = "--method=" + FLAGS_method + ": expected multiscale, static or static_dense";
     return false;
   }
+  if (!ParseSolver(FLAGS_solver, &options->backend)) {
+    *error = "--solver=" + FLAGS_solver + ": expected ceres or gauss_newton";
+    return false;
+  }
   options->static_nodes = FLAGS_static_nodes;
   options->lattice.cell_width = FLAGS_cell_width;
   options->graph.seed = FLAGS_seed;
@@ -102,8 +111,8 @@ bool FillOptions(DeformerOptions* options, std::string* error) {
   options->fix_fixed_handle_nodes = FLAGS_fix_fixed_handle_nodes;
   options->selection.alpha_all_one = FLAGS_alpha_all_one;
   options->selection.threshold_floor = FLAGS_threshold_floor;
-  if (FLAGS_frames < 0) {
-    *error = "--frames must be >= 0";
+  if (FLAGS_frames < 0 || FLAGS_frames > kMaxScenarioFrames) {
+    *error = "--frames must be in 0.." + std::to_string(kMaxScenarioFrames);
     return false;
   }
   return options->Check(error);
@@ -153,7 +162,28 @@ bool PrepareJob(Job* job, std::string* error) {
                          ? fs::path(job->out_path).replace_extension(".json").string()
                          : FLAGS_report;
   job->nodes_path = FLAGS_dump_nodes;
-  for (const std::string& output : {job->out_path, job->report_path, job->nodes_path}) {
+  {
+    std::string extension = fs::path(job->out_path).extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (extension != ".off" && extension != ".obj" && extension != ".ply") {
+      *error = "--out=" + job->out_path + ": cannot write format '" + extension +
+               "'; use .off, .obj or .ply";
+      return false;
+    }
+  }
+  const std::vector<std::string> outputs = {job->out_path, job->report_path, job->nodes_path};
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    for (size_t j = 0; j < i; ++j) {
+      std::error_code ec_i, ec_j;
+      if (!outputs[i].empty() && fs::weakly_canonical(outputs[i], ec_i) ==
+                                     fs::weakly_canonical(outputs[j], ec_j)) {
+        *error = outputs[i] + ": given as two different outputs (--out, --report, --dump_nodes)";
+        return false;
+      }
+    }
+  }
+  for (const std::string& output : outputs) {
     if (output.empty()) continue;
     for (const std::string& input : {job->mesh_path, FLAGS_sel, FLAGS_def, FLAGS_scenario}) {
       if (!input.empty() && SameFile(output, input)) {
@@ -165,10 +195,54 @@ bool PrepareJob(Job* job, std::string* error) {
   return true;
 }
 
+// All outputs of a run appear together or not at all: each is written
+// (atomically) to a hidden sibling of its final path, and only when every one
+// is complete are they renamed into place. Staged files left by a failed run
+// are removed by the destructor.
+class StagedOutputs {
+ public:
+  ~StagedOutputs() {
+    std::error_code ignored;
+    for (const auto& [staged, final_path] : files_) fs::remove(staged, ignored);
+  }
+  // Where to write `path` for now: ".<name>.partial<ext>" in its folder,
+  // which is created if needed (and fails there when it cannot be).
+  bool Stage(const std::string& path, std::string* staged, std::string* error) {
+    const fs::path final_path(path);
+    const fs::path parent = final_path.parent_path();
+    std::error_code ec;
+    if (!parent.empty() && !fs::is_directory(parent, ec)) {
+      fs::create_directories(parent, ec);
+      if (ec) {
+        *error = path + ": cannot create its folder (" + ec.message() + ")";
+        return false;
+      }
+    }
+    *staged = (parent / ("." + final_path.stem().string() + ".partial" +
+                         final_path.extension().string()))
+                  .string();
+    files_.emplace_back(*staged, path);
+    return true;
+  }
+  // Renames every staged file to its final path.
+  bool Commit(std::string* error) {
+    for (const auto& [staged, final_path] : files_) {
+      std::error_code ec;
+      fs::rename(staged, final_path, ec);
+      if (ec) {
+        *error = final_path + ": cannot move the finished output into place (" + ec.message() + ")";
+        return false;
+      }
+    }
+    files_.clear();
+    return true;
+  }
+
+ private:
+  std::vector<std::pair<std::string, std::string>> files_;  // staged, final
+};
+
 bool WriteText(const std::string& path, const std::string& text, std::string* error) {
-  const fs::path parent = fs::path(path).parent_path();
-  std::error_code ignored;
-  if (!parent.empty()) fs::create_directories(parent, ignored);
   return WriteFileAtomically(
       path,
       [&](std::ostream& out, std::string*) {
@@ -213,11 +287,19 @@ int Run() {
   }
   std::vector<double> frame_ms, solve_ms, skin_ms, iterations;
   double final_cost = 0.0;
+  // A frame whose solve fails keeps the last good node transforms (Drag
+  // restores them) and the drag goes on from there; only the last frame is
+  // the result the user asked for, so only its failure is an error.
+  std::vector<int> failed_frames;
   for (size_t f = 0; f < job.path.size(); ++f) {
     DragStats stats;
     const auto frame_start = Clock::now();
     if (!deformer.Drag(job.path[f], &stats, &error)) {
-      std::cerr << "msdeform: frame " << f + 1 << ": " << error << "\n";
+      failed_frames.push_back(static_cast<int>(f) + 1);
+      if (f + 1 < job.path.size()) continue;
+      std::cerr << "msdeform: " << job.mesh_path << ": frame " << f + 1 << " of "
+                << job.path.size() << " (the result): " << error << "; "
+                << failed_frames.size() << " failed frame(s); no output written\n";
       return 1;
     }
     frame_ms.push_back(Ms(frame_start));
@@ -236,14 +318,20 @@ int Run() {
 
   Mesh deformed = job.mesh;
   deformed.vertices = deformer.deformed_vertices();
-  const fs::path out_parent = fs::path(job.out_path).parent_path();
-  std::error_code ignored;
-  if (!out_parent.empty()) fs::create_directories(out_parent, ignored);
-  if (!WriteMesh(job.out_path, deformed, &error)) {
+  if (!deformed.vertices.allFinite()) {
+    std::cerr << "msdeform: " << job.mesh_path
+              << ": the deformed mesh has non-finite coordinates; no output written\n";
+    return 1;
+  }
+  StagedOutputs staged;
+  std::string staged_path;
+  if (!staged.Stage(job.out_path, &staged_path, &error) ||
+      !WriteMesh(staged_path, deformed, &error)) {
     std::cerr << "msdeform: " << error << "\n";
     return 1;
   }
-  if (!job.nodes_path.empty() && !WriteText(job.nodes_path, NodesCsv(deformer), &error)) {
+  if (!job.nodes_path.empty() && (!staged.Stage(job.nodes_path, &staged_path, &error) ||
+                                  !WriteText(staged_path, NodesCsv(deformer), &error))) {
     std::cerr << "msdeform: " << error << "\n";
     return 1;
   }
@@ -295,8 +383,10 @@ int Run() {
                           {"total", Ms(total_start)}};
   report["handle_rms"] = handle_rms;
   report["solver"] = {{"iterations_median", Median(iterations)}, {"final_cost", final_cost}};
+  report["failed_frames"] = failed_frames;
   report["output"] = job.out_path;
-  if (!WriteText(job.report_path, report.dump(2) + "\n", &error)) {
+  if (!staged.Stage(job.report_path, &staged_path, &error) ||
+      !WriteText(staged_path, report.dump(2) + "\n", &error) || !staged.Commit(&error)) {
     std::cerr << "msdeform: " << error << "\n";
     return 1;
   }
@@ -311,6 +401,11 @@ int Run() {
                 job.path.size(), Median(frame_ms), Median(solve_ms), Median(skin_ms), handle_rms,
                 handle_rms / deformer.diagonal());
     std::printf("  wrote %s and %s\n", job.out_path.c_str(), job.report_path.c_str());
+    if (!failed_frames.empty()) {
+      std::printf("  %zu intermediate frame(s) failed to solve and kept the previous pose "
+                  "(failed_frames in the report)\n",
+                  failed_frames.size());
+    }
   }
   return 0;
 }
@@ -327,7 +422,9 @@ int main(int argc, char** argv) {
   gflags::ParseCommandLineFlags(&argc, &argv, true);
   google::InitGoogleLogging(argv[0]);
   FLAGS_logtostderr = true;
-  FLAGS_minloglevel = 1;
+  // Errors are the one-line messages of Run(); Ceres's own log (e.g. an
+  // "invalid steps" error on a diverging solve) only with --verbose.
+  FLAGS_minloglevel = FLAGS_verbose ? 0 : 3;
   if (argc > 1) {
     std::cerr << "msdeform: unexpected argument '" << argv[1] << "' (flags are --name=value)\n";
     return 1;

@@ -13,6 +13,9 @@ namespace {
 constexpr int kEmpty = -1;
 constexpr int kSurfaceMark = -2;
 constexpr int kOutsideMark = -3;
+// A cell without a vertex that a triangle crosses: a wall for the flood fill
+// only (it becomes an interior particle, being inside the surface).
+constexpr int kWallMark = -4;
 
 // Builds compressed lists from (row, value) pairs; duplicates removed.
 CompressedLists ListsFromPairs(int num_rows, std::vector<std::pair<int, int>> pairs) {
@@ -81,6 +84,17 @@ bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* la
     return false;
   }
   l.origin_ = box.min();
+  // Cells per axis as doubles first: a tiny width must not overflow an int.
+  const Eigen::Array3d cells_per_axis = (box.sizes().array() / l.cell_width_ + 0.5).floor() + 3.0;
+  const double grid_cells = cells_per_axis.prod();
+  if (!(grid_cells <= static_cast<double>(options.max_grid_cells))) {
+    std::ostringstream message;
+    message << "cell width " << l.cell_width_ << " gives a lattice of about " << grid_cells
+            << " cells, more than max_grid_cells " << options.max_grid_cells
+            << "; use a larger cell width";
+    *error = message.str();
+    return false;
+  }
   l.dims_ = l.CellCoordsOf(box.max()) + Eigen::Vector3i::Ones();
   const Eigen::Vector3i padded = l.dims_ + Eigen::Vector3i::Constant(2);
   const long long grid_size = static_cast<long long>(padded.x()) * padded.y() * padded.z();
@@ -100,6 +114,34 @@ bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* la
   for (int v = 0; v < mesh.num_vertices(); ++v) {
     grid_cell_of_vertex[v] = l.GridIndex(l.CellCoordsOf(mesh.vertices.col(v)));
     grid[grid_cell_of_vertex[v]] = kSurfaceMark;
+  }
+  // Triangles longer than a cell leave gaps between the vertex cells through
+  // which the flood fill would leak inside; the cells they cross close them.
+  // Samples at most w/3 apart along both triangle directions hit every cell
+  // the triangle crosses by more than a sliver.
+  const double spacing = l.cell_width_ / 3.0;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const long long c0 = grid_cell_of_vertex[mesh.faces(0, f)];
+    if (c0 == grid_cell_of_vertex[mesh.faces(1, f)] &&
+        c0 == grid_cell_of_vertex[mesh.faces(2, f)]) {
+      continue;  // A cell is convex: the triangle lies inside it.
+    }
+    const Eigen::Vector3d a = mesh.vertices.col(mesh.faces(0, f));
+    const Eigen::Vector3d b = mesh.vertices.col(mesh.faces(1, f));
+    const Eigen::Vector3d c = mesh.vertices.col(mesh.faces(2, f));
+    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    const int steps = std::max(1, static_cast<int>(std::ceil(longest / spacing)));
+    for (int i = 0; i <= steps; ++i) {
+      for (int j = 0; i + j <= steps; ++j) {
+        const Eigen::Vector3d point = a + (static_cast<double>(i) / steps) * (b - a) +
+                                      (static_cast<double>(j) / steps) * (c - a);
+        const Eigen::Vector3i coords = l.CellCoordsOf(point)
+                                           .cwiseMax(Eigen::Vector3i::Zero())
+                                           .cwiseMin(l.dims_ - Eigen::Vector3i::Ones());
+        int& cell = grid[l.GridIndex(coords)];
+        if (cell == kEmpty) cell = kWallMark;
+      }
+    }
   }
   const long long stride[3] = {1, padded.x(), static_cast<long long>(padded.x()) * padded.y()};
   std::vector<long long> queue = {0};  // The padded corner is always outside.
@@ -137,7 +179,7 @@ bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* la
   }
   l.num_surface_cells_ = static_cast<int>(l.cell_coords_.size());
   for (long long cell = 0; cell < grid_size; ++cell) {
-    if (grid[cell] == kEmpty) {
+    if (grid[cell] == kEmpty || grid[cell] == kWallMark) {
       grid[cell] = static_cast<int>(l.cell_coords_.size());
       l.cell_coords_.push_back(coords_of(cell));
     } else if (grid[cell] == kOutsideMark) {

@@ -327,8 +327,15 @@ bool IsOffKeyword(std::string_view keyword, bool* dimension_other_than_3) {
   return prefix.empty();
 }
 
-bool CheckBinaryOff(const std::string& text, size_t data_start, OffCheck* check,
-                    std::string* problem) {
+bool CheckBinaryOff(const std::string& text, size_t data_start, const std::string& keyword,
+                    OffCheck* check, std::string* problem) {
+  // OpenMesh's binary reader takes colours, normals and texture coordinates
+  // from the keyword with a layout of its own; only plain OFF is checked
+  // (and so accepted) here.
+  if (keyword != "OFF") {
+    *problem = "line 1: binary " + Quote(keyword) + " is not supported; use binary OFF or ASCII";
+    return false;
+  }
   // Binary OFF: three little-endian uint32 counts follow the header line.
   if (text.size() < data_start + 12) {
     *problem = "truncated: binary OFF ends before the vertex/face/edge counts";
@@ -352,6 +359,37 @@ bool CheckBinaryOff(const std::string& text, size_t data_start, OffCheck* check,
             << text.size();
     *problem = message.str();
     return false;
+  }
+  // Each face: an int32 vertex count, then that many int32 ids. OpenMesh
+  // sizes its id list by the count before reading, so a wild count would
+  // allocate gigabytes (found by tests/fuzz/off_fuzzer): walk them first.
+  uint64_t offset = data_start + 12 + 12ull * counts[0];
+  for (uint32_t face = 0; face < counts[1]; ++face) {
+    std::ostringstream message;
+    if (text.size() < offset + 4) {
+      message << "truncated: binary OFF ends in face " << face << " of " << counts[1];
+      *problem = message.str();
+      return false;
+    }
+    int32_t size = 0;
+    std::memcpy(&size, text.data() + offset, sizeof(size));
+    offset += 4;
+    if (size < 3 || text.size() < offset + 4ull * static_cast<uint64_t>(size)) {
+      message << "binary OFF face " << face << " announces " << size
+              << " vertices; need at least 3, all in the file";
+      *problem = message.str();
+      return false;
+    }
+    for (int32_t k = 0; k < size; ++k, offset += 4) {
+      int32_t id = 0;
+      std::memcpy(&id, text.data() + offset, sizeof(id));
+      if (id < 0 || static_cast<uint32_t>(id) >= counts[0]) {
+        message << "binary OFF face " << face << " refers to vertex " << id << ", outside 0.."
+                << static_cast<int64_t>(counts[0]) - 1;
+        *problem = message.str();
+        return false;
+      }
+    }
   }
   return true;
 }
@@ -403,9 +441,16 @@ bool CheckOff(const std::string& text, OffCheck* check, std::string* problem) {
       *problem = "binary OFF must start with its header alone on line 1";
       return false;
     }
-    return CheckBinaryOff(text, pos, check, problem);
+    return CheckBinaryOff(text, pos, keyword, check, problem);
   }
   check->needs_normalizing |= has_hash;
+  // With ST, C or N in the keyword OpenMesh reads texture coordinates,
+  // colours and normals token by token across line ends, so a vertex line
+  // without them shifts everything after it: a coordinate becomes a face's
+  // vertex count, and a count of billions made OpenMesh allocate gigabytes
+  // (found by tests/fuzz/off_fuzzer). The plain copy has only what this check
+  // read line by line.
+  check->needs_normalizing |= keyword != "OFF";
 
   // Counts "nV nF nE": on the header line after the keyword, or the next line.
   Tokens counts(tokens.begin() + 1, tokens.end());
@@ -690,7 +735,35 @@ bool CheckPly(const std::string& text, int* num_vertices, int* num_faces, std::s
   return true;
 }
 
-// Checks the "v x y z" lines of an OBJ file and counts them.
+// True for an OBJ face corner "v", "v/t", "v//n" or "v/t/n": v a non-zero
+// integer (negative counts back from the last vertex), t and n empty or
+// integers. OpenMesh's OBJ reader asserts (aborts) on a corner without v,
+// e.g. "/1/1" (found by tests/fuzz/obj_fuzzer).
+bool IsObjFaceCorner(std::string_view corner) {
+  std::string_view parts[3];
+  int num_parts = 0;
+  size_t start = 0;
+  while (true) {
+    if (num_parts == 3) return false;
+    const size_t slash = corner.find('/', start);
+    const size_t length = slash == std::string_view::npos ? slash : slash - start;
+    parts[num_parts++] = corner.substr(start, length);
+    if (slash == std::string_view::npos) break;
+    start = slash + 1;
+  }
+  long long value = 0;
+  if (!ParseInt(parts[0], &value) || value == 0 || value < std::numeric_limits<int>::min() ||
+      value > std::numeric_limits<int>::max()) {
+    return false;
+  }
+  for (int k = 1; k < num_parts; ++k) {
+    if (!parts[k].empty() && !ParseInt(parts[k], &value)) return false;
+  }
+  return true;
+}
+
+// Checks the "v x y z" and "f ..." lines of an OBJ file and counts the
+// vertices.
 bool CheckObj(const std::string& text, int* num_vertices, std::string* problem) {
   std::ostringstream message;
   size_t pos = 0;
@@ -702,6 +775,23 @@ bool CheckObj(const std::string& text, int* num_vertices, std::string* problem) 
   while (NextLine(text, &pos, &line)) {
     ++line_number;
     Tokenize(line, &tokens, &had_comment);
+    if (!tokens.empty() && tokens[0] == "f") {
+      if (tokens.size() < 4) {
+        message << "line " << line_number << ": a face has " << tokens.size() - 1
+                << " vertices; need at least 3";
+        *problem = message.str();
+        return false;
+      }
+      for (size_t k = 1; k < tokens.size(); ++k) {
+        if (!IsObjFaceCorner(tokens[k])) {
+          message << "line " << line_number << ": face corner " << Quote(tokens[k])
+                  << " is not v, v/t, v//n or v/t/n with a non-zero vertex number";
+          *problem = message.str();
+          return false;
+        }
+      }
+      continue;
+    }
     if (tokens.empty() || tokens[0] != "v") continue;
     if (tokens.size() < 4) {
       message << "line " << line_number << ": vertex " << count << " has fewer than 3 coordinates";

@@ -285,6 +285,9 @@ class ScenarioParser {
     if (root.contains("frames")) {
       if (!Integer(root["frames"], "frames", &scenario->frames)) return false;
       if (scenario->frames < 1) return Fail("frames", "must be at least 1");
+      if (scenario->frames > kMaxScenarioFrames) {
+        return Fail("frames", "must be at most " + std::to_string(kMaxScenarioFrames));
+      }
     }
     return true;
   }

@@ -87,6 +87,10 @@ struct HandleMotion {
   Eigen::Vector3d rotation_center = Eigen::Vector3d::Zero();
 };
 
+// Upper bound of "frames" (and of msdeform --frames): every frame is a solve,
+// and the drag path is held in memory.
+constexpr int kMaxScenarioFrames = 100000;
+
 struct Scenario {
   std::string path;       // the scenario file itself, for messages.
   std::string name;       // "name", or the file stem.
@@ -96,7 +100,7 @@ struct Scenario {
   bool has_watch = false;
   VertexRegion watch;
   HandleMotion motion;
-  int frames = 1;  // >= 1.
+  int frames = 1;  // 1 .. kMaxScenarioFrames.
 };
 
 // Parses a scenario file. Missing, mistyped, unknown or out-of-range fields

@@ -1,6 +1,10 @@
 #!/usr/bin/env bash
 # Builds everything (scripts/build.sh) and runs the whole test suite with
-# ctest. Exits non-zero if the build or any test fails.
+# ctest; then builds the tests again with AddressSanitizer and
+# UndefinedBehaviorSanitizer in build-asan/ (-O1, assertions on; only what
+# ctest needs: target msdeform_test_deps) and runs the whole suite there too.
+# Exits non-zero if a build or any test fails. MSDEFORM_SKIP_ASAN=1 skips the
+# second part (for a quick local run; CI never sets it).
 #
 #   bash scripts/run_tests.sh
 set -euo pipefail
@@ -10,3 +14,19 @@ bash "${root}/scripts/build.sh"
 
 echo "run_tests: ctest --test-dir build --output-on-failure -j2"
 ctest --test-dir "${root}/build" --output-on-failure -j2
+
+if [[ "${MSDEFORM_SKIP_ASAN:-0}" == 1 ]]; then
+  echo "run_tests: MSDEFORM_SKIP_ASAN=1: skipping the sanitizer build"
+  exit 0
+fi
+asan="${root}/build-asan"
+echo "run_tests: configuring ${asan} (-DMSDEFORM_SANITIZE=ON, -O1)"
+cmake -S "${root}" -B "${asan}" -DMSDEFORM_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1"
+echo "run_tests: compiling the tests with sanitizers (-j2)"
+cmake --build "${asan}" -j2 --target msdeform_test_deps
+# ASan's defaults (leaks reported too); UBSan findings stop the test
+# (-fno-sanitize-recover) with a stack trace.
+export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1}"
+echo "run_tests: ctest --test-dir build-asan --output-on-failure -j2 (sanitizers)"
+ctest --test-dir "${asan}" --output-on-failure -j2 --timeout 1200

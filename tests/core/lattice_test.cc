@@ -40,7 +40,9 @@ TEST(LatticeTest, Eq1CoordinatesOnHandCheckedPoints) {
                   .col(lattice.cell_of_vertex(1))
                   .isApprox(Eigen::Vector3d(3.0, 0.0, 5.0)));
   EXPECT_EQ(lattice.num_surface_cells(), 3);
-  EXPECT_EQ(lattice.num_interior_cells(), 0);  // A flat triangle has no inside.
+  // A flat triangle has no inside, but the two vertex-free cells it crosses
+  // between its vertices' cells are walls of the flood fill and so particles.
+  EXPECT_EQ(lattice.num_interior_cells(), 2);
 }
 
 TEST(LatticeTest, DefaultCellWidthIsDiagonalOver48) {
@@ -74,6 +76,67 @@ TEST(LatticeTest, ClosedBarIsFilledSolid) {
   // The bar's sides sit on cell centres, so the strictly inside centres are
   // exactly the interior cells.
   EXPECT_EQ(inside_centres, lattice.num_interior_cells());
+}
+
+TEST(LatticeTest, EdgesLongerThanACellStillCloseTheSurface) {
+  // MakeBar(12) has edges of 0.5 and a default cell width of about 0.26: the
+  // vertex cells alone leave gaps, and the flood fill used to leak through
+  // them and leave the bar hollow. The triangles' cells close them.
+  const Mesh bar = MakeBar(12);
+  Lattice lattice;
+  std::string error;
+  ASSERT_TRUE(Lattice::Build(bar, LatticeOptions(), &lattice, &error)) << error;
+  EXPECT_GT(lattice.num_interior_cells(), 0);
+
+  // Coarse triangles (one quad per voxel face), much finer cells: every cell
+  // whose centre is inside the bar by more than a cell is a particle.
+  const Mesh coarse = MakeBar(6, 1.0, 1);
+  const double w = 0.1;
+  const Lattice fine = BuildOrDie(coarse, w);
+  int inside = 0;
+  for (int a = 0; a < fine.dims().x(); ++a)
+    for (int b = 0; b < fine.dims().y(); ++b)
+      for (int c = 0; c < fine.dims().z(); ++c) {
+        const Eigen::Vector3d centre = fine.origin() + w * Eigen::Vector3d(a, b, c);
+        if ((centre.array() > w).all() && centre.x() < 6.0 - w && centre.y() < 1.0 - w &&
+            centre.z() < 1.0 - w) {
+          ++inside;
+          EXPECT_GE(fine.ParticleAt({a, b, c}), 0) << a << " " << b << " " << c;
+        }
+      }
+  EXPECT_GT(inside, 0);
+  EXPECT_GE(fine.num_interior_cells(), inside);
+}
+
+TEST(LatticeTest, FlatMeshAndSingleTriangleBuild) {
+  Mesh triangle;
+  triangle.vertices.resize(3, 3);
+  triangle.vertices << 0, 1, 0,  //
+      0, 0, 1,                   //
+      0, 0, 0;
+  triangle.faces.resize(3, 1);
+  triangle.faces << 0, 1, 2;
+  Lattice lattice;
+  std::string error;
+  ASSERT_TRUE(Lattice::Build(triangle, LatticeOptions(), &lattice, &error)) << error;
+  EXPECT_EQ(lattice.num_surface_cells(), 3);
+  EXPECT_EQ(lattice.dims().z(), 1);
+  // The cells the triangle crosses join the particles; every particle is
+  // connected to another one.
+  EXPECT_GT(lattice.num_interior_cells(), 0);
+  EXPECT_TRUE(lattice.rest_positions().allFinite());
+  for (int p = 0; p < lattice.num_particles(); ++p) {
+    EXPECT_GT(lattice.particle_adjacency().size(p), 0) << p;
+  }
+}
+
+TEST(LatticeTest, AbsurdlyFineCellWidthIsAnErrorNotAnOverflow) {
+  LatticeOptions options;
+  options.cell_width = 1e-15;
+  Lattice lattice;
+  std::string error;
+  EXPECT_FALSE(Lattice::Build(MakeBar(4), options, &lattice, &error));
+  EXPECT_NE(error.find("max_grid_cells"), std::string::npos) << error;
 }
 
 TEST(LatticeTest, OpenTubeIsNotFilled) {

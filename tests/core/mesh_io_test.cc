@@ -391,6 +391,14 @@ INSTANTIATE_TEST_SUITE_P(
         BadFile{"out_of_range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 7\n",
                 "face 1 refers to vertex 6, outside 0..2"},
         BadFile{"no_faces.obj", "v 0 0 0\nv 1 0 0\n", "need at least one triangle"},
+        // OpenMesh's OBJ reader aborts on a corner without a vertex number
+        // (found by tests/fuzz/obj_fuzzer).
+        BadFile{"corner_without_vertex.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf /1 2/1 3/1\n",
+                "line 5: face corner '/1' is not v, v/t, v//n or v/t/n"},
+        BadFile{"corner_vertex_zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n",
+                "line 4: face corner '0'"},
+        BadFile{"two_corner_face.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n",
+                "line 3: a face has 2 vertices; need at least 3"},
         BadFile{"repeated_vertex.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 1\n",
                 "face 0 repeats vertex 1"},
         BadFile{"unknown.xyz", "0 0 0\n", "unknown mesh format '.xyz'"}),

@@ -1,0 +1,7 @@
+// libFuzzer target: the def parser (scripts/fuzz.sh builds and runs it).
+#include "tests/fuzz/fuzz_targets.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  msdeform::fuzz::FuzzDef(data, size);
+  return 0;
+}

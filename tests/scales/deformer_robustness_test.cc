@@ -1,0 +1,168 @@
+// Robustness of the deformer (issue 9): meshes with several components,
+// singular systems, failed solves, random rigid motions, determinism. Kept
+// apart from deformer_test.cc, which checks the method itself.
+
+#include <random>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include "core/drag_path.h"
+#include "core/handles.h"
+#include "core/procedural_meshes.h"
+#include "scales/deformer.h"
+
+namespace msdeform {
+namespace {
+
+const Method kAllMethods[] = {Method::kMultiScale, Method::kStatic, Method::kStaticDense};
+
+DeformerOptions OptionsFor(Method method) {
+  DeformerOptions options;
+  options.method = method;
+  options.static_nodes = 40;
+  options.graph.nodes_per_scale = 20;
+  options.num_threads = 1;
+  return options;
+}
+
+double MaxDistance(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {
+  return (a - b).colwise().norm().maxCoeff();
+}
+
+// Two bars side by side along y; the first (y < 1) has its first voxel fixed
+// and its last voxel as the handle; the second has no handle at all.
+struct TwoBars {
+  Mesh mesh = MakeTwoBars(8, 2, 1.0, 2);
+  HandleLayout layout;
+  std::vector<int> second_bar;
+  TwoBars() {
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      const double x = mesh.vertices(0, v), y = mesh.vertices(1, v);
+      if (y > 1.5) {
+        second_bar.push_back(v);
+      } else if (x <= 1.0) {
+        layout.fixed.push_back(v);
+      } else if (x >= 7.0) {
+        layout.moveable.push_back(v);
+      }
+    }
+  }
+};
+
+TEST(DeformerRobustnessTest, ComponentWithoutHandleStaysAndHasNoVariables) {
+  const TwoBars bars;
+  ASSERT_GT(bars.second_bar.size(), 0u);
+  Eigen::Affine3d lift = Eigen::Affine3d::Identity();
+  lift.translation() << 0.0, 0.0, 2.0;
+  lift.rotate(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX()));
+  for (Method method : kAllMethods) {
+    Deformer deformer;
+    std::string error;
+    ASSERT_TRUE(deformer.Init(bars.mesh, OptionsFor(method), &error)) << error;
+    ASSERT_TRUE(deformer.SetHandles(bars.layout, &error)) << error;
+    const Eigen::Vector3d handle_centre(7.5, 0.5, 0.5);
+    for (const Eigen::Affine3d& frame : InterpolateDragPath(lift, handle_centre, 3)) {
+      ASSERT_TRUE(deformer.Drag(frame, nullptr, &error)) << error;
+    }
+    const Eigen::Matrix3Xd& deformed = deformer.deformed_vertices();
+    ASSERT_TRUE(deformed.allFinite()) << MethodName(method);
+    for (int v : bars.second_bar) {
+      ASSERT_EQ(deformed.col(v), bars.mesh.vertices.col(v))
+          << MethodName(method) << " vertex " << v;
+    }
+    // The handle did move.
+    EXPECT_GT(MaxDistance(deformed, bars.mesh.vertices), 1.0) << MethodName(method);
+    // Every node of the second bar is Fixed: its node sits on a second-bar vertex.
+    const DeformationGraph& graph = deformer.active();
+    for (int j = 0; j < graph.num_nodes(); ++j) {
+      if (bars.mesh.vertices(1, graph.node_vertex[j]) > 1.5) {
+        EXPECT_EQ(deformer.node_classes()[j], NodeClass::kFixed) << MethodName(method) << " " << j;
+      }
+    }
+  }
+}
+
+TEST(DeformerRobustnessTest, FailedSolveKeepsTheLastGoodFrame) {
+  const TwoBars bars;
+  Deformer deformer;
+  std::string error;
+  ASSERT_TRUE(deformer.Init(bars.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
+  ASSERT_TRUE(deformer.SetHandles(bars.layout, &error)) << error;
+  Eigen::Affine3d good = Eigen::Affine3d::Identity();
+  good.translation() << 0.0, 0.0, 1.0;
+  ASSERT_TRUE(deformer.Drag(good, nullptr, &error)) << error;
+  const Eigen::Matrix3Xd good_vertices = deformer.deformed_vertices();
+
+  // A finite but absurd target overflows the cost: the solve fails.
+  Eigen::Affine3d absurd = Eigen::Affine3d::Identity();
+  absurd.translation() << 1e300, 1e300, 0.0;
+  EXPECT_FALSE(deformer.Drag(absurd, nullptr, &error));
+  EXPECT_NE(error.find("kept the last good frame"), std::string::npos) << error;
+  EXPECT_EQ(deformer.deformed_vertices(), good_vertices);
+  EXPECT_TRUE(deformer.transforms().rotations.allFinite());
+  EXPECT_TRUE(deformer.transforms().translations.allFinite());
+
+  // A non-finite target is refused before solving.
+  Eigen::Affine3d nan_target = Eigen::Affine3d::Identity();
+  nan_target.translation().x() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(deformer.Drag(nan_target, nullptr, &error));
+  EXPECT_EQ(deformer.deformed_vertices(), good_vertices);
+
+  // And the drag goes on from the last good frame.
+  Eigen::Affine3d next = good;
+  next.translation().z() = 1.5;
+  ASSERT_TRUE(deformer.Drag(next, nullptr, &error)) << error;
+  EXPECT_TRUE(deformer.deformed_vertices().allFinite());
+}
+
+TEST(DeformerRobustnessTest, RandomRigidMotionsOfAWholeMeshHandleAreRigid) {
+  const Mesh mesh = MakeBar(8, 1.0, 2);
+  HandleLayout everything;
+  for (int v = 0; v < mesh.num_vertices(); ++v) everything.moveable.push_back(v);
+  std::mt19937 random(20080101);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (Method method : kAllMethods) {
+    Deformer deformer;
+    std::string error;
+    ASSERT_TRUE(deformer.Init(mesh, OptionsFor(method), &error)) << error;
+    for (int trial = 0; trial < 3; ++trial) {
+      ASSERT_TRUE(deformer.SetHandles(everything, &error)) << error;
+      const Eigen::Vector3d axis =
+          Eigen::Vector3d(uniform(random), uniform(random), uniform(random)).normalized();
+      Eigen::Affine3d motion = Eigen::Affine3d::Identity();
+      motion.translation() << 3.0 * uniform(random), 3.0 * uniform(random), 3.0 * uniform(random);
+      motion.rotate(Eigen::AngleAxisd(1.5 * uniform(random), axis));
+      for (const Eigen::Affine3d& frame :
+           InterpolateDragPath(motion, mesh.vertices.rowwise().mean(), 3)) {
+        ASSERT_TRUE(deformer.Drag(frame, nullptr, &error)) << error;
+      }
+      EXPECT_LT(MaxDistance(deformer.deformed_vertices(), motion * mesh.vertices), 1e-6)
+          << MethodName(method) << " trial " << trial;
+    }
+  }
+}
+
+TEST(DeformerRobustnessTest, SameInputsGiveBitIdenticalResults) {
+  const TwoBars bars;
+  Eigen::Affine3d lift = Eigen::Affine3d::Identity();
+  lift.translation() << 0.0, 0.5, 1.0;
+  Eigen::Matrix3Xd first;
+  for (int run = 0; run < 2; ++run) {
+    Deformer deformer;
+    std::string error;
+    DeformerOptions options = OptionsFor(Method::kMultiScale);
+    options.num_threads = 2;
+    ASSERT_TRUE(deformer.Init(bars.mesh, options, &error)) << error;
+    ASSERT_TRUE(deformer.SetHandles(bars.layout, &error)) << error;
+    ASSERT_TRUE(deformer.Drag(lift, nullptr, &error)) << error;
+    if (run == 0) {
+      first = deformer.deformed_vertices();
+    } else {
+      EXPECT_EQ(deformer.deformed_vertices(), first);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace msdeform
