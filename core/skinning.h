@@ -20,6 +20,7 @@
 #define MSDEFORM_CORE_SKINNING_H_
 
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -44,6 +45,19 @@ void SkinPositions(const Eigen::Matrix3Xd& rest_vertices, const DeformationGraph
 void SkinNormals(const Eigen::Matrix3Xd& rest_normals, const DeformationGraph& graph,
                  const NodeTransforms& transforms, Eigen::Matrix3Xd* deformed_normals,
                  const SkinningOptions& options = SkinningOptions());
+
+// Positions and unit normals in one pass over the vertices, for the vertices
+// listed in `vertex_subset` only (all when it is nullptr); the other columns
+// of *deformed and *deformed_normals (which must then be 3 by #V already)
+// are left as they are. The deformer passes the vertices that have a
+// non-Fixed node among their k nearest: every other vertex stays at rest.
+// Same numbers as SkinPositions and SkinNormals.
+void SkinPositionsAndNormals(const Eigen::Matrix3Xd& rest_vertices,
+                             const Eigen::Matrix3Xd& rest_normals, const DeformationGraph& graph,
+                             const NodeTransforms& transforms,
+                             const std::vector<int>* vertex_subset, Eigen::Matrix3Xd* deformed,
+                             Eigen::Matrix3Xd* deformed_normals,
+                             const SkinningOptions& options = SkinningOptions());
 
 }  // namespace msdeform
 

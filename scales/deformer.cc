@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include <glog/logging.h>
@@ -10,6 +11,7 @@
 #include "core/skinning.h"
 #include "energies/coherence_cost.h"
 #include "energies/position_cost.h"
+#include "energies/position_group_cost.h"
 #include "energies/rot_cost.h"
 
 namespace msdeform {
@@ -32,6 +34,32 @@ std::vector<int> Indices(const std::vector<char>& flags) {
   for (int i = 0; i < static_cast<int>(flags.size()); ++i)
     if (flags[i]) indices.push_back(i);
   return indices;
+}
+
+// Makes Fixed every node of `graph` whose DG1 members hold no vertex of a
+// mesh component that contains a moveable-handle vertex: nothing moves such a
+// component, so it keeps its rest pose and gets no variables (and a free
+// component with no constraint cannot make the system singular).
+void FixNodesOfStillComponents(const Mesh& mesh, const Lattice& lattice,
+                               const DeformationGraph& graph, const HandleLayout& layout,
+                               std::vector<NodeClass>* node_classes) {
+  const Components components = ConnectedComponents(mesh);
+  if (components.count <= 1) return;
+  std::vector<char> moves(components.count, 0);
+  for (int v : layout.moveable) moves[components.component_of_vertex[v]] = 1;
+  for (int j = 0; j < graph.num_nodes(); ++j) {
+    bool touches_handle = false;
+    for (const int* m = graph.members.begin(j); m != graph.members.end(j) && !touches_handle; ++m) {
+      const CompressedLists& vertices = lattice.vertices_of_cell();
+      for (const int* v = vertices.begin(*m); v != vertices.end(*m); ++v) {
+        if (moves[components.component_of_vertex[*v]]) {
+          touches_handle = true;
+          break;
+        }
+      }
+    }
+    if (!touches_handle) (*node_classes)[j] = NodeClass::kFixed;
+  }
 }
 
 }  // namespace
@@ -58,6 +86,26 @@ bool ParseMethod(const std::string& name, Method* method) {
   return false;
 }
 
+const char* SolverName(Solver solver) {
+  switch (solver) {
+    case Solver::kCeres:
+      return "ceres";
+    case Solver::kGaussNewton:
+      return "gauss_newton";
+  }
+  return "unknown";
+}
+
+bool ParseSolver(const std::string& name, Solver* solver) {
+  for (Solver s : {Solver::kCeres, Solver::kGaussNewton}) {
+    if (name == SolverName(s)) {
+      *solver = s;
+      return true;
+    }
+  }
+  return false;
+}
+
 DeformerOptions::DeformerOptions() {
   solver.minimizer_type = ceres::TRUST_REGION;
   solver.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
@@ -77,6 +125,10 @@ bool DeformerOptions::Check(std::string* error) const {
   }
   if (static_nodes < 1) {
     *error = "static_nodes must be >= 1";
+    return false;
+  }
+  if (!(length_unit >= 0.0) || !std::isfinite(length_unit)) {
+    *error = "length_unit must be a finite number >= 0 (0: the bounding-box diagonal)";
     return false;
   }
   for (double weight : {w_rot, w_coh, w_con}) {
@@ -171,12 +223,14 @@ bool Deformer::SetHandles(const HandleLayout& layout, std::string* error) {
       for (NodeClass& node_class : node_classes_)
         if (node_class == NodeClass::kHalfFree) node_class = NodeClass::kFixed;
     }
+    FixNodesOfStillComponents(mesh_, lattice_, graphs_[active_graph_], layout_, &node_classes_);
     BuildProblem();
     setup_ms_ = MillisecondsSince(setup_start);
   } else {
     const auto setup_start = std::chrono::steady_clock::now();
     active_graph_ = static_graph_;
     node_classes_.assign(graphs_[active_graph_].num_nodes(), NodeClass::kTotallyFree);
+    FixNodesOfStillComponents(mesh_, lattice_, graphs_[active_graph_], layout_, &node_classes_);
     BuildProblem();
     setup_ms_ = MillisecondsSince(setup_start);
   }
@@ -197,16 +251,109 @@ int Deformer::num_variables() const {
 
 void Deformer::BuildProblem() {
   const DeformationGraph& graph = graphs_[active_graph_];
-  const int n = graph.num_nodes();
-  transforms_ = NodeTransforms::Identity(n);
+  transforms_ = NodeTransforms::Identity(graph.num_nodes());
+  BuildEnergy();
+
+  // Only vertices with a non-Fixed node of non-zero weight can move; the rest
+  // stay at rest bit for bit (a Fixed node is the identity).
+  skinned_vertices_.clear();
+  const SkinningWeights& weights = graph.weights;
+  for (int v = 0; v < weights.num_vertices(); ++v) {
+    for (int slot = 0; slot < weights.k; ++slot) {
+      if (weights.weights(slot, v) != 0.0 &&
+          node_classes_[weights.nodes(slot, v)] != NodeClass::kFixed) {
+        skinned_vertices_.push_back(v);
+        break;
+      }
+    }
+  }
+  skin_all_ = static_cast<int>(skinned_vertices_.size()) == weights.num_vertices();
+  if (skin_all_) std::vector<int>().swap(skinned_vertices_);
+
+  problem_.reset();
+  gauss_newton_.reset();
   position_costs_.clear();
+  position_groups_.clear();
+  if (options_.backend == Solver::kGaussNewton) {
+    GaussNewtonOptions gauss_newton;
+    gauss_newton.linear_solver = options_.gauss_newton_linear_solver;
+    gauss_newton.hessian_reuse = options_.gauss_newton_hessian_reuse;
+    gauss_newton.max_iterations = options_.solver.max_num_iterations;
+    gauss_newton.function_tolerance = options_.solver.function_tolerance;
+    gauss_newton.gradient_tolerance = options_.solver.gradient_tolerance;
+    gauss_newton.parameter_tolerance = options_.solver.parameter_tolerance;
+    gauss_newton_ = std::make_unique<GaussNewtonSolver>();
+    std::string error;
+    CHECK(gauss_newton_->Setup(energy_, transforms_, gauss_newton, &error)) << error;
+  } else {
+    BuildCeresProblem();
+  }
+}
+
+void Deformer::BuildEnergy() {
+  const DeformationGraph& graph = graphs_[active_graph_];
+  const int n = graph.num_nodes();
+  energy_ = DeformationEnergy();
+  energy_.node_class = node_classes_;
   num_coherence_terms_ = 0;
+  num_position_terms_ = 0;
+
+  // E_rot over Totally and Half Free nodes.
+  energy_.sqrt_rot = std::sqrt(options_.w_rot);
+  for (int j = 0; j < n; ++j)
+    if (node_classes_[j] != NodeClass::kFixed) energy_.rot_nodes.push_back(j);
+
+  // Residuals with a length unit are divided by the length unit.
+  const double length_scale =
+      1.0 / (options_.length_unit > 0.0 ? options_.length_unit : diagonal_);
+  // E_coh over the directed edges of E (METHOD.md §5).
+  const bool multiscale = options_.method == Method::kMultiScale;
+  auto in_edge_set = [&](int j, int k) {
+    const NodeClass cj = node_classes_[j], ck = node_classes_[k];
+    if (cj == NodeClass::kTotallyFree || ck == NodeClass::kTotallyFree) return true;
+    return options_.keep_left_out_terms && cj == NodeClass::kHalfFree;
+  };
+  for (const auto& [a, b] : graph.edges) {
+    for (const auto& [j, k] : {std::make_pair(a, b), std::make_pair(b, a)}) {
+      if (!in_edge_set(j, k)) continue;
+      const double alpha = multiscale ? selection_.Alpha(j, k) : 1.0;
+      energy_.coherence.push_back({j, k, graph.positions.col(k) - graph.positions.col(j),
+                                   std::sqrt(options_.w_coh * alpha) * length_scale});
+      ++num_coherence_terms_;
+    }
+  }
+
+  // E_con: the moveable handle follows its target; the static baselines also
+  // hold the fixed handles at rest.
+  const double sqrt_con = std::sqrt(options_.w_con) * length_scale;
+  auto add_position = [&](int v, bool follows_handle) {
+    DeformationEnergy::Position term;
+    for (int slot = 0; slot < graph.weights.k; ++slot) {
+      const double weight = graph.weights.weights(slot, v);
+      if (weight == 0.0) continue;
+      const int j = graph.weights.nodes(slot, v);
+      term.nodes.push_back(j);
+      term.terms.push_back({weight, mesh_.vertices.col(v) - graph.positions.col(j),
+                            graph.positions.col(j)});
+    }
+    term.rest = mesh_.vertices.col(v);
+    term.follows_handle = follows_handle;
+    term.sqrt_weight = sqrt_con;
+    energy_.positions.push_back(std::move(term));
+  };
+  for (int v : layout_.moveable) add_position(v, true);
+  num_position_terms_ = static_cast<int>(layout_.moveable.size());
+  if (!multiscale) {
+    for (int v : layout_.fixed) add_position(v, false);
+  }
+}
+
+void Deformer::BuildCeresProblem() {
+  const DeformationGraph& graph = graphs_[active_graph_];
+  const int n = graph.num_nodes();
   ceres::Problem::Options problem_options;
   problem_ = std::make_unique<ceres::Problem>(problem_options);
   ceres::Problem& problem = *problem_;
-
-  // Lengths in lattice cells: residuals with a length unit are divided by w.
-  const double length_scale = 1.0 / lattice_.cell_width();
   auto rotation = [&](int j) { return transforms_.rotations.col(j).data(); };
   auto translation = [&](int j) { return transforms_.translations.col(j).data(); };
 
@@ -221,96 +368,131 @@ void Deformer::BuildProblem() {
     if (node_classes_[j] == NodeClass::kFixed) problem.SetParameterBlockConstant(rotation(j));
   };
 
-  // E_rot over Totally and Half Free nodes.
-  const double sqrt_rot = std::sqrt(options_.w_rot);
-  for (int j = 0; j < n; ++j) {
-    if (node_classes_[j] == NodeClass::kFixed) continue;
+  for (int j : energy_.rot_nodes) {
     ensure_blocks(j);
-    problem.AddResidualBlock(new RotCostAnalytic(sqrt_rot), nullptr, rotation(j));
+    problem.AddResidualBlock(new RotCostAnalytic(energy_.sqrt_rot), nullptr, rotation(j));
+  }
+  for (const DeformationEnergy::Coherence& term : energy_.coherence) {
+    ensure_blocks(term.j);
+    ensure_blocks(term.k);
+    problem.AddResidualBlock(
+        new CoherenceCostAnalytic(graph.positions.col(term.j), graph.positions.col(term.k),
+                                  term.sqrt_weight),
+        nullptr, rotation(term.j), translation(term.j), translation(term.k));
   }
 
-  // E_coh over the directed edges of E (METHOD.md §5).
-  const bool multiscale = options_.method == Method::kMultiScale;
-  auto in_edge_set = [&](int j, int k) {
-    const NodeClass cj = node_classes_[j], ck = node_classes_[k];
-    if (cj == NodeClass::kTotallyFree || ck == NodeClass::kTotallyFree) return true;
-    return options_.keep_left_out_terms && cj == NodeClass::kHalfFree;
-  };
-  for (const auto& [a, b] : graph.edges) {
-    for (const auto& [j, k] : {std::make_pair(a, b), std::make_pair(b, a)}) {
-      if (!in_edge_set(j, k)) continue;
-      const double alpha = multiscale ? selection_.Alpha(j, k) : 1.0;
-      ensure_blocks(j);
-      ensure_blocks(k);
-      problem.AddResidualBlock(
-          new CoherenceCostAnalytic(graph.positions.col(j), graph.positions.col(k),
-                                    std::sqrt(options_.w_coh * alpha) * length_scale),
-          nullptr, rotation(j), translation(j), translation(k));
-      ++num_coherence_terms_;
+  if (!options_.group_position_terms) {
+    for (const DeformationEnergy::Position& term : energy_.positions) {
+      std::vector<double*> blocks;
+      for (int j : term.nodes) {
+        ensure_blocks(j);
+        blocks.push_back(rotation(j));
+        blocks.push_back(translation(j));
+      }
+      auto* cost = new PositionCostAnalytic(term.terms, term.rest, term.sqrt_weight);
+      problem.AddResidualBlock(cost, nullptr, blocks);
+      if (term.follows_handle) position_costs_.push_back({cost, term.rest});
     }
+    return;
   }
-
-  // E_con: the moveable handle follows its target; the static baselines also
-  // hold the fixed handles at rest.
-  const double sqrt_con = std::sqrt(options_.w_con) * length_scale;
-  auto add_position = [&](int v) {
+  // Handle vertices with the same nodes (and the same kind of target) become
+  // one PositionGroupCost; a vertex's terms are put in node-id order.
+  std::map<std::vector<int>, int> group_of_key;
+  struct Group {
+    std::vector<int> nodes;
+    bool follows_handle;
+    double sqrt_weight;
+    std::vector<std::vector<SkinningTerm>> terms;
+    std::vector<Eigen::Vector3d> rest;
+  };
+  std::vector<Group> groups;
+  for (const DeformationEnergy::Position& term : energy_.positions) {
+    std::vector<int> order(term.nodes.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+    std::sort(order.begin(), order.end(),
+              [&](int a, int b) { return term.nodes[a] < term.nodes[b]; });
+    std::vector<int> key = {term.follows_handle ? 1 : 0};
     std::vector<SkinningTerm> terms;
+    for (int i : order) {
+      key.push_back(term.nodes[i]);
+      terms.push_back(term.terms[i]);
+    }
+    auto [it, inserted] = group_of_key.emplace(key, static_cast<int>(groups.size()));
+    if (inserted) {
+      groups.push_back({std::vector<int>(key.begin() + 1, key.end()), term.follows_handle,
+                        term.sqrt_weight, {}, {}});
+    }
+    CHECK_EQ(groups[it->second].sqrt_weight, term.sqrt_weight);
+    groups[it->second].terms.push_back(std::move(terms));
+    groups[it->second].rest.push_back(term.rest);
+  }
+  for (const Group& group : groups) {
     std::vector<double*> blocks;
-    for (int slot = 0; slot < graph.weights.k; ++slot) {
-      const double weight = graph.weights.weights(slot, v);
-      if (weight == 0.0) continue;
-      const int j = graph.weights.nodes(slot, v);
-      terms.push_back({weight, mesh_.vertices.col(v) - graph.positions.col(j),
-                       graph.positions.col(j)});
+    for (int j : group.nodes) {
       ensure_blocks(j);
       blocks.push_back(rotation(j));
       blocks.push_back(translation(j));
     }
-    auto* cost = new PositionCostAnalytic(std::move(terms), mesh_.vertices.col(v), sqrt_con);
+    auto* cost =
+        new PositionGroupCost(group.terms, group.rest, group.follows_handle, group.sqrt_weight);
     problem.AddResidualBlock(cost, nullptr, blocks);
-    return cost;
-  };
-  for (int v : layout_.moveable) position_costs_.push_back({add_position(v), mesh_.vertices.col(v)});
-  if (!multiscale) {
-    for (int v : layout_.fixed) add_position(v);
+    position_groups_.push_back(cost);
   }
 }
 
 bool Deformer::Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats,
                     std::string* error) {
-  CHECK(problem_ != nullptr) << "SetHandles first";
+  CHECK(problem_ != nullptr || gauss_newton_ != nullptr) << "SetHandles first";
   if (!deformed_from_rest.matrix().allFinite()) {
     *error = "the handle transform is not finite";
     return false;
   }
   DragStats local_stats;
   DragStats& frame = stats != nullptr ? *stats : local_stats;
-  for (PositionTerm& term : position_costs_) term.cost->set_target(deformed_from_rest * term.rest);
 
   const NodeTransforms last_good = transforms_;
-  ceres::Solver::Options solver_options = options_.solver;
-  solver_options.num_threads = options_.num_threads;
-  ceres::Solver::Summary summary;
   const auto solve_start = std::chrono::steady_clock::now();
-  ceres::Solve(solver_options, problem_.get(), &summary);
-  frame.solve_ms = MillisecondsSince(solve_start);
-  frame.iterations = static_cast<int>(summary.iterations.size()) - 1;
-  frame.initial_cost = summary.initial_cost;
-  frame.final_cost = summary.final_cost;
-  frame.converged = summary.termination_type == ceres::CONVERGENCE;
-  if (summary.termination_type == ceres::FAILURE ||
-      !transforms_.rotations.allFinite() || !transforms_.translations.allFinite()) {
+  std::string failure;
+  if (gauss_newton_ != nullptr) {
+    const GaussNewtonSummary summary = gauss_newton_->Solve(deformed_from_rest, &transforms_);
+    frame.solve_ms = MillisecondsSince(solve_start);
+    frame.iterations = summary.iterations;
+    frame.factorizations = summary.factorizations;
+    frame.initial_cost = summary.initial_cost;
+    frame.final_cost = summary.final_cost;
+    frame.converged = summary.converged;
+    if (!std::isfinite(summary.final_cost)) failure = summary.message;
+  } else {
+    for (PositionTerm& term : position_costs_) term.cost->set_target(deformed_from_rest * term.rest);
+    double constant_cost = 0.0;  // what the grouped position blocks leave out
+    for (PositionGroupCost* group : position_groups_) {
+      group->SetHandle(deformed_from_rest);
+      constant_cost += group->ConstantCost();
+    }
+    ceres::Solver::Options solver_options = options_.solver;
+    solver_options.num_threads = options_.num_threads;
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver_options, problem_.get(), &summary);
+    frame.solve_ms = MillisecondsSince(solve_start);
+    frame.iterations = static_cast<int>(summary.iterations.size()) - 1;
+    frame.initial_cost = summary.initial_cost + constant_cost;
+    frame.final_cost = summary.final_cost + constant_cost;
+    frame.converged = summary.termination_type == ceres::CONVERGENCE;
+    if (summary.termination_type == ceres::FAILURE) failure = summary.message;
+  }
+  if (!failure.empty() || !transforms_.rotations.allFinite() ||
+      !transforms_.translations.allFinite()) {
     transforms_ = last_good;
-    *error = "the solve failed (" + summary.message + "); kept the last good frame";
+    *error = "the solve failed (" + failure + "); kept the last good frame";
     return false;
   }
 
   const auto skin_start = std::chrono::steady_clock::now();
-  const DeformationGraph& graph = graphs_[active_graph_];
   SkinningOptions skinning;
   skinning.num_threads = options_.num_threads;
-  SkinPositions(mesh_.vertices, graph, transforms_, &deformed_vertices_, skinning);
-  SkinNormals(rest_normals_, graph, transforms_, &deformed_normals_, skinning);
+  SkinPositionsAndNormals(mesh_.vertices, rest_normals_, graphs_[active_graph_], transforms_,
+                          skin_all_ ? nullptr : &skinned_vertices_, &deformed_vertices_,
+                          &deformed_normals_, skinning);
   frame.skin_ms = MillisecondsSince(skin_start);
   return true;
 }

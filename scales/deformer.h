@@ -18,9 +18,9 @@
 // rest positions.
 //
 // Energy weights (Eq. 17) are 1 / 10 / 100 as sqrt residual scales. Lengths
-// in the coherence and position residuals are measured in lattice cells
-// (divided by the cell width), so results do not depend on the mesh's units
-// (docs/decisions.md).
+// in the coherence and position residuals are measured in bounding-box
+// diagonals (the mesh as if scaled to a unit diagonal), so results depend
+// neither on the mesh's units nor on the cell width (docs/decisions.md).
 
 #ifndef MSDEFORM_SCALES_DEFORMER_H_
 #define MSDEFORM_SCALES_DEFORMER_H_
@@ -37,6 +37,7 @@
 #include "core/handles.h"
 #include "core/lattice.h"
 #include "core/mesh.h"
+#include "scales/gauss_newton_solver.h"
 #include "scales/rigidity.h"
 #include "scales/scale_selection.h"
 
@@ -44,9 +45,16 @@ namespace msdeform {
 
 enum class Method { kMultiScale, kStatic, kStaticDense };
 
+// The backend that minimises Eq. 17 each frame: Ceres (the reference) or the
+// Gauss-Newton solver of scales/gauss_newton_solver.h.
+enum class Solver { kCeres, kGaussNewton };
+
 // "multiscale", "static", "static_dense".
 const char* MethodName(Method method);
 bool ParseMethod(const std::string& name, Method* method);
+// "ceres", "gauss_newton".
+const char* SolverName(Solver solver);
+bool ParseSolver(const std::string& name, Solver* solver);
 
 struct DeformerOptions {
   Method method = Method::kMultiScale;
@@ -60,6 +68,10 @@ struct DeformerOptions {
   double w_rot = 1.0;
   double w_coh = 10.0;
   double w_con = 100.0;
+  // Unit of length of the coherence and position residuals (they are divided
+  // by it), so that the weights above do not depend on the mesh's units; 0
+  // means the bounding-box diagonal (docs/decisions.md, "Length unit").
+  double length_unit = 0.0;
   // Ablation "Deformed 2" (paper Fig. 5): keep E(j, k) for Half Free j.
   bool keep_left_out_terms = false;
   // Ablation "Deformed 3": fixed-handle nodes get no rotation (Fixed, not Half Free).
@@ -70,6 +82,17 @@ struct DeformerOptions {
   // Levenberg-Marquardt, SPARSE_NORMAL_CHOLESKY, at most 20 iterations,
   // function tolerance 1e-8, gradient 1e-10, parameter 1e-10.
   ceres::Solver::Options solver;
+  // Backend. The Gauss-Newton backend uses solver.max_num_iterations and the
+  // three tolerances above, and this sparse Cholesky (docs/performance.md).
+  Solver backend = Solver::kCeres;
+  GaussNewtonOptions::LinearSolver gauss_newton_linear_solver =
+      GaussNewtonOptions::LinearSolver::kEigenLLT;
+  GaussNewtonOptions::HessianReuse gauss_newton_hessian_reuse =
+      GaussNewtonOptions::HessianReuse::kLagged;
+  // Ceres only: handle vertices that share the same nodes become one exact
+  // least-squares block (energies/position_group_cost.h) instead of one
+  // residual block each. Same minimiser; false gives the per-vertex blocks.
+  bool group_position_terms = true;
 
   DeformerOptions();
   bool Check(std::string* error) const;
@@ -80,6 +103,7 @@ struct DragStats {
   double solve_ms = 0.0;
   double skin_ms = 0.0;
   int iterations = 0;
+  int factorizations = 0;  // Gauss-Newton backend: numeric Cholesky factorisations
   double initial_cost = 0.0;
   double final_cost = 0.0;
   bool converged = false;
@@ -95,12 +119,14 @@ class Deformer {
   bool Init(const Mesh& mesh, const DeformerOptions& options, std::string* error);
 
   // A new handle layout: rigidity estimation, scale selection and node
-  // classes (multi-scale), and a Ceres problem reused by every Drag. Resets
-  // the deformation to the rest pose.
+  // classes (multi-scale), and the backend's problem (a Ceres problem, or the
+  // Gauss-Newton system with its symbolic factorisation) reused by every
+  // Drag. Resets the deformation to the rest pose.
   bool SetHandles(const HandleLayout& layout, std::string* error);
 
   // Moves the moveable handle to deformed_from_rest * (its rest position),
-  // solves warm-started from the previous frame and skins the mesh.
+  // solves warm-started from the previous frame and skins the mesh (only the
+  // vertices with a non-Fixed node; the others stay at rest).
   bool Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats, std::string* error);
 
   const Mesh& rest_mesh() const { return mesh_; }
@@ -121,7 +147,14 @@ class Deformer {
   const std::vector<NodeClass>& node_classes() const { return node_classes_; }
   int num_variables() const;
   int num_coherence_terms() const { return num_coherence_terms_; }
-  int num_position_terms() const { return static_cast<int>(position_costs_.size()); }
+  // Position terms of the moveable handle (one per handle vertex).
+  int num_position_terms() const { return num_position_terms_; }
+  // Eq. 17 for the current layout, backend independent (tests, benchmarks).
+  const DeformationEnergy& energy() const { return energy_; }
+  // Vertices skinned by Drag: those with a non-Fixed node among their k nearest.
+  int num_skinned_vertices() const {
+    return skin_all_ ? mesh_.num_vertices() : static_cast<int>(skinned_vertices_.size());
+  }
   double diagonal() const { return diagonal_; }
   // Milliseconds spent in Init's graph/lattice build, and SetHandles's parts.
   double precompute_ms() const { return precompute_ms_; }
@@ -130,6 +163,8 @@ class Deformer {
 
  private:
   void BuildProblem();
+  void BuildEnergy();
+  void BuildCeresProblem();
 
   DeformerOptions options_;
   Mesh mesh_;
@@ -151,7 +186,13 @@ class Deformer {
     class PositionCostAnalytic* cost;  // owned by problem_
     Eigen::Vector3d rest;
   };
-  std::vector<PositionTerm> position_costs_;
+  std::vector<PositionTerm> position_costs_;             // ungrouped (Ceres)
+  std::vector<class PositionGroupCost*> position_groups_;  // grouped (Ceres), owned by problem_
+  DeformationEnergy energy_;
+  std::unique_ptr<GaussNewtonSolver> gauss_newton_;
+  std::vector<int> skinned_vertices_;
+  bool skin_all_ = true;
+  int num_position_terms_ = 0;
   int num_coherence_terms_ = 0;
   Eigen::Matrix3Xd deformed_vertices_;
   Eigen::Matrix3Xd deformed_normals_;

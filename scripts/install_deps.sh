@@ -10,6 +10,7 @@ packages=(
   cmake g++ make                   # toolchain (OpenMP comes with g++)
   libeigen3-dev                    # dense and sparse linear algebra
   libceres-dev                     # solver (Ceres::ceres, 2.1)
+  libsuitesparse-dev               # CHOLMOD for the Gauss-Newton backend (optional linear solver)
   libgoogle-glog-dev libgflags-dev # logging, command-line flags
   libopenmesh-dev                  # mesh I/O and Loop subdivision
   nlohmann-json3-dev               # scenario and report JSON

@@ -204,6 +204,46 @@ TEST(SkinningTest, ThreadCountDoesNotChangeTheResult) {
   EXPECT_TRUE(deformed_normals[0] == deformed_normals[1]);
 }
 
+TEST(SkinningTest, FusedPassEqualsSeparatePassesOnAllVerticesAndSubsets) {
+  std::mt19937 rng(7);
+  const Fixture f = Build(MakeSphere(1.0, 96, 48), 0.1);
+  const DeformationGraph& graph = f.graphs[1];
+  NodeTransforms transforms = NodeTransforms::Identity(graph.num_nodes());
+  for (int j = 0; j < graph.num_nodes(); ++j) {
+    transforms.rotation(j) = RandomRotation(&rng) * (1.0 + 0.1 * j / graph.num_nodes());
+    transforms.translations.col(j) = Eigen::Vector3d::Random();
+  }
+  const Eigen::Matrix3Xd normals = VertexNormals(f.mesh);
+  Eigen::Matrix3Xd positions, deformed_normals;
+  SkinPositions(f.mesh.vertices, graph, transforms, &positions);
+  SkinNormals(normals, graph, transforms, &deformed_normals);
+  for (int threads : {1, 2}) {
+    SkinningOptions options;
+    options.num_threads = threads;
+    Eigen::Matrix3Xd fused_positions, fused_normals;
+    SkinPositionsAndNormals(f.mesh.vertices, normals, graph, transforms, nullptr,
+                            &fused_positions, &fused_normals, options);
+    EXPECT_TRUE(fused_positions == positions);
+    EXPECT_TRUE(fused_normals == deformed_normals);
+    // Every third vertex: those change, the others keep what was there.
+    std::vector<int> subset;
+    for (int v = 0; v < f.mesh.num_vertices(); v += 3) subset.push_back(v);
+    Eigen::Matrix3Xd sub_positions = Eigen::Matrix3Xd::Zero(3, f.mesh.num_vertices());
+    Eigen::Matrix3Xd sub_normals = Eigen::Matrix3Xd::Zero(3, f.mesh.num_vertices());
+    SkinPositionsAndNormals(f.mesh.vertices, normals, graph, transforms, &subset, &sub_positions,
+                            &sub_normals, options);
+    for (int v = 0; v < f.mesh.num_vertices(); ++v) {
+      if (v % 3 == 0) {
+        EXPECT_TRUE(sub_positions.col(v) == positions.col(v)) << v;
+        EXPECT_TRUE(sub_normals.col(v) == deformed_normals.col(v)) << v;
+      } else {
+        EXPECT_TRUE(sub_positions.col(v).isZero(0.0)) << v;
+        EXPECT_TRUE(sub_normals.col(v).isZero(0.0)) << v;
+      }
+    }
+  }
+}
+
 TEST(SkinningTest, OptionsCheck) {
   SkinningOptions options;
   std::string error;

@@ -178,39 +178,54 @@ TEST(DeformerTest, StaticBaselinesFreeEveryNodeOfTheirGraph) {
 
 std::string DataPath(const std::string& name) { return std::string(MSDEFORM_DATA_DIR) + "/" + name; }
 
-TEST(DeformerTest, BotschSorkineCactusReachesItsTarget) {
+// Handle rms and the largest fixed-vertex displacement, both relative to the
+// diagonal, after dragging the Botsch-Sorkine cactus to its .def over 30 frames.
+std::pair<double, double> CactusErrors(Method method, Solver backend) {
   Mesh mesh;
   HandleLayout layout;
   Eigen::Affine3d target;
   std::string error;
-  ASSERT_TRUE(ReadMesh(DataPath("meshes/cactus.off"), &mesh, &error)) << error;
-  ASSERT_TRUE(ReadSel(DataPath("meshes/cactus.sel"), mesh.num_vertices(), &layout, &error)) << error;
-  ASSERT_TRUE(ReadDef(DataPath("meshes/cactus.def"), &target, &error)) << error;
+  EXPECT_TRUE(ReadMesh(DataPath("meshes/cactus.off"), &mesh, &error)) << error;
+  EXPECT_TRUE(ReadSel(DataPath("meshes/cactus.sel"), mesh.num_vertices(), &layout, &error)) << error;
+  EXPECT_TRUE(ReadDef(DataPath("meshes/cactus.def"), &target, &error)) << error;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (int v : layout.moveable) centroid += mesh.vertices.col(v);
   centroid /= layout.moveable.size();
   DeformerOptions options;
+  options.method = method;
+  options.backend = backend;
   options.num_threads = 1;
   Deformer deformer;
   InitOrDie(&deformer, mesh, options, layout);
   for (const Eigen::Affine3d& frame : InterpolateDragPath(target, centroid, 30)) {
-    ASSERT_TRUE(deformer.Drag(frame, nullptr, &error)) << error;
+    EXPECT_TRUE(deformer.Drag(frame, nullptr, &error)) << error;
   }
   double squared = 0.0;
   for (int v : layout.moveable) {
     squared += (deformer.deformed_vertices().col(v) - target * mesh.vertices.col(v)).squaredNorm();
   }
-  const double handle_rms = std::sqrt(squared / layout.moveable.size()) / deformer.diagonal();
   double fixed_max = 0.0;
   for (int v : layout.fixed) {
     fixed_max = std::max(fixed_max, (deformer.deformed_vertices().col(v) - mesh.vertices.col(v)).norm());
   }
-  // The handle travels about 0.6 diagonals and turns 70 degrees. Measured:
-  // handle rms 0.87% and fixed vertices at most 0.12% of the diagonal (they
-  // sit in Half Free nodes, which may rotate); docs/decisions.md explains
-  // why the multi-scale method does not reach the 0.5% of the static graphs.
-  EXPECT_LT(handle_rms, 0.01);
-  EXPECT_LT(fixed_max / deformer.diagonal(), 2e-3);
+  return {std::sqrt(squared / layout.moveable.size()) / deformer.diagonal(),
+          fixed_max / deformer.diagonal()};
+}
+
+TEST(DeformerTest, BotschSorkineCactusReachesItsTarget) {
+  // The handle travels about 0.6 diagonals and turns 70 degrees. Measured
+  // (30 frames): multiscale handle rms 1.41% of the diagonal with the fixed
+  // vertices within 0.2% (they sit in Half Free nodes, which may rotate);
+  // static_dense 0.31%. The multi-scale method holds the lower trunk Fixed
+  // (R = I, t = 0), which is why it stays above the 0.5% the dense graph
+  // reaches; docs/decisions.md ("Rigidity defaults", "Length unit").
+  const auto [multiscale_rms, multiscale_fixed] =
+      CactusErrors(Method::kMultiScale, Solver::kCeres);
+  EXPECT_LT(multiscale_rms, 0.015);
+  EXPECT_LT(multiscale_fixed, 3e-3);
+  // The same minimum as Ceres (tests/scales/gauss_newton_solver_test.cc), faster.
+  EXPECT_LT(CactusErrors(Method::kStaticDense, Solver::kGaussNewton).first,
+            0.005);
 }
 
 TEST(DeformerTest, LargeArmadilloEditKeepsOptimisedNodesNearP) {
