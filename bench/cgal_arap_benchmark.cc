@@ -1,0 +1,88 @@
+// CGAL's ARAP (experiments/cgal_arap.h: Surface_mesh_deformation, cotangent
+// weights) on the same handles as bench/deformer_benchmark.cc: the default
+// claw edit on the 26K, 104K and 416K armadillo. Reports the milliseconds of
+// one local/global iteration (a frame of `iterations` iterations divided by
+// them), the frame, and Init (Laplacian assembly and factorisation), for
+// the speed table in docs/performance.md (bench/performance_table.sh).
+//
+//   build/bench/cgal_arap_benchmark --benchmark_filter=104k
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+#include <glog/logging.h>
+
+#include "core/mesh_io.h"
+#include "core/scenario.h"
+#include "experiments/cgal_arap.h"
+
+namespace msdeform {
+namespace {
+
+constexpr int kIterations = 20;  // CGAL iterations per frame (issue 6)
+
+struct Edit {
+  Mesh mesh;
+  HandleLayout layout;
+  std::vector<Eigen::Affine3d> path;
+};
+
+const Edit& LoadEdit(const std::string& name) {
+  static std::map<std::string, Edit>* edits = new std::map<std::string, Edit>;
+  auto found = edits->find(name);
+  if (found != edits->end()) return found->second;
+  Edit& edit = (*edits)[name];
+  std::string error;
+  Scenario scenario;
+  CHECK(ReadScenario(std::string(MSDEFORM_DATA_DIR) + "/scenarios/armadillo_claw.json", &scenario,
+                     &error))
+      << error;
+  const std::string path = std::string(MSDEFORM_DATA_DIR) + "/meshes/" + name + ".off";
+  CHECK(ReadMesh(path, &edit.mesh, &error))
+      << error << " (run data/fetch_meshes.sh, then msdeform_make_large for the large meshes)";
+  std::vector<int> watch;
+  Eigen::Affine3d deformed_from_rest;
+  CHECK(ResolveScenario(scenario, edit.mesh, &edit.layout, &watch, &deformed_from_rest, &error))
+      << error;
+  edit.path = DragPath(scenario, edit.mesh, edit.layout);
+  return edit;
+}
+
+// One benchmark iteration = Init and the first three frames of the drag.
+void BM_CgalArapClawDrag(benchmark::State& state, const std::string& name) {
+  const Edit& edit = LoadEdit(name);
+  CgalArapOptions options;
+  options.iterations = kIterations;
+  std::string error;
+  double init_ms = 0.0, frame_ms = 0.0;
+  int frames = 0;
+  for (auto _ : state) {
+    CgalArap arap;
+    CHECK(arap.Init(edit.mesh, edit.layout, {}, options, &error)) << error;
+    init_ms = arap.convert_ms() + arap.preprocess_ms();
+    for (int f = 0; f < 3 && f < static_cast<int>(edit.path.size()); ++f) {
+      CgalArapStats stats;
+      CHECK(arap.Drag(edit.path[f], &stats, &error)) << error;
+      frame_ms += stats.solve_ms;
+      ++frames;
+    }
+  }
+  state.counters["init_ms"] = init_ms;
+  state.counters["frame_ms"] = frame_ms / frames;
+  state.counters["iteration_ms"] = frame_ms / frames / kIterations;
+}
+
+BENCHMARK_CAPTURE(BM_CgalArapClawDrag, armadillo_26k, std::string("armadillo"))
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_CgalArapClawDrag, armadillo_104k, std::string("armadillo_104k"))
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_CgalArapClawDrag, armadillo_416k, std::string("armadillo_416k"))
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+}  // namespace
+}  // namespace msdeform
+
+BENCHMARK_MAIN();

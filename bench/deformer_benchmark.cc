@@ -1,0 +1,189 @@
+// The deformer end to end on the default edit (data/scenarios/armadillo_claw.json:
+// feet fixed, a claw dragged over 30 frames) applied to the 26K, 104K and
+// 416K armadillo: precompute (Init), handle-layout change (SetHandles), and
+// the drag with each solver backend, reporting median frame / solve / skin
+// milliseconds and the median iteration count as counters.
+//
+//   build/bench/deformer_benchmark --benchmark_filter=104k
+//
+// Targets (issue 7): 104K median frame <= 5 ms (Gauss-Newton), <= 15 ms
+// (Ceres); handle-layout change < 100 ms; precompute < 1 s; 416K frame <= 20 ms.
+// The whole-process table (peak memory, baselines) is bench/performance_table.sh.
+// A missing mesh stops the benchmark with the path and what to run.
+
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+#include <glog/logging.h>
+
+#include "core/mesh_io.h"
+#include "core/scenario.h"
+#include "scales/deformer.h"
+
+namespace msdeform {
+namespace {
+
+struct Edit {
+  Mesh mesh;
+  HandleLayout layout;
+  std::vector<Eigen::Affine3d> path;
+};
+
+const Edit& LoadEdit(const std::string& name) {
+  static std::map<std::string, Edit>* edits = new std::map<std::string, Edit>;
+  auto found = edits->find(name);
+  if (found != edits->end()) return found->second;
+  Edit& edit = (*edits)[name];
+  std::string error;
+  Scenario scenario;
+  const std::string scenario_path = std::string(MSDEFORM_DATA_DIR) + "/scenarios/armadillo_claw.json";
+  CHECK(ReadScenario(scenario_path, &scenario, &error)) << error;
+  const std::string path = std::string(MSDEFORM_DATA_DIR) + "/meshes/" + name + ".off";
+  CHECK(ReadMesh(path, &edit.mesh, &error))
+      << error << " (run data/fetch_meshes.sh, then msdeform_make_large for the large meshes)";
+  std::vector<int> watch;
+  Eigen::Affine3d deformed_from_rest;
+  CHECK(ResolveScenario(scenario, edit.mesh, &edit.layout, &watch, &deformed_from_rest, &error))
+      << error;
+  edit.path = DragPath(scenario, edit.mesh, edit.layout);
+  return edit;
+}
+
+double Median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+// Backends: Ceres, and Gauss-Newton with each sparse Cholesky.
+// kCeresPerVertex: one position block per handle vertex (no grouping).
+// kGaussNewtonPerIteration: J^T J factorised every iteration (no reuse).
+enum class Backend {
+  kCeres,
+  kCeresPerVertex,
+  kGaussNewton,
+  kGaussNewtonPerIteration,
+  kGaussNewtonLDLT,
+  kGaussNewtonCholmod
+};
+
+DeformerOptions Options(Backend backend, int threads = 2) {
+  DeformerOptions options;
+  options.backend = backend == Backend::kCeres || backend == Backend::kCeresPerVertex
+                        ? Solver::kCeres
+                        : Solver::kGaussNewton;
+  options.group_position_terms = backend != Backend::kCeresPerVertex;
+  options.gauss_newton_hessian_reuse = backend == Backend::kGaussNewtonPerIteration
+                                           ? GaussNewtonOptions::HessianReuse::kEveryIteration
+                                           : GaussNewtonOptions::HessianReuse::kLagged;
+  options.gauss_newton_linear_solver =
+      backend == Backend::kGaussNewtonLDLT      ? GaussNewtonOptions::LinearSolver::kEigenLDLT
+      : backend == Backend::kGaussNewtonCholmod ? GaussNewtonOptions::LinearSolver::kCholmod
+                                                : GaussNewtonOptions::LinearSolver::kEigenLLT;
+  options.num_threads = threads;
+  options.graph.seed = 1;  // as msdeform --seed=1 (its default)
+  options.rigidity.seed = 1;
+  return options;
+}
+
+void BM_Precompute(benchmark::State& state, const std::string& name) {
+  const Edit& edit = LoadEdit(name);
+  std::string error;
+  for (auto _ : state) {
+    Deformer deformer;
+    CHECK(deformer.Init(edit.mesh, Options(Backend::kCeres), &error)) << error;
+    benchmark::DoNotOptimize(deformer.graphs().data());
+  }
+}
+
+Deformer& CachedDeformer(const std::string& name, Backend backend, int threads = 2) {
+  using Key = std::tuple<std::string, Backend, int>;
+  static std::map<Key, std::unique_ptr<Deformer>>* cache = new std::map<Key, std::unique_ptr<Deformer>>;
+  std::unique_ptr<Deformer>& deformer = (*cache)[Key(name, backend, threads)];
+  if (deformer == nullptr) {
+    deformer = std::make_unique<Deformer>();
+    std::string error;
+    CHECK(deformer->Init(LoadEdit(name).mesh, Options(backend, threads), &error)) << error;
+  }
+  return *deformer;
+}
+
+void BM_SetHandles(benchmark::State& state, const std::string& name, Backend backend) {
+  const Edit& edit = LoadEdit(name);
+  Deformer& deformer = CachedDeformer(name, backend);
+  std::string error;
+  for (auto _ : state) CHECK(deformer.SetHandles(edit.layout, &error)) << error;
+  state.counters["rigidity_ms"] = deformer.rigidity_ms();
+  state.counters["setup_ms"] = deformer.setup_ms();
+}
+
+// One benchmark iteration = the 30-frame drag from rest; the reported time is
+// the median frame (solve + skin).
+void BM_ClawDrag(benchmark::State& state, const std::string& name, Backend backend) {
+  const Edit& edit = LoadEdit(name);
+  Deformer& deformer = CachedDeformer(name, backend, static_cast<int>(state.range(0)));
+  std::string error;
+  std::vector<double> frame, solve, skin, iterations, factorizations;
+  for (auto _ : state) {
+    CHECK(deformer.SetHandles(edit.layout, &error)) << error;
+    std::vector<double> frame_ms;
+    for (const Eigen::Affine3d& target : edit.path) {
+      DragStats stats;
+      CHECK(deformer.Drag(target, &stats, &error)) << error;
+      frame_ms.push_back(stats.solve_ms + stats.skin_ms);
+      solve.push_back(stats.solve_ms);
+      skin.push_back(stats.skin_ms);
+      iterations.push_back(stats.iterations);
+      factorizations.push_back(stats.factorizations);
+    }
+    state.SetIterationTime(Median(frame_ms) * 1e-3);
+    frame.insert(frame.end(), frame_ms.begin(), frame_ms.end());
+  }
+  state.counters["frame_ms"] = Median(frame);
+  state.counters["solve_ms"] = Median(solve);
+  state.counters["skin_ms"] = Median(skin);
+  state.counters["iterations"] = Median(iterations);
+  state.counters["factorizations"] = Median(factorizations);
+  state.counters["variables"] = deformer.num_variables();
+  state.counters["skinned_V"] = deformer.num_skinned_vertices();
+}
+
+#define MSDEFORM_MESH_BENCHMARKS(label, file)                                              \
+  BENCHMARK_CAPTURE(BM_Precompute, label, std::string(file))                               \
+      ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);                       \
+  BENCHMARK_CAPTURE(BM_SetHandles, label##_ceres, std::string(file), Backend::kCeres)       \
+      ->Unit(benchmark::kMillisecond)->UseRealTime();                                      \
+  BENCHMARK_CAPTURE(BM_SetHandles, label##_gauss_newton, std::string(file),                \
+                    Backend::kGaussNewton)                                                  \
+      ->Unit(benchmark::kMillisecond)->UseRealTime();                                      \
+  BENCHMARK_CAPTURE(BM_ClawDrag, label##_ceres, std::string(file), Backend::kCeres)         \
+      ->Unit(benchmark::kMillisecond)->ArgName("threads")->Arg(1)->Arg(2)->UseManualTime()->Iterations(3);                     \
+  BENCHMARK_CAPTURE(BM_ClawDrag, label##_gauss_newton, std::string(file),                  \
+                    Backend::kGaussNewton)                                                 \
+      ->Unit(benchmark::kMillisecond)->ArgName("threads")->Arg(1)->Arg(2)->UseManualTime()->Iterations(3);                     \
+  BENCHMARK_CAPTURE(BM_ClawDrag, label##_ceres_per_vertex, std::string(file),              \
+                    Backend::kCeresPerVertex)                                              \
+      ->Unit(benchmark::kMillisecond)->ArgName("threads")->Arg(1)->Arg(2)->UseManualTime()->Iterations(3); \
+  BENCHMARK_CAPTURE(BM_ClawDrag, label##_gauss_newton_per_iteration, std::string(file),    \
+                    Backend::kGaussNewtonPerIteration)                                     \
+      ->Unit(benchmark::kMillisecond)->ArgName("threads")->Arg(1)->Arg(2)->UseManualTime()->Iterations(3); \
+  BENCHMARK_CAPTURE(BM_ClawDrag, label##_gauss_newton_ldlt, std::string(file),             \
+                    Backend::kGaussNewtonLDLT)                                             \
+      ->Unit(benchmark::kMillisecond)->ArgName("threads")->Arg(1)->Arg(2)->UseManualTime()->Iterations(3);                     \
+  BENCHMARK_CAPTURE(BM_ClawDrag, label##_gauss_newton_cholmod, std::string(file),          \
+                    Backend::kGaussNewtonCholmod)                                          \
+      ->Unit(benchmark::kMillisecond)->ArgName("threads")->Arg(1)->Arg(2)->UseManualTime()->Iterations(3)
+
+MSDEFORM_MESH_BENCHMARKS(armadillo_26k, "armadillo");
+MSDEFORM_MESH_BENCHMARKS(armadillo_104k, "armadillo_104k");
+MSDEFORM_MESH_BENCHMARKS(armadillo_416k, "armadillo_416k");
+
+}  // namespace
+}  // namespace msdeform
+
+BENCHMARK_MAIN();

@@ -1,0 +1,77 @@
+// The reference as-rigid-as-possible deformation: CGAL's
+// Surface_mesh_deformation (Sorkine & Alexa 2007, ORIGINAL_ARAP, cotangent
+// weights) on a CGAL::Surface_mesh copy of our mesh.
+//
+//   CgalArap arap;
+//   arap.Init(mesh, layout, roi, options, &error);  // factorises the system
+//   arap.Drag(deformed_from_rest, &stats);          // one frame, warm-started
+//   arap.deformed_vertices();
+//
+// Fixed vertices (status 0 of a .sel) are left out of the region of interest,
+// which CGAL holds at their rest positions; the moveable handle (status 2) is
+// the set of control vertices. The ROI is every other vertex unless `roi` names
+// it (a .sel's status 1 and 2). CGAL itself is compiled only in cgal_arap.cc.
+
+#ifndef MSDEFORM_EXPERIMENTS_CGAL_ARAP_H_
+#define MSDEFORM_EXPERIMENTS_CGAL_ARAP_H_
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "core/handles.h"
+#include "core/mesh.h"
+
+namespace msdeform {
+
+struct CgalArapOptions {
+  // Local/global iterations per deform() call, i.e. per drag frame (issue 6: 20).
+  int iterations = 20;
+  // CGAL's relative energy tolerance; 0 runs all iterations.
+  double tolerance = 0.0;
+
+  bool Check(std::string* error) const;
+};
+
+struct CgalArapStats {
+  double solve_ms = 0.0;  // set targets + deform()
+  double copy_ms = 0.0;   // positions back into deformed_vertices()
+};
+
+class CgalArap {
+ public:
+  CgalArap();
+  ~CgalArap();
+
+  // `roi`: the free vertices plus the handle (sorted, unique); empty means
+  // every vertex that is not fixed. Fails on an invalid layout, a handle
+  // vertex outside the ROI, or a system CGAL cannot factorise.
+  bool Init(const Mesh& mesh, const HandleLayout& layout, const std::vector<int>& roi,
+            const CgalArapOptions& options, std::string* error);
+
+  // Moves every handle vertex to deformed_from_rest * (its rest position)
+  // and runs the iterations, starting from the previous frame.
+  bool Drag(const Eigen::Affine3d& deformed_from_rest, CgalArapStats* stats, std::string* error);
+
+  const Eigen::Matrix3Xd& deformed_vertices() const { return deformed_vertices_; }
+  int roi_size() const { return roi_size_; }
+  // Milliseconds of Init: mesh conversion, and CGAL's preprocess()
+  // (Laplacian assembly and its factorisation).
+  double convert_ms() const { return convert_ms_; }
+  double preprocess_ms() const { return preprocess_ms_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  Eigen::Matrix3Xd deformed_vertices_;
+  int roi_size_ = 0;
+  double convert_ms_ = 0.0;
+  double preprocess_ms_ = 0.0;
+};
+
+}  // namespace msdeform
+
+#endif  // MSDEFORM_EXPERIMENTS_CGAL_ARAP_H_

@@ -1,0 +1,40 @@
+// An experiment's edit: a mesh, its handle layout, an optional watch region
+// and the drag path, from either kind of entry under experiments/scenarios/:
+//   - a JSON scenario in core/scenario.h's format (read by ReadScenario), or
+//   - a Botsch-Sorkine entry, a JSON object with "mesh", "sel" and "def"
+//     (paths relative to the entry's folder), optional "name", "description"
+//     and "frames" (default 1); the drag turns and moves the handle about its
+//     rest centroid (core/drag_path.h).
+
+#ifndef MSDEFORM_EXPERIMENTS_EXPERIMENT_SCENARIO_H_
+#define MSDEFORM_EXPERIMENTS_EXPERIMENT_SCENARIO_H_
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "core/handles.h"
+#include "core/mesh.h"
+
+namespace msdeform {
+
+struct ExperimentScenario {
+  std::string file;       // the entry itself
+  std::string name;
+  std::string mesh_path;  // resolved
+  Mesh mesh;
+  HandleLayout layout;
+  bool has_watch = false;
+  std::vector<int> watch;  // sorted, unique
+  std::vector<Eigen::Affine3d> path;  // one transform per frame; back() is the target
+};
+
+// Reads the entry at `path` and its mesh; `frames` > 0 overrides the entry's
+// frame count. False with one line naming the file on any error.
+bool LoadExperimentScenario(const std::string& path, int frames, ExperimentScenario* scenario,
+                            std::string* error);
+
+}  // namespace msdeform
+
+#endif  // MSDEFORM_EXPERIMENTS_EXPERIMENT_SCENARIO_H_

@@ -1,0 +1,473 @@
+#include "experiments/runner.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <sstream>
+
+#include "experiments/metrics.h"
+#include "experiments/tables.h"
+
+namespace msdeform {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// The band of vertices near the fixed region where arap_energy_joint is
+// measured: geodesic distance (along edges) up to this fraction of the diagonal.
+constexpr double kJointBand = 0.05;
+
+double Ms(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+// Accuracy and distortion of the final frame, shared by every method.
+void MeasureQuality(const ExperimentScenario& scenario, const Eigen::Matrix3Xd& deformed,
+                    RunResult* result) {
+  const Mesh& mesh = scenario.mesh;
+  const double diag = BoundingBoxDiagonal(mesh);
+  result->vertices = mesh.num_vertices();
+  result->faces = mesh.num_faces();
+  result->diagonal = diag;
+  result->handle_rms_rel =
+      HandleRmsError(mesh, deformed, scenario.layout.moveable, scenario.path.back()) / diag;
+  result->fixed_max_rel = VertexDisplacement(mesh, deformed, scenario.layout.fixed).max / diag;
+  if (scenario.has_watch) {
+    const Displacement watch = VertexDisplacement(mesh, deformed, scenario.watch);
+    result->leakage_rel = watch.mean / diag;
+    result->leakage_max_rel = watch.max / diag;
+  } else {
+    result->leakage_rel = result->leakage_max_rel = kNaN;
+  }
+  const ArapTerms arap = ArapEnergyPerVertex(mesh, deformed);
+  result->arap_energy = NormalisedArapEnergy(arap);
+  const std::vector<int> band = VerticesNear(mesh, scenario.layout.fixed, kJointBand * diag);
+  result->arap_energy_joint = band.empty() ? kNaN : NormalisedArapEnergy(arap, band);
+  result->strain = MeanEdgeStrain(mesh, deformed);
+}
+
+bool Contains(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+std::string Int(long long value) { return std::to_string(value); }
+
+}  // namespace
+
+bool RunDeformer(const ExperimentScenario& scenario, const DeformerOptions& options,
+                 const std::string& label, RunResult* result, std::string* error) {
+  const auto wall_start = Clock::now();
+  *result = RunResult();
+  result->scenario = scenario.name;
+  result->method = label;
+  Deformer deformer;
+  if (!deformer.Init(scenario.mesh, options, error) ||
+      !deformer.SetHandles(scenario.layout, error)) {
+    *error = scenario.name + " / " + label + ": " + *error;
+    return false;
+  }
+  std::vector<double> frame_ms, solve_ms, skin_ms, iterations;
+  for (size_t f = 0; f < scenario.path.size(); ++f) {
+    DragStats stats;
+    const auto frame_start = Clock::now();
+    if (!deformer.Drag(scenario.path[f], &stats, error)) {
+      *error = scenario.name + " / " + label + ": frame " + std::to_string(f + 1) + ": " + *error;
+      return false;
+    }
+    frame_ms.push_back(Ms(frame_start));
+    solve_ms.push_back(stats.solve_ms);
+    skin_ms.push_back(stats.skin_ms);
+    iterations.push_back(stats.iterations);
+    result->iterations_total += stats.iterations;
+    result->solve_total_ms += stats.solve_ms;
+    result->final_cost = stats.final_cost;
+    if (!stats.converged) ++result->unconverged_frames;
+  }
+  const Lattice& lattice = deformer.lattice();
+  result->cell_width = lattice.cell_width();
+  result->particles = lattice.num_particles();
+  result->dg1_nodes = deformer.graphs()[0].num_nodes();
+  {
+    std::vector<char> holds_fixed(lattice.num_surface_cells(), 0), counted(holds_fixed.size(), 0);
+    for (int v : scenario.layout.fixed) holds_fixed[lattice.cell_of_vertex(v)] = 1;
+    for (int v : scenario.layout.moveable) {
+      const int cell = lattice.cell_of_vertex(v);
+      if (holds_fixed[cell] && !counted[cell]) {
+        counted[cell] = 1;
+        ++result->shared_cells;
+      }
+    }
+  }
+  result->num_scales = options.method == Method::kMultiScale
+                           ? static_cast<int>(deformer.graphs().size())
+                           : 1;
+  result->selected_scale = deformer.active_graph() + 1;
+  result->graph_nodes = deformer.active().num_nodes();
+  std::vector<int> optimised;
+  for (int j = 0; j < static_cast<int>(deformer.node_classes().size()); ++j) {
+    const NodeClass c = deformer.node_classes()[j];
+    result->totally_free += c == NodeClass::kTotallyFree;
+    result->half_free += c == NodeClass::kHalfFree;
+    if (c != NodeClass::kFixed) optimised.push_back(j);
+  }
+  result->nodes_optimized = static_cast<int>(optimised.size());
+  result->variables = deformer.num_variables();
+  result->precompute_ms = deformer.precompute_ms();
+  result->rigidity_ms = deformer.rigidity_ms();
+  result->setup_ms = deformer.setup_ms();
+  result->frame_ms = Median(frame_ms);
+  result->solve_ms = Median(solve_ms);
+  result->skin_ms = Median(skin_ms);
+  result->iterations_median = Median(iterations);
+  MeasureQuality(scenario, deformer.deformed_vertices(), result);
+  result->orthogonality = OrthogonalityError(deformer.transforms(), optimised);
+  result->wall_ms = Ms(wall_start);
+  return true;
+}
+
+bool RunCgalArap(const ExperimentScenario& scenario, const CgalArapOptions& options,
+                 RunResult* result, std::string* error) {
+  const auto wall_start = Clock::now();
+  *result = RunResult();
+  result->scenario = scenario.name;
+  result->method = "cgal_arap";
+  CgalArap arap;
+  if (!arap.Init(scenario.mesh, scenario.layout, {}, options, error)) {
+    *error = scenario.name + " / cgal_arap: " + *error;
+    return false;
+  }
+  std::vector<double> frame_ms, solve_ms;
+  for (size_t f = 0; f < scenario.path.size(); ++f) {
+    CgalArapStats stats;
+    const auto frame_start = Clock::now();
+    if (!arap.Drag(scenario.path[f], &stats, error)) {
+      *error = scenario.name + " / cgal_arap: frame " + std::to_string(f + 1) + ": " + *error;
+      return false;
+    }
+    frame_ms.push_back(Ms(frame_start));
+    solve_ms.push_back(stats.solve_ms);
+    result->solve_total_ms += stats.solve_ms;
+  }
+  result->nodes_optimized = arap.roi_size();
+  result->variables = 3 * arap.roi_size();
+  result->setup_ms = arap.convert_ms() + arap.preprocess_ms();
+  result->frame_ms = Median(frame_ms);
+  result->solve_ms = Median(solve_ms);
+  result->iterations_median = options.iterations;
+  result->iterations_total = options.iterations * static_cast<int>(scenario.path.size());
+  result->final_cost = kNaN;
+  MeasureQuality(scenario, arap.deformed_vertices(), result);
+  result->orthogonality = kNaN;
+  result->wall_ms = Ms(wall_start);
+  return true;
+}
+
+bool RunnerOptions::Check(std::string* error) const {
+  if (scenario_dir.empty() || out_dir.empty()) {
+    *error = "the scenario folder and the output folder must be given";
+    return false;
+  }
+  if (frames < 0) {
+    *error = "frames must be >= 0";
+    return false;
+  }
+  if (threads < 1) {
+    *error = "threads must be >= 1";
+    return false;
+  }
+  return deformer.Check(error) && cgal.Check(error);
+}
+
+namespace {
+
+// A named change of the base options: an ablation or a solver variant.
+struct Variant {
+  std::string name;
+  std::function<void(DeformerOptions*)> apply;
+  std::string trust_region, linear_solver, backend;  // solver table only
+};
+
+std::vector<Variant> Ablations() {
+  return {
+      {"multiscale", [](DeformerOptions*) {}, "", "", ""},
+      {"keep_left_out_terms", [](DeformerOptions* o) { o->keep_left_out_terms = true; }, "", "", ""},
+      {"fix_fixed_handle_nodes", [](DeformerOptions* o) { o->fix_fixed_handle_nodes = true; }, "", "", ""},
+      {"alpha_all_one", [](DeformerOptions* o) { o->selection.alpha_all_one = true; }, "", "", ""},
+      {"member_extent_mean",
+       [](DeformerOptions* o) { o->selection.member_extent = MemberExtent::kMean; }, "", "", ""},
+  };
+}
+
+std::vector<Variant> SolverVariants(std::vector<std::string>* skipped) {
+  std::vector<Variant> variants = {
+      {"lm_default", [](DeformerOptions*) {}, "LM", "SPARSE_NORMAL_CHOLESKY", "default"},
+      {"lm_gauss_newton",
+       [](DeformerOptions* o) {
+         // A trust region so large that LM's regulariser D / radius vanishes:
+         // each step is the Gauss-Newton step, still with step acceptance.
+         o->solver.initial_trust_region_radius = 1e12;
+         o->solver.max_trust_region_radius = 1e16;
+         o->solver.min_lm_diagonal = 1e-12;
+       },
+       "LM (radius 1e12)", "SPARSE_NORMAL_CHOLESKY", "default"},
+      {"dogleg_traditional",
+       [](DeformerOptions* o) {
+         o->solver.trust_region_strategy_type = ceres::DOGLEG;
+         o->solver.dogleg_type = ceres::TRADITIONAL_DOGLEG;
+       },
+       "DOGLEG traditional", "SPARSE_NORMAL_CHOLESKY", "default"},
+      {"dogleg_subspace",
+       [](DeformerOptions* o) {
+         o->solver.trust_region_strategy_type = ceres::DOGLEG;
+         o->solver.dogleg_type = ceres::SUBSPACE_DOGLEG;
+       },
+       "DOGLEG subspace", "SPARSE_NORMAL_CHOLESKY", "default"},
+  };
+  for (const auto& [name, type] :
+       {std::make_pair("suite_sparse", ceres::SUITE_SPARSE),
+        std::make_pair("cx_sparse", ceres::CX_SPARSE),
+        std::make_pair("eigen_sparse", ceres::EIGEN_SPARSE)}) {
+    if (!ceres::IsSparseLinearAlgebraLibraryTypeAvailable(type)) {
+      skipped->push_back(std::string("snc_") + name);
+      continue;
+    }
+    const ceres::SparseLinearAlgebraLibraryType backend = type;
+    variants.push_back({std::string("snc_") + name,
+                        [backend](DeformerOptions* o) {
+                          o->solver.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+                          o->solver.sparse_linear_algebra_library_type = backend;
+                        },
+                        "LM", "SPARSE_NORMAL_CHOLESKY",
+                        ceres::SparseLinearAlgebraLibraryTypeToString(backend)});
+  }
+  variants.push_back({"cgnr",
+                      [](DeformerOptions* o) {
+                        o->solver.linear_solver_type = ceres::CGNR;
+                        o->solver.preconditioner_type = ceres::JACOBI;
+                      },
+                      "LM", "CGNR (Jacobi)", ""});
+  return variants;
+}
+
+std::string Describe(const RunResult& r) {
+  std::ostringstream line;
+  line << r.method << " " << FormatNumber(r.frame_ms, 3) << " ms/frame";
+  if (r.method != "cgal_arap") line << " (" << r.nodes_optimized << " nodes)";
+  return line.str();
+}
+
+}  // namespace
+
+bool RunExperiments(const RunnerOptions& options, std::string* error) {
+  if (!options.Check(error)) return false;
+  auto progress = [&](const std::string& line) {
+    if (options.progress) options.progress(line);
+  };
+  const auto start = Clock::now();
+
+  // The scenario entries, in name order.
+  std::vector<std::string> files;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(options.scenario_dir, ec)) {
+    if (entry.path().extension() == ".json") files.push_back(entry.path().string());
+  }
+  if (ec) {
+    *error = options.scenario_dir + ": " + ec.message();
+    return false;
+  }
+  std::sort(files.begin(), files.end());
+  std::vector<std::string> only = options.only;
+  std::vector<std::string> ablation_names = options.ablation_scenarios;
+  std::vector<std::string> solver_names = options.solver_scenarios;
+  int frames = options.frames;
+  if (options.quick) {
+    if (only.empty()) only = {"cactus", "hand_finger"};
+    ablation_names = {"cactus"};
+    solver_names = {"cactus"};
+    if (frames == 0) frames = 5;
+  }
+  std::vector<std::string> selected;
+  for (const std::string& file : files) {
+    if (only.empty() || Contains(only, fs::path(file).stem().string())) selected.push_back(file);
+  }
+  if (selected.empty()) {
+    *error = options.scenario_dir + ": no scenario selected";
+    return false;
+  }
+  fs::create_directories(options.out_dir, ec);
+  if (ec) {
+    *error = options.out_dir + ": " + ec.message();
+    return false;
+  }
+
+  DeformerOptions base = options.deformer;
+  base.num_threads = options.threads;
+
+  Table table1{"Table 1: the multi-scale method per model (paper Table 1)",
+               {"model", "scenario", "vertices", "faces", "cell_width", "particles", "d1",
+                "scales_n", "precompute_ms", "rigidity_ms", "setup_ms", "selected_scale",
+                "scale_nodes", "totally_free", "half_free", "nodes_optimized", "variables",
+                "frame_ms"},
+               {},
+               {}};
+  Table table2{"Table 2: multi-scale against the single static graphs and CGAL's ARAP",
+               {"scenario", "method", "vertices", "nodes_optimized", "variables", "frame_ms",
+                "solve_ms", "skin_ms", "setup_ms", "iterations", "unconverged_frames",
+                "handle_rms_rel", "fixed_max_rel", "arap_energy", "arap_energy_joint", "strain",
+                "leakage_rel", "leakage_max_rel", "orthogonality", "precompute_ms",
+                "rigidity_ms"},
+               {},
+               {}};
+  Table ablations{"Ablations (METHOD.md §6; paper Fig. 5 and 7)",
+                  {"scenario", "variant", "selected_scale", "nodes_optimized", "variables",
+                   "frame_ms", "iterations", "handle_rms_rel", "fixed_max_rel", "arap_energy",
+                   "arap_energy_joint", "strain", "leakage_rel", "orthogonality"},
+                  {},
+                  {}};
+  Table solvers{"Solver variants on the multi-scale problem",
+                {"scenario", "variant", "trust_region", "linear_solver", "sparse_backend",
+                 "iterations_total", "iterations_median", "unconverged_frames", "solve_ms",
+                 "solve_total_ms", "final_cost", "handle_rms_rel", "arap_energy"},
+                {},
+                {}};
+
+  auto add_table2 = [&](const RunResult& r) {
+    table2.AddRow({r.scenario, r.method, Int(r.vertices), Int(r.nodes_optimized),
+                   Int(r.variables), FormatNumber(r.frame_ms), FormatNumber(r.solve_ms),
+                   FormatNumber(r.skin_ms), FormatNumber(r.setup_ms),
+                   FormatNumber(r.iterations_median), Int(r.unconverged_frames),
+                   FormatNumber(r.handle_rms_rel), FormatNumber(r.fixed_max_rel),
+                   FormatNumber(r.arap_energy), FormatNumber(r.arap_energy_joint),
+                   FormatNumber(r.strain), FormatNumber(r.leakage_rel),
+                   FormatNumber(r.leakage_max_rel), FormatNumber(r.orthogonality),
+                   FormatNumber(r.precompute_ms), FormatNumber(r.rigidity_ms)});
+  };
+
+  std::vector<std::string> skipped_solvers;
+  const std::vector<Variant> solver_variants = SolverVariants(&skipped_solvers);
+  int index = 0;
+  for (const std::string& file : selected) {
+    ++index;
+    const auto scenario_start = Clock::now();
+    ExperimentScenario scenario;
+    if (!LoadExperimentScenario(file, frames, &scenario, error)) return false;
+    std::ostringstream line;
+    line << "[" << index << "/" << selected.size() << "] " << scenario.name << " ("
+         << scenario.mesh.num_vertices() << " vertices, " << scenario.layout.fixed.size()
+         << " fixed, " << scenario.layout.moveable.size() << " handle, "
+         << (scenario.has_watch ? std::to_string(scenario.watch.size()) : std::string("no"))
+         << " watch, " << scenario.path.size() << " frames):";
+
+    for (Method method : {Method::kMultiScale, Method::kStatic, Method::kStaticDense}) {
+      DeformerOptions run_options = base;
+      run_options.method = method;
+      RunResult r;
+      if (!RunDeformer(scenario, run_options, MethodName(method), &r, error)) return false;
+      add_table2(r);
+      line << " " << Describe(r) << ";";
+      if (method == Method::kMultiScale) {
+        line << " [scale " << r.selected_scale << "/" << r.num_scales << ", "
+             << r.shared_cells << " cells shared by handle and fixed]";
+        table1.AddRow({fs::path(scenario.mesh_path).stem().string(), r.scenario,
+                       Int(r.vertices), Int(r.faces), FormatNumber(r.cell_width),
+                       Int(r.particles), Int(r.dg1_nodes), Int(r.num_scales),
+                       FormatNumber(r.precompute_ms), FormatNumber(r.rigidity_ms),
+                       FormatNumber(r.setup_ms), Int(r.selected_scale), Int(r.graph_nodes),
+                       Int(r.totally_free), Int(r.half_free), Int(r.nodes_optimized),
+                       Int(r.variables), FormatNumber(r.frame_ms)});
+      }
+    }
+    RunResult cgal;
+    if (!RunCgalArap(scenario, options.cgal, &cgal, error)) return false;
+    add_table2(cgal);
+    line << " " << Describe(cgal) << ";";
+
+    if (Contains(ablation_names, scenario.name)) {
+      for (const Variant& variant : Ablations()) {
+        DeformerOptions run_options = base;
+        run_options.method = Method::kMultiScale;
+        variant.apply(&run_options);
+        RunResult r;
+        if (!RunDeformer(scenario, run_options, variant.name, &r, error)) return false;
+        ablations.AddRow({r.scenario, r.method, Int(r.selected_scale), Int(r.nodes_optimized),
+                          Int(r.variables), FormatNumber(r.frame_ms),
+                          FormatNumber(r.iterations_median), FormatNumber(r.handle_rms_rel),
+                          FormatNumber(r.fixed_max_rel), FormatNumber(r.arap_energy),
+                          FormatNumber(r.arap_energy_joint), FormatNumber(r.strain),
+                          FormatNumber(r.leakage_rel), FormatNumber(r.orthogonality)});
+      }
+      line << " ablations;";
+    }
+    if (Contains(solver_names, scenario.name)) {
+      for (const Variant& variant : solver_variants) {
+        DeformerOptions run_options = base;
+        run_options.method = Method::kMultiScale;
+        variant.apply(&run_options);
+        RunResult r;
+        if (!RunDeformer(scenario, run_options, variant.name, &r, error)) return false;
+        solvers.AddRow({r.scenario, r.method, variant.trust_region, variant.linear_solver,
+                        variant.backend, Int(r.iterations_total),
+                        FormatNumber(r.iterations_median), Int(r.unconverged_frames),
+                        FormatNumber(r.solve_ms), FormatNumber(r.solve_total_ms),
+                        FormatNumber(r.final_cost, 6), FormatNumber(r.handle_rms_rel),
+                        FormatNumber(r.arap_energy)});
+      }
+      line << " solvers;";
+    }
+    line << " " << FormatFixed(Ms(scenario_start) / 1000.0, 1) << " s";
+    progress(line.str());
+  }
+
+  std::ostringstream settings;
+  settings << "settings: " << (options.quick ? "quick subset, " : "full run, ")
+           << (frames > 0 ? std::to_string(frames) + " frames per drag"
+                          : std::string("each scenario's frames"))
+           << ", " << options.threads << " thread(s), Ceres max "
+           << base.solver.max_num_iterations << " iterations per frame, CGAL "
+           << options.cgal.iterations << " iterations per frame, seed " << base.graph.seed;
+  std::vector<std::string> header = ProvenanceLines(options.source_dir);
+  header.push_back(settings.str());
+  const std::string units =
+      "Times in ms (medians over the drag frames); *_rel lengths are divided by the bounding-box "
+      "diagonal; arap_energy is the cotangent ARAP energy over the rest edge energy "
+      "(experiments/metrics.h); arap_energy_joint is the same over the vertices within 5% of the "
+      "diagonal (along edges) of the fixed region. Empty cells: not applicable.";
+  table1.notes.push_back("nodes_optimized = Totally + Half Free nodes of the selected scale; "
+                         "variables = 12 per Totally Free + 9 per Half Free node.");
+  table2.notes.push_back(units);
+  table2.notes.push_back("cgal_arap: nodes_optimized = ROI vertices (all but the fixed), "
+                         "variables = 3 per ROI vertex; setup_ms = conversion + factorisation; "
+                         "precompute_ms and rigidity_ms = 0 (it has neither step).");
+  table2.notes.push_back("precompute_ms = Deformer::Init (lattice, graphs, weights); rigidity_ms = "
+                         "the shape-matching estimate in SetHandles (multiscale only); setup_ms = "
+                         "the rest of SetHandles (scale selection, classes, problem).");
+  ablations.notes.push_back(units);
+  solvers.notes.push_back(units);
+  solvers.notes.push_back("final_cost: Ceres cost after the last frame's solve (0.5 x sum of "
+                          "squared residuals).");
+  if (!skipped_solvers.empty()) {
+    std::string note = "Not available in this Ceres build (IsSparseLinearAlgebraLibraryTypeAvailable):";
+    for (const std::string& name : skipped_solvers) note += " " + name;
+    solvers.notes.push_back(note);
+  }
+  for (const auto& [stem, table] :
+       {std::make_pair("table1", &table1), std::make_pair("table2", &table2),
+        std::make_pair("ablations", &ablations), std::make_pair("solvers", &solvers)}) {
+    if (!WriteTable(options.out_dir, stem, *table, header, error)) return false;
+  }
+  progress("wrote table1, table2, ablations and solvers (.csv, .md) to " + options.out_dir +
+           " in " + FormatFixed(Ms(start) / 1000.0, 1) + " s");
+  return true;
+}
+
+}  // namespace msdeform

@@ -1,0 +1,120 @@
+// The experiment runner behind msdeform_experiments: every scenario under a
+// folder with the multi-scale method, both static baselines and CGAL's ARAP,
+// then the ablations (METHOD.md §6) and the solver variants, written as
+// tables (experiments/results/README.md explains them):
+//   table1      per model: lattice, graphs, scale, optimised nodes, times
+//   table2      per scenario x method: size, time, accuracy, distortion, leakage
+//   ablations   per ablation scenario x variant
+//   solvers     per solver scenario x Ceres variant
+//
+//   RunnerOptions options;  // defaults: the full run
+//   options.out_dir = "experiments/results";
+//   RunExperiments(options, &error);
+
+#ifndef MSDEFORM_EXPERIMENTS_RUNNER_H_
+#define MSDEFORM_EXPERIMENTS_RUNNER_H_
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "experiments/cgal_arap.h"
+#include "experiments/experiment_scenario.h"
+#include "scales/deformer.h"
+
+namespace msdeform {
+
+// Everything measured on one run of one method on one scenario. NaN marks a
+// number that does not apply (no watch region; no node rotations for CGAL).
+struct RunResult {
+  std::string scenario;
+  std::string method;  // multiscale, static, static_dense, cgal_arap, or a variant name
+  int vertices = 0;
+  int faces = 0;
+  double diagonal = 0.0;
+  // Lattice and graphs (deformer methods).
+  double cell_width = 0.0;
+  int particles = 0;
+  int dg1_nodes = 0;
+  int num_scales = 0;
+  // Surface cells holding both a fixed and a moveable vertex (should be 0).
+  int shared_cells = 0;
+  int selected_scale = 0;  // 1-based index of the graph solved on
+  int graph_nodes = 0;     // nodes of the active graph
+  int totally_free = 0;
+  int half_free = 0;
+  int nodes_optimized = 0;  // Totally + Half Free (CGAL: ROI vertices)
+  int variables = 0;
+  // Times (ms): precompute = Init, rigidity and setup = SetHandles' parts
+  // (CGAL: setup = mesh conversion + preprocess), medians over frames.
+  double precompute_ms = 0.0;
+  double rigidity_ms = 0.0;
+  double setup_ms = 0.0;
+  double frame_ms = 0.0;
+  double solve_ms = 0.0;
+  double skin_ms = 0.0;
+  double solve_total_ms = 0.0;
+  // Solver (CGAL: fixed iterations per frame).
+  double iterations_median = 0.0;
+  int iterations_total = 0;
+  double final_cost = 0.0;     // last frame
+  int unconverged_frames = 0;  // frames that hit the iteration cap
+  // Quality after the last frame.
+  double handle_rms_rel = 0.0;
+  double fixed_max_rel = 0.0;
+  double leakage_rel = 0.0;      // mean watch displacement / diag (NaN: no watch)
+  double leakage_max_rel = 0.0;  // max watch displacement / diag (NaN: no watch)
+  double arap_energy = 0.0;      // NormalisedArapEnergy over all vertices
+  double arap_energy_joint = 0.0;  // over the band near the fixed region (NaN: none)
+  double strain = 0.0;
+  double orthogonality = 0.0;  // mean |R^T R - I|_F over optimised nodes (NaN for CGAL)
+  double wall_ms = 0.0;
+};
+
+// Runs the deformer with `options` over the scenario's drag path and measures
+// it. `label` names the row (a method or a variant).
+bool RunDeformer(const ExperimentScenario& scenario, const DeformerOptions& options,
+                 const std::string& label, RunResult* result, std::string* error);
+
+// The same for CGAL's ARAP (ROI = every non-fixed vertex).
+bool RunCgalArap(const ExperimentScenario& scenario, const CgalArapOptions& options,
+                 RunResult* result, std::string* error);
+
+struct RunnerOptions {
+  // Folder of the scenario entries (*.json).
+  std::string scenario_dir;
+  // Where the tables go (created if missing).
+  std::string out_dir;
+  // Repository the commit is read from.
+  std::string source_dir;
+  // The CI subset: cactus and hand_finger with 5 frames, ablations and solver
+  // variants on the cactus only.
+  bool quick = false;
+  // Drag frames per scenario; 0 = the scenario's (quick: 5).
+  int frames = 0;
+  // Threads for the Ceres solve and the skinning (CGAL is single-threaded).
+  int threads = 1;
+  // Only these scenario names (empty: all).
+  std::vector<std::string> only;
+  // Scenarios of the ablation and solver tables (full run).
+  std::vector<std::string> ablation_scenarios = {"man_knee_bend", "armadillo_arm_raise",
+                                                "man_leg_lift", "cactus"};
+  std::vector<std::string> solver_scenarios = {"cactus", "hand_finger", "armadillo_arm_raise"};
+  // Base deformer settings (seed, lattice, ...); method and ablation switches
+  // are set per run.
+  DeformerOptions deformer;
+  CgalArapOptions cgal;
+  // Called with one line per finished scenario (and per table); may be empty.
+  std::function<void(const std::string&)> progress;
+
+  bool Check(std::string* error) const;
+};
+
+// Runs everything and writes table1, table2, ablations and solvers (.csv and
+// .md) into out_dir. False with a message on a scenario that does not load
+// or a run that fails.
+bool RunExperiments(const RunnerOptions& options, std::string* error);
+
+}  // namespace msdeform
+
+#endif  // MSDEFORM_EXPERIMENTS_RUNNER_H_
