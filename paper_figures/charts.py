@@ -1,0 +1,297 @@
+"""Charts (matplotlib) into paper_figures/out/:
+
+  chart_frame_time.png   median frame time against vertex count (log-log)
+  chart_solvers.png      solver variants (experiments/results/solvers.csv)
+  chart_nodes_vs_p.png   optimised nodes (and frame time) against P
+
+Reads experiments/results/*.csv when present (the '#' lines are provenance),
+and paper_figures/data/ (generate_data.sh) otherwise or in addition.
+"""
+
+import csv
+import glob
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from figlib import DATA, OUT, ROOT, shrink_png  # noqa: E402
+
+RESULTS = os.path.join(ROOT, "experiments", "results")
+# generate_data.sh's preview from `msdeform_experiments --quick`, used when RESULTS lacks a table.
+QUICK = os.path.join(DATA, "experiments_quick")
+
+
+def table_path(name):
+    """experiments/results/<name>, else the quick preview, else None; and a label."""
+    for folder, label in ((RESULTS, "experiments/results"),
+                          (QUICK, "msdeform_experiments --quick preview")):
+        path = os.path.join(folder, name)
+        if os.path.exists(path):
+            return path, label
+    return None, None
+METHOD_STYLE = {
+    "multiscale": dict(color="#d62728", marker="o", label="multi-scale (ours)"),
+    "static": dict(color="#1f77b4", marker="s", label="static graph, 220 nodes"),
+    "static_dense": dict(color="#2ca02c", marker="^", label="static graph = DG1"),
+    "cgal_arap": dict(color="#7f7f7f", marker="D", label="CGAL ARAP"),
+}
+
+
+def read_table(path):
+    """Rows of a CSV written by experiments/tables.cc, as dicts."""
+    with open(path) as f:
+        lines = [l for l in f if not l.startswith("#") and l.strip()]
+    return list(csv.DictReader(lines))
+
+
+def num(x):
+    try:
+        return float(x)
+    except (TypeError, ValueError):
+        return float("nan")
+
+
+def save(fig, name):
+    path = os.path.join(OUT, name)
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    shrink_png(path)
+    print("wrote", path, os.path.getsize(path) // 1024, "KB")
+
+
+def markdown_tables(path):
+    """Every pipe table of a Markdown file, as a list of row dicts."""
+    tables, current, header = [], None, None
+    with open(path) as f:
+        for line in f:
+            line = line.strip()
+            if not line.startswith("|"):
+                if current:
+                    tables.append(current)
+                current, header = None, None
+                continue
+            cells = [c.strip() for c in line.strip("|").split("|")]
+            if header is None:
+                header, current = cells, []
+            elif all(set(c) <= set("-: ") for c in cells):
+                continue
+            else:
+                current.append(dict(zip(header, cells)))
+    if current:
+        tables.append(current)
+    return tables
+
+
+def mesh_size(label):
+    """'26K' -> 26002 (the armadillo variants), else a number."""
+    sizes = {"26K": 26002, "104K": 104002, "416K": 416002}
+    return sizes.get(label, num(label.rstrip("Kk")) * 1000)
+
+
+def performance_series():
+    """{(method, solver): [(vertices, frame ms)]} and CGAL ARAP frames from
+    docs/performance.md (bench/performance_table.sh), or None when absent."""
+    path = os.path.join(ROOT, "docs", "performance.md")
+    if not os.path.exists(path):
+        return None
+    series, load = {}, ""
+    for table in markdown_tables(path):
+        for row in table:
+            if {"mesh", "method", "solver", "threads", "frame ms"} <= row.keys():
+                if row["threads"] != "2":
+                    continue
+                series.setdefault((row["method"], row["solver"]), []).append(
+                    (mesh_size(row["mesh"]), num(row["frame ms"])))
+            elif {"mesh", "CGAL ARAP ms per iteration"} <= row.keys():
+                series.setdefault(("cgal_arap", "20 iterations"), []).append(
+                    (mesh_size(row["mesh"]), 20 * num(row["CGAL ARAP ms per iteration"])))
+    with open(path) as f:
+        for line in f:
+            if "Load average before" in line:
+                load = line.split("Load average before:")[1].split(";")[0].strip(" `")
+    return (series, load) if series else None
+
+
+def chart_frame_time():
+    own = sorted(glob.glob(os.path.join(DATA, "timing", "*.json")))
+    perf = performance_series()
+    if perf:
+        own = []  # docs/performance.md supersedes our own timing runs
+    table2, table2_label = table_path("table2.csv")
+    have_table2 = table2 is not None
+    ncols = int(bool(own or perf)) + int(have_table2)
+    fig, axes = plt.subplots(1, ncols, figsize=(6.5 * ncols, 6.0), squeeze=False)
+    col = 0
+    notes = []
+    if perf:
+        ax = axes[0][col]
+        col += 1
+        series, load = perf
+        for (method, solver), pts in sorted(series.items()):
+            pts.sort()
+            style = dict(METHOD_STYLE[method])
+            if solver == "gauss_newton":
+                style.update(linestyle="--", markerfacecolor="white",
+                             label=style["label"] + ", Gauss-Newton")
+            elif solver == "ceres":
+                style.update(label=style["label"] + ", Ceres")
+            else:
+                style.update(label=style["label"] + ", " + solver)
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], **style)
+        ax.set_title("Armadillo 26K / 104K / 416K, claw edit, 2 threads\n"
+                     "(docs/performance.md; load avg before %s)" % load, fontsize=10)
+        ax.set_xticks([26002, 104002, 416002])
+        ax.set_xticklabels(["26K", "104K", "416K"])
+    if own:
+        ax = axes[0][col]
+        col += 1
+        series = {}
+        loads = []
+        for path in own:
+            load_path = path[:-len(".json")] + ".load"
+            if os.path.exists(load_path):
+                with open(load_path) as f:
+                    loads.append(float(f.read().split()[0]))
+            with open(path) as f:
+                r = json.load(f)
+            series.setdefault(r["method"], []).append(
+                (r["vertices"], r["timings_ms"]["frame_median"]))
+        for method, pts in series.items():
+            pts.sort()
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], **METHOD_STYLE[method])
+        load = (", load avg %.1f-%.1f" % (min(loads), max(loads))) if loads else ""
+        ax.set_title("Armadillo 26K / 104K / 416K (Loop), claw edit,\n"
+                     "median of 5 frames, 2 threads on 2 shared cores%s" % load)
+        if "cgal_arap" not in series:
+            notes.append("CGAL ARAP at these sizes: pending (experiments/)")
+            ax.text(0.98, 0.03, "CGAL ARAP at these sizes: pending", transform=ax.transAxes,
+                    fontsize=9, color="#555555", ha="right")
+    if have_table2:
+        ax = axes[0][col]
+        rows = read_table(table2)
+        for method, style in METHOD_STYLE.items():
+            pts = sorted((num(r["vertices"]), num(r["frame_ms"]), r["scenario"])
+                         for r in rows if r["method"] == method)
+            pts = [p for p in pts if p[1] == p[1]]
+            if pts:
+                ax.plot([p[0] for p in pts], [p[1] for p in pts], linestyle="none", **style)
+        ax.set_title("Every scenario of table2.csv\n(%s)" % table2_label)
+        names = {}
+        for r in rows:
+            these = names.setdefault(num(r["vertices"]), [])
+            if r["scenario"] not in these:
+                these.append(r["scenario"])
+        names = {x: " / ".join(n) for x, n in names.items()}
+        for x, name in names.items():
+            ax.annotate(name, (x, 0), xycoords=("data", "axes fraction"), xytext=(7, 4),
+                        textcoords="offset points", rotation=90, fontsize=7, color="#555555",
+                        ha="left", va="bottom")
+        xs = list(names)
+        ax.set_xlim(min(xs) / 1.6, max(xs) * 1.8)
+        table2_ax = ax
+    for ax in axes[0]:
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("mesh vertices")
+        ax.set_ylabel("median frame time (ms)")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2)
+    if have_table2:
+        pass
+        table2_ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(
+            lambda x, _: "%gK" % (x / 1000) if x >= 1000 else "%g" % x))
+        table2_ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+    if own or perf:
+        axes[0][0].set_xticks([26002, 104002, 416002])
+        axes[0][0].set_xticklabels(["26K", "104K", "416K"])
+        axes[0][0].minorticks_off()
+    fig.tight_layout()
+    save(fig, "chart_frame_time.png")
+    return notes
+
+
+def chart_solvers():
+    path, label = table_path("solvers.csv")
+    if path is None:
+        print("charts: no solvers.csv yet: solver chart skipped")
+        return False
+    rows = read_table(path)
+    scenarios = sorted({r["scenario"] for r in rows})
+    fig, axes = plt.subplots(1, len(scenarios), figsize=(max(8.0, 5.2 * len(scenarios)), 5.0),
+                             squeeze=False)
+    for ax, scenario in zip(axes[0], scenarios):
+        rs = [r for r in rows if r["scenario"] == scenario]
+        y = list(range(len(rs)))
+        median = [num(r["solve_ms"]) for r in rs]
+        ax.barh(y, median, height=0.6, color="#4c72b0")
+        ax.set_yticks(y)
+        ax.set_yticklabels([r["variant"] for r in rs], fontsize=8)
+        ax.invert_yaxis()
+        ax.set_xlabel("median solve time per frame (ms)")
+        ax.set_title(scenario)
+        top = max(x for x in median if x == x)
+        for i, r in zip(y, rs):
+            ax.text(num(r["solve_ms"]) + top * 0.02, i,
+                    "%s it, %.0f ms in all, cost %.3g" % (r.get("iterations_total", ""),
+                                                          num(r.get("solve_total_ms")),
+                                                          num(r.get("final_cost"))),
+                    va="center", fontsize=7)
+        ax.set_xlim(0, top * 1.9)
+        ax.grid(True, axis="x", alpha=0.3)
+    fig.suptitle("Solver variants on the multi-scale problem\n(solvers.csv, %s)" % label,
+                 fontsize=11)
+    fig.tight_layout()
+    save(fig, "chart_solvers.png")
+    return True
+
+
+def chart_nodes_vs_p():
+    files = sorted(glob.glob(os.path.join(DATA, "nodes_vs_p_*.json")))
+    if not files:
+        return
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 4.6))
+    for path, color in zip(files, ["#d62728", "#1f77b4", "#2ca02c"]):
+        with open(path) as f:
+            d = json.load(f)
+        rows = d["rows"]
+        P = [r["P"] for r in rows]
+        ax1.plot(P, [r["optimised_nodes"] for r in rows], marker="o", color=color,
+                 label="%s: optimised (TF + HF)" % d["name"])
+        ax1.plot(P, [r["scale_nodes"] for r in rows], marker="x", linestyle="--", color=color,
+                 alpha=0.6, label="%s: nodes of the selected scale" % d["name"])
+        ax2.plot(P, [r["frame_ms_median"] for r in rows], marker="o", color=color,
+                 label=d["name"])
+        ax1.axhline(rows[0]["dg1_nodes"], color="#999999", linewidth=0.8)
+    ax1.text(P[0], rows[0]["dg1_nodes"] * 1.05, "DG1 = %d nodes" % rows[0]["dg1_nodes"],
+             fontsize=8, color="#666666")
+    for ax in (ax1, ax2):
+        ax.set_xscale("log", base=2)
+        ax.set_xlabel("P (nodes per scale step)")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.axvline(100, color="#999999", linestyle=":", linewidth=1)
+        ax.set_xticks(P)
+        ax.set_xticklabels([str(p) for p in P])
+        ax.minorticks_off()
+    ax1.set_yscale("log")
+    ax1.set_ylabel("nodes")
+    ax1.set_title("Optimised nodes against P (paper: P = 100, dotted)")
+    ax1.legend(fontsize=8)
+    ax2.set_ylabel("median frame time (ms), 5 frames")
+    ax2.set_title("Frame time against P (shared 2-core machine: noisy)")
+    ax2.legend(fontsize=8)
+    fig.tight_layout()
+    save(fig, "chart_nodes_vs_p.png")
+
+
+if __name__ == "__main__":
+    os.makedirs(OUT, exist_ok=True)
+    chart_frame_time()
+    chart_solvers()
+    chart_nodes_vs_p()

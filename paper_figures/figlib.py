@@ -1,0 +1,330 @@
+"""Shared helpers of the figure scripts: OFF reading, VTK offscreen panels.
+
+Every rendered figure is one vtkRenderWindow split into side-by-side
+viewports (one per panel), each with the same camera when panels are
+compared, a three-light kit, smooth shading from vertex normals, and a label.
+Run under xvfb-run (make_figures.sh does).
+"""
+
+import json
+import os
+
+import numpy as np
+import vtk
+from vtk.util import numpy_support as nps
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+DATA = os.path.join(HERE, "data")  # generated, not committed
+OUT = os.path.join(HERE, "out")
+
+# Colours (RGB 0..1).
+MESH_GREY = (0.82, 0.80, 0.76)
+MOVEABLE = (0.85, 0.15, 0.15)   # moveable handle: red
+FIXED = (0.15, 0.35, 0.85)      # fixed handles: blue
+GROUP1 = (0.95, 0.55, 0.10)     # flexible particles (e' > T): orange
+GROUP2 = (0.35, 0.65, 0.35)     # rigid particles: green
+
+
+def read_off(path):
+    """(V #V x 3 float, F #F x 3 int) of an OFF/COFF file; polygons are fanned."""
+    with open(path) as f:
+        lines = [l.split("#")[0].strip() for l in f]
+    lines = [l for l in lines if l]
+    header = lines[0].split()
+    counts = header[1:] if len(header) > 1 else lines[1].split()
+    nv, nf = int(counts[0]), int(counts[1])
+    start = 1 if len(header) > 1 else 2  # first vertex line
+    vlines = lines[start:start + nv]
+    V = np.array([[float(x) for x in l.split()[:3]] for l in vlines])
+    faces = []
+    for l in lines[start + nv:start + nv + nf]:
+        t = l.split()
+        n = int(t[0])
+        ids = [int(x) for x in t[1:1 + n]]
+        for k in range(1, n - 1):
+            faces.append((ids[0], ids[k], ids[k + 1]))
+    return V, np.array(faces, dtype=np.int64)
+
+
+def load_json(path):
+    with open(path) as f:
+        return json.load(f)
+
+
+def polydata(V, F, scalars=None):
+    pts = vtk.vtkPoints()
+    pts.SetData(nps.numpy_to_vtk(np.ascontiguousarray(V, dtype=np.float64), deep=True))
+    cells = vtk.vtkCellArray()
+    conn = np.hstack([np.full((len(F), 1), 3, np.int64), F]).ravel()
+    cells.SetCells(len(F), nps.numpy_to_vtkIdTypeArray(conn, deep=True))
+    pd = vtk.vtkPolyData()
+    pd.SetPoints(pts)
+    pd.SetPolys(cells)
+    if scalars is not None:
+        arr = nps.numpy_to_vtk(np.ascontiguousarray(scalars, dtype=np.float64), deep=True)
+        arr.SetName("s")
+        pd.GetPointData().SetScalars(arr)
+    normals = vtk.vtkPolyDataNormals()
+    normals.SetInputData(pd)
+    normals.SetSplitting(False)      # vertex normals: smooth shading
+    normals.ConsistencyOn()
+    normals.AutoOrientNormalsOff()
+    normals.Update()
+    return normals.GetOutput()
+
+
+def mesh_actor(V, F, color=MESH_GREY, opacity=1.0, scalars=None, lut=None, rng=None):
+    pd = polydata(V, F, scalars)
+    mapper = vtk.vtkPolyDataMapper()
+    mapper.SetInputData(pd)
+    if scalars is not None:
+        mapper.ScalarVisibilityOn()
+        mapper.SetLookupTable(lut)
+        mapper.SetScalarRange(*rng)
+        mapper.InterpolateScalarsBeforeMappingOn()
+    else:
+        mapper.ScalarVisibilityOff()
+    actor = vtk.vtkActor()
+    actor.SetMapper(mapper)
+    p = actor.GetProperty()
+    p.SetColor(*color)
+    p.SetInterpolationToPhong()
+    p.SetAmbient(0.15)
+    p.SetDiffuse(0.8)
+    p.SetSpecular(0.15)
+    p.SetSpecularPower(30)
+    p.SetOpacity(opacity)
+    if opacity < 1.0:
+        p.BackfaceCullingOff()
+    return actor
+
+
+def spheres_actor(P, radius, color=None, scalars=None, lut=None, rng=None, resolution=10):
+    """Glyph spheres at points P (#P x 3), one colour or scalars through lut."""
+    pts = vtk.vtkPoints()
+    pts.SetData(nps.numpy_to_vtk(np.ascontiguousarray(P, dtype=np.float64), deep=True))
+    pd = vtk.vtkPolyData()
+    pd.SetPoints(pts)
+    if scalars is not None:
+        arr = nps.numpy_to_vtk(np.ascontiguousarray(scalars, dtype=np.float64), deep=True)
+        arr.SetName("s")
+        pd.GetPointData().SetScalars(arr)
+    src = vtk.vtkSphereSource()
+    src.SetRadius(radius)
+    src.SetThetaResolution(resolution)
+    src.SetPhiResolution(max(6, resolution // 2 + 2))
+    glyph = vtk.vtkGlyph3DMapper()
+    glyph.SetInputData(pd)
+    glyph.SetSourceConnection(src.GetOutputPort())
+    glyph.ScalingOff()
+    if scalars is not None:
+        glyph.SetLookupTable(lut)
+        glyph.SetScalarRange(*rng)
+        glyph.ScalarVisibilityOn()
+        glyph.SetScalarModeToUsePointData()
+    else:
+        glyph.ScalarVisibilityOff()
+    actor = vtk.vtkActor()
+    actor.SetMapper(glyph)
+    if color is not None:
+        actor.GetProperty().SetColor(*color)
+    actor.GetProperty().SetSpecular(0.3)
+    actor.GetProperty().SetSpecularPower(20)
+    return actor
+
+
+def cubes_actor(P, width, color, opacity=1.0):
+    """Axis-aligned boxes of side `width` at points P (lattice cells)."""
+    pts = vtk.vtkPoints()
+    pts.SetData(nps.numpy_to_vtk(np.ascontiguousarray(P, dtype=np.float64), deep=True))
+    pd = vtk.vtkPolyData()
+    pd.SetPoints(pts)
+    src = vtk.vtkCubeSource()
+    src.SetXLength(width)
+    src.SetYLength(width)
+    src.SetZLength(width)
+    glyph = vtk.vtkGlyph3DMapper()
+    glyph.SetInputData(pd)
+    glyph.SetSourceConnection(src.GetOutputPort())
+    glyph.ScalingOff()
+    glyph.ScalarVisibilityOff()
+    actor = vtk.vtkActor()
+    actor.SetMapper(glyph)
+    actor.GetProperty().SetColor(*color)
+    actor.GetProperty().SetOpacity(opacity)
+    return actor
+
+
+def lines_actor(P, edges, color=(0.1, 0.1, 0.1), width=1.5):
+    pts = vtk.vtkPoints()
+    pts.SetData(nps.numpy_to_vtk(np.ascontiguousarray(P, dtype=np.float64), deep=True))
+    E = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+    cells = vtk.vtkCellArray()
+    conn = np.hstack([np.full((len(E), 1), 2, np.int64), E]).ravel()
+    cells.SetCells(len(E), nps.numpy_to_vtkIdTypeArray(conn, deep=True))
+    pd = vtk.vtkPolyData()
+    pd.SetPoints(pts)
+    pd.SetLines(cells)
+    mapper = vtk.vtkPolyDataMapper()
+    mapper.SetInputData(pd)
+    actor = vtk.vtkActor()
+    actor.SetMapper(mapper)
+    actor.GetProperty().SetColor(*color)
+    actor.GetProperty().SetLineWidth(width)
+    actor.GetProperty().LightingOff()
+    return actor
+
+
+def lut_blue_red():
+    """Blue (0) -> white -> red (1): a diverging map for e' and displacement."""
+    ctf = vtk.vtkColorTransferFunction()
+    ctf.SetColorSpaceToDiverging()
+    ctf.AddRGBPoint(0.0, 0.23, 0.30, 0.75)
+    ctf.AddRGBPoint(1.0, 0.71, 0.02, 0.15)
+    lut = vtk.vtkLookupTable()
+    lut.SetNumberOfTableValues(256)
+    lut.Build()
+    for i in range(256):
+        c = ctf.GetColor(i / 255.0)
+        lut.SetTableValue(i, c[0], c[1], c[2], 1.0)
+    return lut
+
+
+def lut_viridis():
+    import matplotlib
+    cmap = matplotlib.colormaps["viridis"]
+    lut = vtk.vtkLookupTable()
+    lut.SetNumberOfTableValues(256)
+    lut.Build()
+    for i in range(256):
+        c = cmap(i / 255.0)
+        lut.SetTableValue(i, c[0], c[1], c[2], 1.0)
+    return lut
+
+
+def text(renderer, s, size=18, pos=(0.02, 0.94), color=(0, 0, 0), bold=True):
+    t = vtk.vtkTextActor()
+    t.SetInput(s)
+    t.GetTextProperty().SetFontSize(size)
+    t.GetTextProperty().SetColor(*color)
+    t.GetTextProperty().SetBold(bold)
+    t.GetTextProperty().SetVerticalJustificationToTop()
+    t.GetTextProperty().SetBackgroundColor(1, 1, 1)
+    t.GetTextProperty().SetBackgroundOpacity(0.75)
+    t.GetPositionCoordinate().SetCoordinateSystemToNormalizedViewport()
+    t.SetPosition(*pos)
+    renderer.AddActor2D(t)
+    return t
+
+
+def scalar_bar(renderer, lut, title, rng=None, pos=(0.82, 0.12)):
+    bar = vtk.vtkScalarBarActor()
+    bar.SetLookupTable(lut)
+    bar.SetTitle(title)
+    bar.SetNumberOfLabels(5)
+    bar.SetLabelFormat("%.2g")
+    bar.SetWidth(0.09)
+    bar.SetHeight(0.42)
+    bar.GetPositionCoordinate().SetCoordinateSystemToNormalizedViewport()
+    bar.GetPositionCoordinate().SetValue(*pos)
+    bar.UnconstrainedFontSizeOn()
+    for tp in (bar.GetTitleTextProperty(), bar.GetLabelTextProperty()):
+        tp.SetColor(0, 0, 0)
+        tp.SetFontSize(14)
+        tp.ShadowOff()
+        tp.ItalicOff()
+    bar.GetTitleTextProperty().SetFontSize(16)
+    renderer.AddActor2D(bar)
+    return bar
+
+
+def camera_for(V, view_dir, up=(0, 1, 0), zoom=1.0, center=None):
+    """A vtkCamera looking at the bounding box centre of V from view_dir."""
+    V = np.asarray(V)
+    c = 0.5 * (V.min(0) + V.max(0)) if center is None else np.asarray(center)
+    r = 0.5 * np.linalg.norm(V.max(0) - V.min(0))
+    d = np.asarray(view_dir, float)
+    d /= np.linalg.norm(d)
+    cam = vtk.vtkCamera()
+    cam.SetFocalPoint(*c)
+    cam.SetPosition(*(c + d * r * 3.6 / zoom))
+    cam.SetViewUp(*up)
+    cam.SetViewAngle(30)
+    cam.SetClippingRange(r * 0.1, r * 10)
+    return cam
+
+
+def render_panels(panels, path, panel_size=(520, 600), title=None, columns=None):
+    """panels: list of dicts {actors, label, camera, bar: (lut, title) or None,
+    texts: [(str, pos, size)]}. Writes one PNG with the panels side by side."""
+    n = len(panels)
+    cols = columns or n
+    rows = (n + cols - 1) // cols
+    title_h = 40 if title else 0
+    W, H = panel_size[0] * cols, panel_size[1] * rows + title_h
+    win = vtk.vtkRenderWindow()
+    win.SetOffScreenRendering(1)
+    win.SetSize(W, H)
+    win.SetMultiSamples(8)
+    ph = panel_size[1] * rows / H
+    background = vtk.vtkRenderer()  # white behind empty cells of the grid
+    background.SetBackground(1, 1, 1)
+    background.SetViewport(0, 0, 1, 1)
+    win.AddRenderer(background)
+    for i, p in enumerate(panels):
+        r_, c_ = divmod(i, cols)
+        ren = vtk.vtkRenderer()
+        x0, x1 = c_ / cols, (c_ + 1) / cols
+        y1 = ph * (1 - r_ / rows)
+        y0 = ph * (1 - (r_ + 1) / rows)
+        ren.SetViewport(x0, y0, x1, y1)
+        ren.SetBackground(1, 1, 1)
+        # Depth peeling drops translucent actors with multisampling under
+        # Xvfb's Mesa; plain alpha blending is fine for faint shells.
+        ren.SetUseDepthPeeling(0)
+        for a in p["actors"]:
+            ren.AddActor(a)
+        kit = vtk.vtkLightKit()
+        kit.AddLightsToRenderer(ren)
+        ren.SetActiveCamera(p["camera"])
+        ren.ResetCameraClippingRange()
+        text(ren, p["label"], size=p.get("label_size", 18))
+        for s, pos, size in p.get("texts", []):
+            text(ren, s, size=size, pos=pos, bold=False)
+        if p.get("bar"):
+            scalar_bar(ren, p["bar"][0], p["bar"][1])
+        win.AddRenderer(ren)
+    if title:
+        ren = vtk.vtkRenderer()
+        ren.SetViewport(0, ph, 1, 1)
+        ren.SetBackground(1, 1, 1)
+        text(ren, title, size=20, pos=(0.01, 0.85))
+        win.AddRenderer(ren)
+    win.SetAlphaBitPlanes(1)
+    win.Render()
+    w2i = vtk.vtkWindowToImageFilter()
+    w2i.SetInput(win)
+    w2i.ReadFrontBufferOff()
+    w2i.Update()
+    writer = vtk.vtkPNGWriter()
+    writer.SetFileName(path)
+    writer.SetInputConnection(w2i.GetOutputPort())
+    writer.Write()
+    win.Finalize()
+    shrink_png(path)
+    print("wrote", path, os.path.getsize(path) // 1024, "KB")
+
+
+def shrink_png(path, limit_kb=200):
+    """Re-encodes a PNG with an adaptive 256-colour palette when it is larger
+    than limit_kb, so committed figures stay small. libimagequant (in
+    Debian's Pillow) keeps smooth shading and colour maps free of banding."""
+    if os.path.getsize(path) <= limit_kb * 1024:
+        return
+    from PIL import Image, features
+    method = (Image.Quantize.LIBIMAGEQUANT if features.check_feature("libimagequant")
+              else Image.Quantize.MEDIANCUT)
+    image = Image.open(path).convert("RGB")
+    image.quantize(colors=256, method=method,
+                   dither=Image.Dither.FLOYDSTEINBERG).save(path, optimize=True)
