@@ -29,6 +29,7 @@
 #include "core/atomic_file.h"
 #include "core/mesh_io.h"
 #include "core/scenario.h"
+#include "core/timing.h"
 #include "scales/deformer.h"
 
 DEFINE_string(mode, "edit", "graphs, edit or nodes_vs_p.");
@@ -52,17 +53,6 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 using Clock = std::chrono::steady_clock;
-
-double Ms(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 // Rounds to 6 significant digits to keep the files small.
 double R6(double x) {
@@ -195,7 +185,7 @@ bool RunEdit(std::string* error) {
     DragStats stats;
     const auto start = Clock::now();
     if (!deformer.Drag(transform, &stats, error)) return false;
-    frame_ms.push_back(Ms(start));
+    frame_ms.push_back(MillisecondsSince(start));
   }
   const fs::path mesh_out = fs::path(FLAGS_out).replace_extension(".off");
   Mesh deformed = mesh;
@@ -275,7 +265,7 @@ bool RunNodesVsP(std::string* error) {
       DragStats stats;
       const auto start = Clock::now();
       if (!deformer.Drag(transform, &stats, error)) return false;
-      frame_ms.push_back(Ms(start));
+      frame_ms.push_back(MillisecondsSince(start));
     }
     const ScaleSelection& s = deformer.selection();
     rows.push_back({{"P", FLAGS_nodes_per_scale},

@@ -24,6 +24,7 @@
 #include "core/handles.h"
 #include "core/mesh_io.h"
 #include "core/scenario.h"
+#include "core/timing.h"
 #include "scales/deformer.h"
 
 DEFINE_string(mesh, "", "Input mesh (OFF, OBJ, PLY, STL). Default: the scenario's mesh.");
@@ -64,17 +65,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-double Ms(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 // Everything the command line asks for, resolved and checked.
 struct Job {
@@ -153,7 +143,7 @@ bool PrepareJob(Job* job, std::string* error) {
     }
     job->path = DragPath(scenario, job->mesh, job->layout);
   }
-  job->load_ms = Ms(load_start);
+  job->load_ms = MillisecondsSince(load_start);
 
   job->out_path = FLAGS_out.empty()
                       ? "msdeform_out/" + job->name + "_" + FLAGS_method + ".off"
@@ -302,7 +292,7 @@ int Run() {
                 << failed_frames.size() << " failed frame(s); no output written\n";
       return 1;
     }
-    frame_ms.push_back(Ms(frame_start));
+    frame_ms.push_back(MillisecondsSince(frame_start));
     solve_ms.push_back(stats.solve_ms);
     skin_ms.push_back(stats.skin_ms);
     iterations.push_back(stats.iterations);
@@ -380,7 +370,7 @@ int Run() {
                           {"frame_median", Median(frame_ms)},
                           {"solve_median", Median(solve_ms)},
                           {"skin_median", Median(skin_ms)},
-                          {"total", Ms(total_start)}};
+                          {"total", MillisecondsSince(total_start)}};
   report["handle_rms"] = handle_rms;
   report["solver"] = {{"iterations_median", Median(iterations)}, {"final_cost", final_cost}};
   report["failed_frames"] = failed_frames;

@@ -23,6 +23,7 @@
 
 #include "core/mesh_io.h"
 #include "core/scenario.h"
+#include "core/timing.h"
 #include "scales/deformer.h"
 
 namespace msdeform {
@@ -52,12 +53,6 @@ const Edit& LoadEdit(const std::string& name) {
       << error;
   edit.path = DragPath(scenario, edit.mesh, edit.layout);
   return edit;
-}
-
-double Median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 // Backends: Ceres, and Gauss-Newton with each sparse Cholesky.

@@ -6,6 +6,8 @@
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_deformation.h>
 
+#include "core/timing.h"
+
 namespace msdeform {
 namespace {
 
@@ -15,11 +17,6 @@ using SurfaceMesh = CGAL::Surface_mesh<Point>;
 using VertexIndex = SurfaceMesh::Vertex_index;
 using Deformation = CGAL::Surface_mesh_deformation<SurfaceMesh, CGAL::Default, CGAL::Default,
                                                    CGAL::ORIGINAL_ARAP>;
-
-double MillisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
-}
 
 }  // namespace
 

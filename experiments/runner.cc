@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 
+#include "core/timing.h"
 #include "experiments/metrics.h"
 #include "experiments/tables.h"
 
@@ -19,17 +20,6 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The band of vertices near the fixed region where arap_energy_joint is
 // measured: geodesic distance (along edges) up to this fraction of the diagonal.
 constexpr double kJointBand = 0.05;
-
-double Ms(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 // Accuracy and distortion of the final frame, shared by every method.
 void MeasureQuality(const ExperimentScenario& scenario, const Eigen::Matrix3Xd& deformed,
@@ -84,7 +74,7 @@ bool RunDeformer(const ExperimentScenario& scenario, const DeformerOptions& opti
       *error = scenario.name + " / " + label + ": frame " + std::to_string(f + 1) + ": " + *error;
       return false;
     }
-    frame_ms.push_back(Ms(frame_start));
+    frame_ms.push_back(MillisecondsSince(frame_start));
     solve_ms.push_back(stats.solve_ms);
     skin_ms.push_back(stats.skin_ms);
     iterations.push_back(stats.iterations);
@@ -131,7 +121,7 @@ bool RunDeformer(const ExperimentScenario& scenario, const DeformerOptions& opti
   result->iterations_median = Median(iterations);
   MeasureQuality(scenario, deformer.deformed_vertices(), result);
   result->orthogonality = OrthogonalityError(deformer.transforms(), optimised);
-  result->wall_ms = Ms(wall_start);
+  result->wall_ms = MillisecondsSince(wall_start);
   return true;
 }
 
@@ -154,7 +144,7 @@ bool RunCgalArap(const ExperimentScenario& scenario, const CgalArapOptions& opti
       *error = scenario.name + " / cgal_arap: frame " + std::to_string(f + 1) + ": " + *error;
       return false;
     }
-    frame_ms.push_back(Ms(frame_start));
+    frame_ms.push_back(MillisecondsSince(frame_start));
     solve_ms.push_back(stats.solve_ms);
     result->solve_total_ms += stats.solve_ms;
   }
@@ -168,7 +158,7 @@ bool RunCgalArap(const ExperimentScenario& scenario, const CgalArapOptions& opti
   result->final_cost = kNaN;
   MeasureQuality(scenario, arap.deformed_vertices(), result);
   result->orthogonality = kNaN;
-  result->wall_ms = Ms(wall_start);
+  result->wall_ms = MillisecondsSince(wall_start);
   return true;
 }
 
@@ -424,7 +414,7 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
       }
       line << " solvers;";
     }
-    line << " " << FormatFixed(Ms(scenario_start) / 1000.0, 1) << " s";
+    line << " " << FormatFixed(MillisecondsSince(scenario_start) / 1000.0, 1) << " s";
     progress(line.str());
   }
 
@@ -466,7 +456,7 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
     if (!WriteTable(options.out_dir, stem, *table, header, error)) return false;
   }
   progress("wrote table1, table2, ablations and solvers (.csv, .md) to " + options.out_dir +
-           " in " + FormatFixed(Ms(start) / 1000.0, 1) + " s");
+           " in " + FormatFixed(MillisecondsSince(start) / 1000.0, 1) + " s");
   return true;
 }
 

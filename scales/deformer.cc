@@ -9,6 +9,7 @@
 #include <glog/logging.h>
 
 #include "core/skinning.h"
+#include "core/timing.h"
 #include "energies/coherence_cost.h"
 #include "energies/position_cost.h"
 #include "energies/position_group_cost.h"
@@ -16,11 +17,6 @@
 
 namespace msdeform {
 namespace {
-
-double MillisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
-}
 
 // Unique surface particles (= DG1 nodes) holding the given vertices.
 std::vector<char> CellsHolding(const Lattice& lattice, const std::vector<int>& vertices) {
