@@ -81,7 +81,7 @@ def main():
          "Colour is displacement over the bounding-box diagonal, on one scale per row. Top: the "
          "thumb tip pulled outwards (paper_figures/scenarios/hand_thumb.json); ours moves the "
          "thumb alone, the static graph (Sumner et al. 2007, 220 nodes, every node free) drags "
-         "the whole fist along. Bottom, when experiments/scenarios/hand_finger.json exists: "
+         "the whole fist along by about 1%% of the diagonal. Bottom, when experiments/scenarios/hand_finger.json exists: "
          "the middle knuckle pulled out with the neighbouring knuckles watched (yellow); the "
          "numbers under each panel are the mean and max displacement of the watched (or far) "
          "vertices. Ours at scale %s." % thumb_ms.get("selected_scale", "?")),
@@ -93,9 +93,12 @@ def main():
          "Not a paper figure. The armadillo foot edit of Fig. 4 and the man leg lift of "
          "experiments/scenarios/man_leg_lift.json (a translation of the foot forward and up, "
          "waist band and other foot held): ours (left of each pair of results) leaves the "
-         "knee and hip as Fixed nodes and stretches or folds the lower leg; the same edit on "
-         "DG1 with every node free (static_dense, right) bends the knee. The rigidity estimate "
-         "marks too little of the leg as flexible for these edits (e' > T only near the foot)."),
+         "knee and hip as Fixed nodes, so the thigh does not move, and folds the lower leg: "
+         "above the ankle on the armadillo, sharply between mid-shin and the knee on the man "
+         "(with the earlier cell-width length unit the man's lower leg was stretched into a "
+         "thin spike); the same edit on DG1 with every node free (static_dense, right) swings "
+         "the thigh and bends the knee. The rigidity estimate marks too little of the leg as "
+         "flexible for these edits (e' > T only near the foot)."),
         ("chart_frame_time.png", "Median frame time against vertex count (log-log)",
          ("Left: the armadillo at 26K, 104K and 416K vertices (Loop subdivision) with the "
           "default claw edit, from docs/performance.md (bench/performance_table.sh: 30 frames, "
