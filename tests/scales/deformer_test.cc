@@ -112,9 +112,15 @@ TEST(DeformerTest, ClassesAreParameterBlockFixing) {
   bool some_free_node_moved = false;
   for (int j = 0; j < deformer.active().num_nodes(); ++j) {
     const NodeClass c = deformer.node_classes()[j];
-    if (c != NodeClass::kTotallyFree) EXPECT_EQ(transforms.translations.col(j).norm(), 0.0);
-    if (c == NodeClass::kFixed) EXPECT_TRUE(transforms.rotation(j).isIdentity(0.0));
-    if (c == NodeClass::kTotallyFree) some_free_node_moved |= transforms.translations.col(j).norm() > 0.1;
+    if (c != NodeClass::kTotallyFree) {
+      EXPECT_EQ(transforms.translations.col(j).norm(), 0.0);
+    }
+    if (c == NodeClass::kFixed) {
+      EXPECT_TRUE(transforms.rotation(j).isIdentity(0.0));
+    }
+    if (c == NodeClass::kTotallyFree) {
+      some_free_node_moved |= transforms.translations.col(j).norm() > 0.1;
+    }
   }
   EXPECT_TRUE(some_free_node_moved);
 }
