@@ -15,6 +15,7 @@
 #include <benchmark/benchmark.h>
 #include <glog/logging.h>
 
+#include "bench/bench_data.h"
 #include "core/mesh_io.h"
 #include "core/scenario.h"
 #include "experiments/cgal_arap.h"
@@ -24,36 +25,9 @@ namespace {
 
 constexpr int kIterations = 20;  // CGAL iterations per frame (issue 6)
 
-struct Edit {
-  Mesh mesh;
-  HandleLayout layout;
-  std::vector<Eigen::Affine3d> path;
-};
-
-const Edit& LoadEdit(const std::string& name) {
-  static std::map<std::string, Edit>* edits = new std::map<std::string, Edit>;
-  auto found = edits->find(name);
-  if (found != edits->end()) return found->second;
-  Edit& edit = (*edits)[name];
-  std::string error;
-  Scenario scenario;
-  CHECK(ReadScenario(std::string(MSDEFORM_DATA_DIR) + "/scenarios/armadillo_claw.json", &scenario,
-                     &error))
-      << error;
-  const std::string path = std::string(MSDEFORM_DATA_DIR) + "/meshes/" + name + ".off";
-  CHECK(ReadMesh(path, &edit.mesh, &error))
-      << error << " (run data/fetch_meshes.sh, then msdeform_make_large for the large meshes)";
-  std::vector<int> watch;
-  Eigen::Affine3d deformed_from_rest;
-  CHECK(ResolveScenario(scenario, edit.mesh, &edit.layout, &watch, &deformed_from_rest, &error))
-      << error;
-  edit.path = DragPath(scenario, edit.mesh, edit.layout);
-  return edit;
-}
-
 // One benchmark iteration = Init and the first three frames of the drag.
 void BM_CgalArapClawDrag(benchmark::State& state, const std::string& name) {
-  const Edit& edit = LoadEdit(name);
+  const ClawEdit& edit = LoadClawEdit(name);
   CgalArapOptions options;
   options.iterations = kIterations;
   std::string error;

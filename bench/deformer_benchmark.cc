@@ -21,6 +21,7 @@
 #include <benchmark/benchmark.h>
 #include <glog/logging.h>
 
+#include "bench/bench_data.h"
 #include "core/mesh_io.h"
 #include "core/scenario.h"
 #include "core/timing.h"
@@ -28,32 +29,6 @@
 
 namespace msdeform {
 namespace {
-
-struct Edit {
-  Mesh mesh;
-  HandleLayout layout;
-  std::vector<Eigen::Affine3d> path;
-};
-
-const Edit& LoadEdit(const std::string& name) {
-  static std::map<std::string, Edit>* edits = new std::map<std::string, Edit>;
-  auto found = edits->find(name);
-  if (found != edits->end()) return found->second;
-  Edit& edit = (*edits)[name];
-  std::string error;
-  Scenario scenario;
-  const std::string scenario_path = std::string(MSDEFORM_DATA_DIR) + "/scenarios/armadillo_claw.json";
-  CHECK(ReadScenario(scenario_path, &scenario, &error)) << error;
-  const std::string path = std::string(MSDEFORM_DATA_DIR) + "/meshes/" + name + ".off";
-  CHECK(ReadMesh(path, &edit.mesh, &error))
-      << error << " (run data/fetch_meshes.sh, then msdeform_make_large for the large meshes)";
-  std::vector<int> watch;
-  Eigen::Affine3d deformed_from_rest;
-  CHECK(ResolveScenario(scenario, edit.mesh, &edit.layout, &watch, &deformed_from_rest, &error))
-      << error;
-  edit.path = DragPath(scenario, edit.mesh, edit.layout);
-  return edit;
-}
 
 // Backends: Ceres, and Gauss-Newton with each sparse Cholesky.
 // kCeresPerVertex: one position block per handle vertex (no grouping).
@@ -87,7 +62,7 @@ DeformerOptions Options(Backend backend, int threads = 2) {
 }
 
 void BM_Precompute(benchmark::State& state, const std::string& name) {
-  const Edit& edit = LoadEdit(name);
+  const ClawEdit& edit = LoadClawEdit(name);
   std::string error;
   for (auto _ : state) {
     Deformer deformer;
@@ -103,13 +78,13 @@ Deformer& CachedDeformer(const std::string& name, Backend backend, int threads =
   if (deformer == nullptr) {
     deformer = std::make_unique<Deformer>();
     std::string error;
-    CHECK(deformer->Init(LoadEdit(name).mesh, Options(backend, threads), &error)) << error;
+    CHECK(deformer->Init(LoadClawEdit(name).mesh, Options(backend, threads), &error)) << error;
   }
   return *deformer;
 }
 
 void BM_SetHandles(benchmark::State& state, const std::string& name, Backend backend) {
-  const Edit& edit = LoadEdit(name);
+  const ClawEdit& edit = LoadClawEdit(name);
   Deformer& deformer = CachedDeformer(name, backend);
   std::string error;
   for (auto _ : state) CHECK(deformer.SetHandles(edit.layout, &error)) << error;
@@ -120,7 +95,7 @@ void BM_SetHandles(benchmark::State& state, const std::string& name, Backend bac
 // One benchmark iteration = the 30-frame drag from rest; the reported time is
 // the median frame (solve + skin).
 void BM_ClawDrag(benchmark::State& state, const std::string& name, Backend backend) {
-  const Edit& edit = LoadEdit(name);
+  const ClawEdit& edit = LoadClawEdit(name);
   Deformer& deformer = CachedDeformer(name, backend, static_cast<int>(state.range(0)));
   std::string error;
   std::vector<double> frame, solve, skin, iterations, factorizations;

@@ -14,6 +14,7 @@
 #include <benchmark/benchmark.h>
 #include <glog/logging.h>
 
+#include "bench/bench_data.h"
 #include "core/deformation_graph.h"
 #include "core/lattice.h"
 #include "core/mesh_io.h"
@@ -31,10 +32,8 @@ const Input& LoadInput(const std::string& name) {
   auto found = inputs->find(name);
   if (found != inputs->end()) return found->second;
   Input& input = (*inputs)[name];
-  const std::string path = std::string(MSDEFORM_DATA_DIR) + "/meshes/" + name + ".off";
+  input.mesh = ReadBenchMeshOrDie(name);
   std::string error;
-  CHECK(ReadMesh(path, &input.mesh, &error))
-      << error << " (run data/fetch_meshes.sh, then msdeform_make_large for the large meshes)";
   CHECK(Lattice::Build(input.mesh, LatticeOptions(), &input.lattice, &error)) << error;
   return input;
 }

@@ -17,6 +17,7 @@
 #include <benchmark/benchmark.h>
 #include <glog/logging.h>
 
+#include "bench/bench_data.h"
 #include "core/deformation_graph.h"
 #include "core/lattice.h"
 #include "core/mesh_io.h"
@@ -37,10 +38,8 @@ const Input& LoadInput(const std::string& name) {
   auto found = inputs->find(name);
   if (found != inputs->end()) return found->second;
   Input& input = (*inputs)[name];
-  const std::string path = std::string(MSDEFORM_DATA_DIR) + "/meshes/" + name + ".off";
+  input.mesh = ReadBenchMeshOrDie(name);
   std::string error;
-  CHECK(ReadMesh(path, &input.mesh, &error))
-      << error << " (run data/fetch_meshes.sh, then msdeform_make_large for the large meshes)";
   input.normals = VertexNormals(input.mesh);
   Lattice lattice;
   CHECK(Lattice::Build(input.mesh, LatticeOptions(), &lattice, &error)) << error;
