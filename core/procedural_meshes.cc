@@ -132,6 +132,19 @@ Mesh MakeOpenTube(double radius, double height, int segments, int rings) {
   return mesh;
 }
 
+Mesh MakeOctahedron() {
+  Mesh mesh;
+  mesh.vertices.resize(3, 6);
+  mesh.vertices << 1, -1, 0, 0, 0, 0,  //
+      0, 0, 1, -1, 0, 0,               //
+      0, 0, 0, 0, 1, -1;
+  mesh.faces.resize(3, 8);
+  mesh.faces << 0, 2, 1, 3, 2, 0, 3, 1,  //
+      2, 1, 3, 0, 0, 3, 1, 2,            //
+      4, 4, 4, 4, 5, 5, 5, 5;
+  return mesh;
+}
+
 Mesh MakeSphere(double radius, int segments, int rings) {
   CHECK_GE(segments, 3);
   CHECK_GE(rings, 2);

@@ -49,6 +49,10 @@ Mesh MakeTwoBars(int length, int gap, double voxel_size = 1.0,
 // An open cylinder (no caps) of the given radius and height along z.
 Mesh MakeOpenTube(double radius, double height, int segments, int rings);
 
+// The regular octahedron with vertices at +-x, +-y, +-z (ids 0..5 in that
+// order), faces outward: 6 vertices, 12 edges, 8 faces.
+Mesh MakeOctahedron();
+
 // A closed UV sphere centred at the origin.
 Mesh MakeSphere(double radius, int segments, int rings);
 

@@ -6,23 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include "core/procedural_meshes.h"
+
 namespace msdeform {
 namespace {
-
-// The regular octahedron with vertices at +-x, +-y, +-z, faces outward.
-// 6 vertices, 12 edges, 8 faces.
-Mesh Octahedron() {
-  Mesh mesh;
-  mesh.vertices.resize(3, 6);
-  mesh.vertices << 1, -1, 0, 0, 0, 0,  //
-      0, 0, 1, -1, 0, 0,               //
-      0, 0, 0, 0, 1, -1;
-  mesh.faces.resize(3, 8);
-  mesh.faces << 0, 2, 1, 3, 2, 0, 3, 1,  //
-      2, 1, 3, 0, 0, 3, 1, 2,            //
-      4, 4, 4, 4, 5, 5, 5, 5;
-  return mesh;
-}
 
 // Number of faces using each directed edge (a -> b).
 std::map<std::pair<int, int>, int> DirectedEdgeUse(const Mesh& mesh) {
@@ -46,13 +33,13 @@ void ExpectClosed(const Mesh& mesh) {
 }
 
 TEST(SubdivideTest, OctahedronIsClosedAndOriented) {
-  const Mesh octahedron = Octahedron();
+  const Mesh octahedron = MakeOctahedron();
   ASSERT_EQ(UniqueEdges(octahedron).size(), 12u);
   ExpectClosed(octahedron);
 }
 
 TEST(SubdivideTest, OneStepAddsAVertexPerEdgeAndSplitsFacesInFour) {
-  const Mesh octahedron = Octahedron();
+  const Mesh octahedron = MakeOctahedron();
   const int num_edges = static_cast<int>(UniqueEdges(octahedron).size());
   const Mesh once = LoopSubdivide(octahedron, 1);
   EXPECT_EQ(once.num_vertices(), octahedron.num_vertices() + num_edges);
@@ -64,7 +51,7 @@ TEST(SubdivideTest, OneStepAddsAVertexPerEdgeAndSplitsFacesInFour) {
 }
 
 TEST(SubdivideTest, TwoStepsCompose) {
-  const Mesh twice = LoopSubdivide(Octahedron(), 2);
+  const Mesh twice = LoopSubdivide(MakeOctahedron(), 2);
   EXPECT_EQ(twice.num_vertices(), 18 + 48);  // 18 vertices and 48 edges after one step.
   EXPECT_EQ(twice.num_faces(), 8 * 16);
   ExpectClosed(twice);
@@ -73,7 +60,7 @@ TEST(SubdivideTest, TwoStepsCompose) {
 TEST(SubdivideTest, InputVerticesKeepTheirIdsAtTheirLoopPositions) {
   // Valence 4: alpha = (40 - (3 + 2 cos(pi / 2))^2) / 64 = 31/64, and the four
   // neighbours of (1, 0, 0) average to the origin, so it moves to (33/64, 0, 0).
-  const Mesh once = LoopSubdivide(Octahedron(), 1);
+  const Mesh once = LoopSubdivide(MakeOctahedron(), 1);
   EXPECT_TRUE(once.vertices.col(0).isApprox(Eigen::Vector3d(33.0 / 64.0, 0, 0)));
   EXPECT_TRUE(once.vertices.col(5).isApprox(Eigen::Vector3d(0, 0, -33.0 / 64.0)));
   // Edge vertices: 3/8 of each end plus 1/8 of each opposite vertex; for the
@@ -86,7 +73,7 @@ TEST(SubdivideTest, InputVerticesKeepTheirIdsAtTheirLoopPositions) {
 }
 
 TEST(SubdivideTest, ZeroStepsReturnsTheInput) {
-  const Mesh octahedron = Octahedron();
+  const Mesh octahedron = MakeOctahedron();
   const Mesh same = LoopSubdivide(octahedron, 0);
   EXPECT_EQ(same.vertices, octahedron.vertices);
   EXPECT_EQ(same.faces, octahedron.faces);

@@ -5,6 +5,8 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include "core/procedural_meshes.h"
+
 
 namespace msdeform {
 namespace {
@@ -24,21 +26,8 @@ Mesh Square() {
   return mesh;
 }
 
-Mesh Octahedron() {
-  Mesh mesh;
-  mesh.vertices.resize(3, 6);
-  mesh.vertices << 1, -1, 0, 0, 0, 0,  //
-      0, 0, 1, -1, 0, 0,               //
-      0, 0, 0, 0, 1, -1;
-  mesh.faces.resize(3, 8);
-  mesh.faces << 0, 2, 1, 3, 2, 0, 3, 1,  //
-      2, 1, 3, 0, 0, 3, 1, 2,            //
-      4, 4, 4, 4, 5, 5, 5, 5;
-  return mesh;
-}
-
 TEST(MetricsTest, ArapEnergyIsZeroForARigidMotion) {
-  for (const Mesh& mesh : {Square(), Octahedron()}) {
+  for (const Mesh& mesh : {Square(), MakeOctahedron()}) {
     Eigen::Affine3d motion = Eigen::Affine3d::Identity();
     motion.rotate(Eigen::AngleAxisd(0.8, Eigen::Vector3d(1, -2, 0.5).normalized()));
     motion.pretranslate(Eigen::Vector3d(3, -1, 2));
@@ -52,7 +41,7 @@ TEST(MetricsTest, ArapEnergyIsZeroForARigidMotion) {
 TEST(MetricsTest, UniformScaleGivesTheHandValue) {
   // Scaling by s: the best rotation is I and every edge error is (s - 1) e,
   // so E / N = (s - 1)^2 and the strain is |s - 1|.
-  for (const Mesh& mesh : {Square(), Octahedron()}) {
+  for (const Mesh& mesh : {Square(), MakeOctahedron()}) {
     const double s = 1.1;
     const ArapTerms terms = ArapEnergyPerVertex(mesh, s * mesh.vertices);
     EXPECT_NEAR(NormalisedArapEnergy(terms), 0.01, 1e-12);
@@ -82,7 +71,7 @@ TEST(MetricsTest, SquareStretchedAlongXByHand) {
 }
 
 TEST(MetricsTest, HandleErrorAndDisplacement) {
-  const Mesh mesh = Octahedron();
+  const Mesh mesh = MakeOctahedron();
   Eigen::Matrix3Xd deformed = mesh.vertices;
   deformed(0, 0) += 0.3;  // vertex 0 moves 0.3
   deformed(1, 2) += 0.4;  // vertex 2 moves 0.4
