@@ -44,6 +44,11 @@ DEFINE_uint64(seed, 1, "Seed of every random choice (DG1 node vertices, handle k
 DEFINE_double(cell_width, 0.0, "Lattice cell width in mesh units (0: diagonal / 48).");
 DEFINE_int32(threads, 2, "Threads for the solve and the skinning.");
 DEFINE_int32(max_iterations, 20, "Solver iteration cap per frame.");
+DEFINE_double(function_tolerance, msdeform::DeformerOptions().solver.function_tolerance,
+              "Stop a frame's solve when |cost change| / cost falls below this.");
+DEFINE_double(w_rot, msdeform::DeformerOptions().w_rot, "Weight of E_rot (Eq. 17).");
+DEFINE_double(w_coh, msdeform::DeformerOptions().w_coh, "Weight of E_coh (Eq. 17).");
+DEFINE_double(w_con, msdeform::DeformerOptions().w_con, "Weight of E_con (Eq. 17).");
 DEFINE_bool(keep_left_out_terms, false, "Ablation: keep E(j,k) for Half Free j.");
 DEFINE_bool(fix_fixed_handle_nodes, false, "Ablation: fixed-handle nodes get no rotation.");
 DEFINE_bool(alpha_all_one, false, "Ablation: every coherence weight alpha = 1.");
@@ -97,6 +102,10 @@ bool FillOptions(DeformerOptions* options, std::string* error) {
   options->rigidity.region_half_width = FLAGS_rigidity_region;
   options->num_threads = FLAGS_threads;
   options->solver.max_num_iterations = FLAGS_max_iterations;
+  options->solver.function_tolerance = FLAGS_function_tolerance;
+  options->w_rot = FLAGS_w_rot;
+  options->w_coh = FLAGS_w_coh;
+  options->w_con = FLAGS_w_con;
   options->keep_left_out_terms = FLAGS_keep_left_out_terms;
   options->fix_fixed_handle_nodes = FLAGS_fix_fixed_handle_nodes;
   options->selection.alpha_all_one = FLAGS_alpha_all_one;

@@ -32,10 +32,12 @@ namespace {
 
 // Backends: Ceres, and Gauss-Newton with each sparse Cholesky.
 // kCeresPerVertex: one position block per handle vertex (no grouping).
+// kCeresSuiteSparse: CHOLMOD instead of the default EIGEN_SPARSE.
 // kGaussNewtonPerIteration: J^T J factorised every iteration (no reuse).
 enum class Backend {
   kCeres,
   kCeresPerVertex,
+  kCeresSuiteSparse,
   kGaussNewton,
   kGaussNewtonPerIteration,
   kGaussNewtonLDLT,
@@ -44,9 +46,13 @@ enum class Backend {
 
 DeformerOptions Options(Backend backend, int threads = 2) {
   DeformerOptions options;
-  options.backend = backend == Backend::kCeres || backend == Backend::kCeresPerVertex
+  options.backend = backend == Backend::kCeres || backend == Backend::kCeresPerVertex ||
+                            backend == Backend::kCeresSuiteSparse
                         ? Solver::kCeres
                         : Solver::kGaussNewton;
+  if (backend == Backend::kCeresSuiteSparse) {
+    options.solver.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+  }
   options.group_position_terms = backend != Backend::kCeresPerVertex;
   options.gauss_newton_hessian_reuse = backend == Backend::kGaussNewtonPerIteration
                                            ? GaussNewtonOptions::HessianReuse::kEveryIteration
@@ -138,6 +144,9 @@ void BM_ClawDrag(benchmark::State& state, const std::string& name, Backend backe
       ->Unit(benchmark::kMillisecond)->ArgName("threads")->Arg(1)->Arg(2)->UseManualTime()->Iterations(3);                     \
   BENCHMARK_CAPTURE(BM_ClawDrag, label##_ceres_per_vertex, std::string(file),              \
                     Backend::kCeresPerVertex)                                              \
+      ->Unit(benchmark::kMillisecond)->ArgName("threads")->Arg(1)->Arg(2)->UseManualTime()->Iterations(3); \
+  BENCHMARK_CAPTURE(BM_ClawDrag, label##_ceres_suite_sparse, std::string(file),            \
+                    Backend::kCeresSuiteSparse)                                            \
       ->Unit(benchmark::kMillisecond)->ArgName("threads")->Arg(1)->Arg(2)->UseManualTime()->Iterations(3); \
   BENCHMARK_CAPTURE(BM_ClawDrag, label##_gauss_newton_per_iteration, std::string(file),    \
                     Backend::kGaussNewtonPerIteration)                                     \

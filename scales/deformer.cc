@@ -106,6 +106,7 @@ DeformerOptions::DeformerOptions() {
   solver.minimizer_type = ceres::TRUST_REGION;
   solver.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   solver.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  solver.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
   solver.max_num_iterations = 20;
   solver.function_tolerance = 1e-8;
   solver.gradient_tolerance = 1e-10;
@@ -469,6 +470,7 @@ bool Deformer::Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats,
     solver_options.num_threads = options_.num_threads;
     ceres::Solver::Summary summary;
     ceres::Solve(solver_options, problem_.get(), &summary);
+    VLOG(1) << summary.FullReport();  // msdeform --verbose --v=1
     frame.solve_ms = MillisecondsSince(solve_start);
     frame.iterations = static_cast<int>(summary.iterations.size()) - 1;
     frame.initial_cost = summary.initial_cost + constant_cost;
