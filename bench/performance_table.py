@@ -57,6 +57,7 @@ def read(name):
 meshes = [("armadillo", "26K"), ("armadillo_104k", "104K"), ("armadillo_416k", "416K")]
 configs = [("multiscale", "gauss_newton", "2"), ("multiscale", "gauss_newton", "1"),
            ("multiscale", "ceres", "2"), ("multiscale", "ceres", "1"),
+           ("multiscale-wcon10000", "gauss_newton", "2"), ("multiscale-wcon10000", "ceres", "2"),
            ("static", "gauss_newton", "2"), ("static", "ceres", "2"),
            ("static_dense", "gauss_newton", "2"), ("static_dense", "ceres", "2")]
 
@@ -69,11 +70,15 @@ print("\"frame\" = solve + skin; \"layout\" = handle-layout change (rigidity + c
 print("problem/solver setup); \"precompute\" = Init (lattice, all graphs, weights); peak memory of")
 print("the whole process (`/usr/bin/time -v`, includes loading the mesh and writing the output).")
 print()
-print("Machine: %s. Load average before: `%s`; after: `%s`. Other sessions were building and" %
+print("Machine: %s. Load average before: `%s`; after: `%s` (a load above 1 means other" %
       (cpu(), read("load_before.txt").split("load average:")[-1].strip(),
        read("load_after.txt").split("load average:")[-1].strip()))
-print("running tests on the same 2 cores, so absolute numbers carry noise (2-thread OpenMP and")
-print("Ceres suffer most from a busy core); compare rows within one run.")
+print("work shared the 2 cores; compare rows within one run).")
+print()
+print("`multiscale-wcon10000`: the multi-scale method with Eq. 17's position weight w_con raised")
+print("from 100 to 10^4 (`--w_con=10000`), the stiff-handle setting compared with static_dense at")
+print("equal or better handle error below; its distortion cost is in experiments/results")
+print("(ablations, `w_con_1e4`).")
 print()
 print("| mesh | method | solver | threads | frame ms | solve ms | skin ms | iterations | variables | layout ms | precompute ms | peak MB | handle rms / diag |")
 print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
@@ -91,23 +96,27 @@ for mesh, label in meshes:
 print()
 print("## Ratios")
 print()
-print("| mesh | static_dense / multiscale frame (Ceres) | static_dense / multiscale frame (Gauss-Newton) | handle rms multiscale / static_dense | CGAL ARAP ms per iteration | CGAL ARAP frame (20 it.) / multiscale GN frame | CGAL ARAP init ms |")
-print("|---|---|---|---|---|---|---|")
+print("| mesh | static_dense / multiscale frame (Ceres) | static_dense / multiscale frame (Gauss-Newton) | handle rms multiscale / static_dense | static_dense / multiscale-wcon10000 frame (Ceres) | static_dense / multiscale-wcon10000 frame (Gauss-Newton) | handle rms multiscale-wcon10000 / static_dense | CGAL ARAP ms per iteration | CGAL ARAP frame (20 it.) / multiscale GN frame | CGAL ARAP init ms |")
+print("|---|---|---|---|---|---|---|---|---|---|")
 for mesh, label in meshes:
     ms_c = runs.get((mesh, "multiscale", "ceres", "2"))
     ms_g = runs.get((mesh, "multiscale", "gauss_newton", "2"))
     sd_c = runs.get((mesh, "static_dense", "ceres", "2"))
     sd_g = runs.get((mesh, "static_dense", "gauss_newton", "2"))
-    if not (ms_c and ms_g and sd_c and sd_g):
+    st_c = runs.get((mesh, "multiscale-wcon10000", "ceres", "2"))
+    st_g = runs.get((mesh, "multiscale-wcon10000", "gauss_newton", "2"))
+    if not (ms_c and ms_g and sd_c and sd_g and st_c and st_g):
         continue
     arap = cgal.get(mesh)
     arap_it = "%.1f" % arap["iteration_ms"] if arap else "pending"
     arap_ratio = ("%.0fx" % (arap["frame_ms"] / ms_g["timings_ms"]["frame_median"])) if arap else "pending"
     arap_init = "%.0f" % arap["init_ms"] if arap else "pending"
-    print("| %s | %.1fx | %.1fx | %.2f | %s | %s | %s |" % (
-        label, sd_c["timings_ms"]["frame_median"] / ms_c["timings_ms"]["frame_median"],
-        sd_g["timings_ms"]["frame_median"] / ms_g["timings_ms"]["frame_median"],
-        ms_g["handle_rms"] / sd_g["handle_rms"], arap_it, arap_ratio, arap_init))
+    frame = lambda r: r["timings_ms"]["frame_median"]
+    print("| %s | %.1fx | %.1fx | %.2f | %.1fx | %.1fx | %.2f | %s | %s | %s |" % (
+        label, frame(sd_c) / frame(ms_c), frame(sd_g) / frame(ms_g),
+        ms_g["handle_rms"] / sd_g["handle_rms"], frame(sd_c) / frame(st_c),
+        frame(sd_g) / frame(st_g), st_g["handle_rms"] / sd_g["handle_rms"],
+        arap_it, arap_ratio, arap_init))
 print()
 print("## Where the time goes (104K multiscale drag of 300 frames, 1 thread, `perf record`)")
 print()

@@ -396,6 +396,33 @@ bool CheckBinaryOff(const std::string& text, size_t data_start, const std::strin
 
 // Checks the OFF text; on failure puts "line N: ..." (or a whole-file problem)
 // in *problem.
+// tokens[first], tokens[first + 1], tokens[first + 2]: the coordinates of
+// vertex `vertex` on line `line_number` of an OFF or OBJ text; each must be a
+// finite number.
+bool CheckVertexCoordinates(const Tokens& tokens, size_t first, int line_number,
+                            long long vertex, std::string* problem) {
+  std::ostringstream message;
+  message << "line " << line_number << ": vertex " << vertex;
+  if (tokens.size() < first + 3) {
+    *problem = message.str() + " has fewer than 3 coordinates";
+    return false;
+  }
+  for (size_t k = first; k < first + 3; ++k) {
+    double value = 0.0;
+    if (!ParseDouble(tokens[k], &value)) {
+      message << " coordinate " << Quote(tokens[k]) << " is not a number";
+      *problem = message.str();
+      return false;
+    }
+    if (!std::isfinite(value)) {
+      message << " coordinate " << Quote(tokens[k]) << " is not finite";
+      *problem = message.str();
+      return false;
+    }
+  }
+  return true;
+}
+
 bool CheckOff(const std::string& text, OffCheck* check, std::string* problem) {
   std::ostringstream message;
   size_t pos = 0;
@@ -496,28 +523,7 @@ bool CheckOff(const std::string& text, OffCheck* check, std::string* problem) {
     Tokenize(line, &tokens, &had_comment);
     if (tokens.empty()) continue;
     if (item < num_vertices) {
-      const long long vertex = item;
-      if (tokens.size() < 3) {
-        message << "line " << line_number << ": vertex " << vertex
-                << " has fewer than 3 coordinates";
-        *problem = message.str();
-        return false;
-      }
-      for (int k = 0; k < 3; ++k) {
-        double value = 0.0;
-        if (!ParseDouble(tokens[k], &value)) {
-          message << "line " << line_number << ": vertex " << vertex << " coordinate "
-                  << Quote(tokens[k]) << " is not a number";
-          *problem = message.str();
-          return false;
-        }
-        if (!std::isfinite(value)) {
-          message << "line " << line_number << ": vertex " << vertex << " coordinate "
-                  << Quote(tokens[k]) << " is not finite";
-          *problem = message.str();
-          return false;
-        }
-      }
+      if (!CheckVertexCoordinates(tokens, 0, line_number, item, problem)) return false;
     } else {
       const long long face = item - num_vertices;
       long long size = 0;
@@ -793,20 +799,7 @@ bool CheckObj(const std::string& text, int* num_vertices, std::string* problem) 
       continue;
     }
     if (tokens.empty() || tokens[0] != "v") continue;
-    if (tokens.size() < 4) {
-      message << "line " << line_number << ": vertex " << count << " has fewer than 3 coordinates";
-      *problem = message.str();
-      return false;
-    }
-    for (int k = 1; k <= 3; ++k) {
-      double value = 0.0;
-      if (!ParseDouble(tokens[k], &value) || !std::isfinite(value)) {
-        message << "line " << line_number << ": vertex " << count << " coordinate "
-                << Quote(tokens[k]) << " is not a finite number";
-        *problem = message.str();
-        return false;
-      }
-    }
+    if (!CheckVertexCoordinates(tokens, 1, line_number, count, problem)) return false;
     ++count;
   }
   if (count > std::numeric_limits<int>::max()) {

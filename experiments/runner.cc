@@ -195,6 +195,11 @@ std::vector<Variant> Ablations() {
       {"alpha_all_one", [](DeformerOptions* o) { o->selection.alpha_all_one = true; }, "", "", ""},
       {"member_extent_mean",
        [](DeformerOptions* o) { o->selection.member_extent = MemberExtent::kMean; }, "", "", ""},
+      // A stiffer handle (Eq. 17's w_con, default 100): the handle error
+      // against the distortion it costs, for comparing with static_dense at
+      // equal handle error.
+      {"w_con_1e3", [](DeformerOptions* o) { o->w_con = 1e3; }, "", "", ""},
+      {"w_con_1e4", [](DeformerOptions* o) { o->w_con = 1e4; }, "", "", ""},
   };
 }
 

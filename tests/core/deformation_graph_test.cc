@@ -13,20 +13,12 @@
 
 #include "core/mesh_io.h"
 #include "core/procedural_meshes.h"
+#include "tests/core/lattice_test_util.h"
 
 namespace msdeform {
 namespace {
 
 using Edges = std::vector<std::pair<int, int>>;
-
-Lattice BuildLattice(const Mesh& mesh, double cell_width) {
-  LatticeOptions options;
-  options.cell_width = cell_width;
-  Lattice lattice;
-  std::string error;
-  EXPECT_TRUE(Lattice::Build(mesh, options, &lattice, &error)) << error;
-  return lattice;
-}
 
 std::vector<DeformationGraph> BuildGraphs(const Mesh& mesh, const Lattice& lattice,
                                           const GraphOptions& options) {
@@ -174,7 +166,7 @@ TEST(DeformationGraphTest, ScaleCountsAndNodeCounts) {
 
 TEST(DeformationGraphTest, Dg1HasOneNodePerSurfaceCellOnASeededRandomVertex) {
   const Mesh sphere = MakeSphere(1.0, 64, 32);
-  const Lattice lattice = BuildLattice(sphere, 0.1);
+  const Lattice lattice = BuildTestLattice(sphere, 0.1);
   GraphOptions options;
   options.nodes_per_scale = 1000000;  // DG1 only.
   const std::vector<DeformationGraph> graphs = BuildGraphs(sphere, lattice, options);
@@ -217,7 +209,7 @@ TEST(DeformationGraphTest, ProceduralMeshesGiveExactNodeCountsAndValidGraphs) {
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
-    const Lattice lattice = BuildLattice(c.mesh, c.cell_width);
+    const Lattice lattice = BuildTestLattice(c.mesh, c.cell_width);
     const GraphOptions options = SmallP();
     const std::vector<DeformationGraph> graphs = BuildGraphs(c.mesh, lattice, options);
     EXPECT_GE(graphs.size(), 4u) << "the case should have several scales";
@@ -232,7 +224,7 @@ TEST(DeformationGraphTest, ComponentsAreMergedOnlyWhenEdgesRunOut) {
   Mesh sphere = MakeSphere(2.0, 32, 16);
   sphere.vertices.colwise() += Eigen::Vector3d(7.0, 20.0, 0.0);
   const Mesh mesh = Concatenate(Cubes(30), sphere);
-  const Lattice lattice = BuildLattice(mesh, 1.0);
+  const Lattice lattice = BuildTestLattice(mesh, 1.0);
   const std::vector<DeformationGraph> graphs = BuildGraphs(mesh, lattice, SmallP());
   const Components components = ConnectedComponents(mesh);
   ASSERT_EQ(components.count, 31);
@@ -266,7 +258,7 @@ TEST(DeformationGraphTest, ComponentsAreMergedOnlyWhenEdgesRunOut) {
 
 TEST(DeformationGraphTest, FirstCollapseMergesTheShortestDg1Edge) {
   const Mesh sphere = MakeSphere(1.0, 48, 24);
-  const Lattice lattice = BuildLattice(sphere, 0.15);
+  const Lattice lattice = BuildTestLattice(sphere, 0.15);
   std::vector<DeformationGraph> graphs;
   std::string error;
   const int d1 = lattice.num_surface_cells();
@@ -313,7 +305,7 @@ TEST(DeformationGraphTest, CombToothNeverTakesANodeOfAnotherTooth) {
   for (const double cell_width : {0.75, 0.85, 0.95}) {
     for (const uint64_t seed : {1, 2, 3}) {
       SCOPED_TRACE("cell width " + std::to_string(cell_width) + ", seed " + std::to_string(seed));
-      const Lattice lattice = BuildLattice(comb, cell_width);
+      const Lattice lattice = BuildTestLattice(comb, cell_width);
       GraphOptions options;
       options.nodes_per_scale = 1000000;
       options.seed = seed;
@@ -351,7 +343,7 @@ TEST(DeformationGraphTest, CombToothNeverTakesANodeOfAnotherTooth) {
 
 TEST(DeformationGraphTest, InvalidOptionsAreReported) {
   const Mesh bar = MakeBar(4);
-  const Lattice lattice = BuildLattice(bar, 0.5);
+  const Lattice lattice = BuildTestLattice(bar, 0.5);
   std::vector<DeformationGraph> graphs;
   std::string error;
   GraphOptions options;

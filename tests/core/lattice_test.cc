@@ -5,18 +5,10 @@
 #include <gtest/gtest.h>
 
 #include "core/procedural_meshes.h"
+#include "tests/core/lattice_test_util.h"
 
 namespace msdeform {
 namespace {
-
-Lattice BuildOrDie(const Mesh& mesh, double cell_width) {
-  LatticeOptions options;
-  options.cell_width = cell_width;
-  Lattice lattice;
-  std::string error;
-  EXPECT_TRUE(Lattice::Build(mesh, options, &lattice, &error)) << error;
-  return lattice;
-}
 
 TEST(LatticeTest, Eq1CoordinatesOnHandCheckedPoints) {
   // One triangle spanning x in [1, 3.2], y in [-1, 0], z = 5; w = 1.
@@ -27,7 +19,7 @@ TEST(LatticeTest, Eq1CoordinatesOnHandCheckedPoints) {
       5.0, 5.0, 5.0;
   mesh.faces.resize(3, 1);
   mesh.faces << 0, 1, 2;
-  const Lattice lattice = BuildOrDie(mesh, 1.0);
+  const Lattice lattice = BuildTestLattice(mesh, 1.0);
   // a = floor((x - 1 + 0.5) / 1): x = 1 -> 0, 3.2 -> 2, 1.49 -> 0.
   // b = floor((y + 1 + 0.5) / 1): y = -1 -> 0, 0 -> 1, -0.49 -> 1.
   EXPECT_EQ(lattice.cell_coords(lattice.cell_of_vertex(0)), Eigen::Vector3i(0, 0, 0));
@@ -58,7 +50,7 @@ TEST(LatticeTest, ClosedBarIsFilledSolid) {
   // A 12 x 3 x 3 bar (voxels of 3) with w = 0.5: every lattice cell whose
   // centre is strictly inside the bar is either surface or interior.
   const Mesh bar = MakeBar(4, 3.0, 6);
-  const Lattice lattice = BuildOrDie(bar, 0.5);
+  const Lattice lattice = BuildTestLattice(bar, 0.5);
   EXPECT_GT(lattice.num_interior_cells(), 0);
   int inside_centres = 0;
   for (int a = 0; a < lattice.dims().x(); ++a)
@@ -92,7 +84,7 @@ TEST(LatticeTest, EdgesLongerThanACellStillCloseTheSurface) {
   // whose centre is inside the bar by more than a cell is a particle.
   const Mesh coarse = MakeBar(6, 1.0, 1);
   const double w = 0.1;
-  const Lattice fine = BuildOrDie(coarse, w);
+  const Lattice fine = BuildTestLattice(coarse, w);
   int inside = 0;
   for (int a = 0; a < fine.dims().x(); ++a)
     for (int b = 0; b < fine.dims().y(); ++b)
@@ -141,14 +133,14 @@ TEST(LatticeTest, AbsurdlyFineCellWidthIsAnErrorNotAnOverflow) {
 
 TEST(LatticeTest, OpenTubeIsNotFilled) {
   const Mesh tube = MakeOpenTube(1.0, 4.0, 64, 32);
-  const Lattice lattice = BuildOrDie(tube, 0.25);
+  const Lattice lattice = BuildTestLattice(tube, 0.25);
   EXPECT_EQ(lattice.num_interior_cells(), 0);
   EXPECT_GT(lattice.num_surface_cells(), 0);
 }
 
 TEST(LatticeTest, EveryVertexIsInItsSurfaceCell) {
   const Mesh sphere = MakeSphere(1.0, 40, 20);
-  const Lattice lattice = BuildOrDie(sphere, 0.2);
+  const Lattice lattice = BuildTestLattice(sphere, 0.2);
   int listed = 0;
   for (int cell = 0; cell < lattice.num_surface_cells(); ++cell) {
     ASSERT_GT(lattice.vertices_of_cell().size(cell), 0);
@@ -166,7 +158,7 @@ TEST(LatticeTest, CombTeethInTouchingCellsAreNotNeighbours) {
   // Teeth 1 wide with 1-wide gaps; cells of 0.6 put the facing sides of
   // neighbouring teeth into touching cells.
   const Mesh comb = MakeComb(3, 6, 1.0, 5);
-  const Lattice lattice = BuildOrDie(comb, 0.6);
+  const Lattice lattice = BuildTestLattice(comb, 0.6);
   std::vector<std::set<int>> cells_of_tooth(3);
   for (int t = 0; t < 3; ++t)
     for (int v : CombToothVertices(comb, t)) {
@@ -191,7 +183,7 @@ TEST(LatticeTest, CombTeethInTouchingCellsAreNotNeighbours) {
 
 TEST(LatticeTest, AdjacencyIsSymmetricAndFollowsMethod) {
   const Mesh bar = MakeBar(4, 3.0, 6);
-  const Lattice lattice = BuildOrDie(bar, 0.5);
+  const Lattice lattice = BuildTestLattice(bar, 0.5);
   const CompressedLists& adjacency = lattice.particle_adjacency();
   for (int p = 0; p < lattice.num_particles(); ++p) {
     for (const int* q = adjacency.begin(p); q != adjacency.end(p); ++q) {

@@ -376,7 +376,7 @@ INSTANTIATE_TEST_SUITE_P(
                 "end_header\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n",
                 "line 11: 'nan' is not a finite number"},
         BadFile{"nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n",
-                "line 2: vertex 1 coordinate 'nan' is not a finite number"},
+                "line 2: vertex 1 coordinate 'nan' is not finite"},
         BadFile{"bad_counts.off", "OFF\n3 one 0\n", "line 2: expected three counts"},
         BadFile{"truncated_vertices.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n",
                 "ends after 3 of 4 vertices"},

@@ -11,20 +11,12 @@
 
 #include "core/deformation_graph.h"
 #include "core/procedural_meshes.h"
+#include "tests/core/lattice_test_util.h"
 
 namespace msdeform {
 namespace {
 
 using Edges = std::vector<std::pair<int, int>>;
-
-Lattice BuildLattice(const Mesh& mesh, double cell_width) {
-  LatticeOptions options;
-  options.cell_width = cell_width;
-  Lattice lattice;
-  std::string error;
-  EXPECT_TRUE(Lattice::Build(mesh, options, &lattice, &error)) << error;
-  return lattice;
-}
 
 // The ring search done literally, one cell at a time: whole rings of
 // L-neighbours until min_count distinct nodes, then extra_rings more rings.
@@ -66,7 +58,7 @@ void ExpectSameAsRingSearch(const Lattice& lattice, const std::vector<int>& node
 
 TEST(NearestNodesTest, PropagationEqualsPerCellRingSearch) {
   const Mesh comb = MakeComb(4, 5, 1.0, 4);
-  const Lattice lattice = BuildLattice(comb, 0.45);
+  const Lattice lattice = BuildTestLattice(comb, 0.45);
   const int num_cells = lattice.num_surface_cells();
   std::vector<int> identity(num_cells);
   for (int c = 0; c < num_cells; ++c) identity[c] = c;
@@ -98,7 +90,7 @@ TEST(NearestNodesTest, PropagationEqualsPerCellRingSearch) {
 
 TEST(NearestNodesTest, WeightsFollowEq11OverTheRingCandidates) {
   const Mesh sphere = MakeSphere(1.0, 48, 24);
-  const Lattice lattice = BuildLattice(sphere, 0.15);
+  const Lattice lattice = BuildTestLattice(sphere, 0.15);
   const int num_cells = lattice.num_surface_cells();
   // Nodes on the first vertex of each cell.
   Eigen::Matrix3Xd positions(3, num_cells);
@@ -144,7 +136,7 @@ TEST(NearestNodesTest, WeightsFollowEq11OverTheRingCandidates) {
 
 TEST(NearestNodesTest, ResultDoesNotDependOnThreadCount) {
   const Mesh sphere = MakeSphere(1.0, 64, 32);
-  const Lattice lattice = BuildLattice(sphere, 0.1);
+  const Lattice lattice = BuildTestLattice(sphere, 0.1);
   const int num_cells = lattice.num_surface_cells();
   Eigen::Matrix3Xd positions(3, num_cells);
   std::vector<int> node_of_cell(num_cells);
@@ -173,7 +165,7 @@ TEST(NearestNodesTest, VertexWithFewerThanKPlusOneCandidatesGetsValidWeights) {
       0.0, 0.0, 0.0;
   triangle.faces.resize(3, 1);
   triangle.faces << 0, 1, 2;
-  const Lattice lattice = BuildLattice(triangle, 1.0);
+  const Lattice lattice = BuildTestLattice(triangle, 1.0);
   ASSERT_EQ(lattice.num_surface_cells(), 3);
   // Node c sits on the vertex of cell c; node 0 is moved off its vertex.
   Eigen::Matrix3Xd positions(3, 3);
@@ -208,7 +200,7 @@ TEST(NearestNodesTest, SingleNodeComponentFallsBackToWeightOne) {
       0.0, 0.0, 0.0;
   triangle.faces.resize(3, 1);
   triangle.faces << 0, 1, 2;
-  const Lattice lattice = BuildLattice(triangle, 1.0);
+  const Lattice lattice = BuildTestLattice(triangle, 1.0);
   ASSERT_EQ(lattice.num_surface_cells(), 1);
   Eigen::Matrix3Xd positions = triangle.vertices.col(0);
   SkinningWeights weights;

@@ -141,7 +141,7 @@ TEST_F(QuickTablesTest, OtherTablesAreComplete) {
   }
   ExpectFinite(table1, {"model", "scenario"}, {});
   const CsvTable ablations = Read("ablations");
-  EXPECT_EQ(ablations.rows.size(), 5u);  // the cactus x five variants
+  EXPECT_EQ(ablations.rows.size(), 7u);  // the cactus x seven variants
   ExpectFinite(ablations, {"scenario", "variant"}, {"leakage_rel", "arap_energy_joint"});
   const CsvTable solvers = Read("solvers");
   EXPECT_GE(solvers.rows.size(), 6u);

@@ -15,6 +15,7 @@
 #include "core/lattice.h"
 #include "core/procedural_meshes.h"
 #include "scales/polar_decomposition.h"
+#include "tests/core/lattice_test_util.h"
 
 namespace msdeform {
 namespace {
@@ -35,13 +36,6 @@ double MaxAbsDifference(const A& a, const B& b) {
     max = std::max(max, std::abs(a.data()[k] - b.data()[k]));
   }
   return max;
-}
-
-Lattice BuildLattice(const Mesh& mesh) {
-  Lattice lattice;
-  std::string error;
-  EXPECT_TRUE(Lattice::Build(mesh, LatticeOptions(), &lattice, &error)) << error;
-  return lattice;
 }
 
 // ---------------------------------------------------------------------------
@@ -153,13 +147,13 @@ TEST(RigidityOptionsTest, CheckAcceptsDefaultsAndRejectsBadValues) {
     EXPECT_FALSE(options.Check(&error)) << "breaker " << k;
     EXPECT_FALSE(error.empty()) << "breaker " << k;
     RigidityEstimator estimator;
-    EXPECT_FALSE(estimator.Init(BuildLattice(MakeBar(4)), options, &error)) << "breaker " << k;
+    EXPECT_FALSE(estimator.Init(BuildTestLattice(MakeBar(4)), options, &error)) << "breaker " << k;
   }
 }
 
 TEST(RigidityTest, ParticlesOfVerticesAreUniqueAndChecked) {
   const Mesh bar = MakeBar(4);
-  const Lattice lattice = BuildLattice(bar);
+  const Lattice lattice = BuildTestLattice(bar);
   std::vector<int> particles;
   std::string error;
   ASSERT_TRUE(ParticlesOfVertices(lattice, {0, 0, 1, 2}, &particles, &error)) << error;
@@ -174,7 +168,7 @@ TEST(RigidityTest, ParticlesOfVerticesAreUniqueAndChecked) {
 }
 
 TEST(RigidityTest, EstimateRejectsBadHandles) {
-  const Lattice lattice = BuildLattice(MakeBar(4));
+  const Lattice lattice = BuildTestLattice(MakeBar(4));
   RigidityEstimator estimator;
   std::string error;
   ASSERT_TRUE(estimator.Init(lattice, RigidityOptions(), &error)) << error;
@@ -204,7 +198,7 @@ TEST_P(RigidMotionTest, GoalsOfARigidMotionAreTheMovedPositions) {
   options.max_rotation_iterations = 500;
   options.rotation_tolerance = 1e-13;
   for (const Mesh& mesh : {MakeComb(4, 6, 1.0, 6), MakeBar(10, 1.0, 4)}) {
-    const Lattice lattice = BuildLattice(mesh);
+    const Lattice lattice = BuildTestLattice(mesh);
     RigidityEstimator estimator;
     std::string error;
     ASSERT_TRUE(estimator.Init(lattice, options, &error)) << error;
@@ -233,7 +227,7 @@ INSTANTIATE_TEST_SUITE_P(
                      testing::Values(1, 2)));
 
 TEST(RigidityTest, RegionsAreRingsOfTheAdjacency) {
-  const Lattice lattice = BuildLattice(MakeComb(3, 4));
+  const Lattice lattice = BuildTestLattice(MakeComb(3, 4));
   RigidityOptions options;
   options.region_half_width = 1;
   RigidityEstimator estimator;
@@ -268,7 +262,7 @@ struct BarSetup {
   // quarter voxel apart so that the surface cells close (49 x 5 x 5 cells).
   static constexpr int kLength = 12;
   Mesh mesh = MakeBar(kLength, 1.0, 4);
-  Lattice lattice = BuildLattice(mesh);
+  Lattice lattice = BuildTestLattice(mesh);
   std::vector<int> fixed, moveable;  // particles
 
   BarSetup() {
@@ -382,7 +376,7 @@ TEST(RigidityTest, RelativeExtentDoesNotDependOnMeshUnitsOrTimeStep) {
   // other units.
   Mesh scaled = bar.mesh;
   scaled.vertices *= 1024.0;
-  const Lattice scaled_lattice = BuildLattice(scaled);
+  const Lattice scaled_lattice = BuildTestLattice(scaled);
   ASSERT_EQ(scaled_lattice.num_particles(), bar.lattice.num_particles());
   RigidityEstimate estimate;
   std::string error;
