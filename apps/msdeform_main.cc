@@ -46,6 +46,8 @@ DEFINE_int32(threads, 2, "Threads for the solve and the skinning.");
 DEFINE_int32(max_iterations, 20, "Solver iteration cap per frame.");
 DEFINE_double(function_tolerance, msdeform::DeformerOptions().solver.function_tolerance,
               "Stop a frame's solve when |cost change| / cost falls below this.");
+DEFINE_string(ceres_sparse, "eigen_sparse",
+              "Ceres's sparse Cholesky library: eigen_sparse or suite_sparse.");
 DEFINE_double(w_rot, msdeform::DeformerOptions().w_rot, "Weight of E_rot (Eq. 17).");
 DEFINE_double(w_coh, msdeform::DeformerOptions().w_coh, "Weight of E_coh (Eq. 17).");
 DEFINE_double(w_con, msdeform::DeformerOptions().w_con, "Weight of E_con (Eq. 17).");
@@ -103,6 +105,12 @@ bool FillOptions(DeformerOptions* options, std::string* error) {
   options->num_threads = FLAGS_threads;
   options->solver.max_num_iterations = FLAGS_max_iterations;
   options->solver.function_tolerance = FLAGS_function_tolerance;
+  if (FLAGS_ceres_sparse == "suite_sparse") {
+    options->solver.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+  } else if (FLAGS_ceres_sparse != "eigen_sparse") {
+    *error = "--ceres_sparse=" + FLAGS_ceres_sparse + ": expected eigen_sparse or suite_sparse";
+    return false;
+  }
   options->w_rot = FLAGS_w_rot;
   options->w_coh = FLAGS_w_coh;
   options->w_con = FLAGS_w_con;
