@@ -32,23 +32,30 @@ std::vector<int> Indices(const std::vector<char>& flags) {
   return indices;
 }
 
-// Makes Fixed every node of `graph` whose DG1 members hold no vertex of a
-// mesh component that contains a moveable-handle vertex: nothing moves such a
-// component, so it keeps its rest pose and gets no variables (and a free
-// component with no constraint cannot make the system singular).
-void FixNodesOfStillComponents(const Mesh& mesh, const Lattice& lattice,
-                               const DeformationGraph& graph, const HandleLayout& layout,
-                               std::vector<NodeClass>* node_classes) {
-  const Components components = ConnectedComponents(mesh);
-  if (components.count <= 1) return;
+// Per vertex: whether its mesh component holds no moveable-handle vertex.
+// Nothing moves such a component, so it keeps its rest pose.
+std::vector<char> StillVertices(const Components& components, const HandleLayout& layout) {
+  if (components.count <= 1) return {};
   std::vector<char> moves(components.count, 0);
   for (int v : layout.moveable) moves[components.component_of_vertex[v]] = 1;
+  std::vector<char> still(components.component_of_vertex.size());
+  for (size_t v = 0; v < still.size(); ++v) still[v] = !moves[components.component_of_vertex[v]];
+  return still;
+}
+
+// Makes Fixed every node of `graph` whose DG1 members hold only still
+// vertices: it gets no variables (and a free component with no constraint
+// cannot make the system singular).
+void FixNodesOfStillComponents(const std::vector<char>& still, const Lattice& lattice,
+                               const DeformationGraph& graph,
+                               std::vector<NodeClass>* node_classes) {
+  if (still.empty()) return;
+  const CompressedLists& vertices = lattice.vertices_of_cell();
   for (int j = 0; j < graph.num_nodes(); ++j) {
     bool touches_handle = false;
     for (const int* m = graph.members.begin(j); m != graph.members.end(j) && !touches_handle; ++m) {
-      const CompressedLists& vertices = lattice.vertices_of_cell();
       for (const int* v = vertices.begin(*m); v != vertices.end(*m); ++v) {
-        if (moves[components.component_of_vertex[*v]]) {
+        if (!still[*v]) {
           touches_handle = true;
           break;
         }
@@ -156,6 +163,7 @@ bool Deformer::Init(const Mesh& mesh, const DeformerOptions& options, std::strin
   options_ = options;
   mesh_ = mesh;
   rest_normals_ = VertexNormals(mesh_);
+  components_ = ConnectedComponents(mesh_);
   diagonal_ = BoundingBoxDiagonal(mesh_);
   if (!Lattice::Build(mesh_, options_.lattice, &lattice_, error)) return false;
   static_graph_ = -1;
@@ -192,6 +200,7 @@ bool Deformer::SetHandles(const HandleLayout& layout, std::string* error) {
   CHECK(!graphs_.empty()) << "Init first";
   if (!ValidateHandles(layout, mesh_.num_vertices(), error)) return false;
   layout_ = layout;
+  still_vertices_ = StillVertices(components_, layout_);
   rigidity_ = RigidityEstimate();
   selection_ = ScaleSelection();
   rigidity_ms_ = 0.0;
@@ -220,14 +229,14 @@ bool Deformer::SetHandles(const HandleLayout& layout, std::string* error) {
       for (NodeClass& node_class : node_classes_)
         if (node_class == NodeClass::kHalfFree) node_class = NodeClass::kFixed;
     }
-    FixNodesOfStillComponents(mesh_, lattice_, graphs_[active_graph_], layout_, &node_classes_);
+    FixNodesOfStillComponents(still_vertices_, lattice_, graphs_[active_graph_], &node_classes_);
     BuildProblem();
     setup_ms_ = MillisecondsSince(setup_start);
   } else {
     const auto setup_start = std::chrono::steady_clock::now();
     active_graph_ = static_graph_;
     node_classes_.assign(graphs_[active_graph_].num_nodes(), NodeClass::kTotallyFree);
-    FixNodesOfStillComponents(mesh_, lattice_, graphs_[active_graph_], layout_, &node_classes_);
+    FixNodesOfStillComponents(still_vertices_, lattice_, graphs_[active_graph_], &node_classes_);
     BuildProblem();
     setup_ms_ = MillisecondsSince(setup_start);
   }
@@ -252,10 +261,13 @@ void Deformer::BuildProblem() {
   BuildEnergy();
 
   // Only vertices with a non-Fixed node of non-zero weight can move; the rest
-  // stay at rest bit for bit (a Fixed node is the identity).
+  // stay at rest bit for bit (a Fixed node is the identity). So do the
+  // vertices of still components, also where a coarse node spans two
+  // components (merged when no edge was left) and moves with the other one.
   skinned_vertices_.clear();
   const SkinningWeights& weights = graph.weights;
   for (int v = 0; v < weights.num_vertices(); ++v) {
+    if (!still_vertices_.empty() && still_vertices_[v]) continue;
     for (int slot = 0; slot < weights.k; ++slot) {
       if (weights.weights(slot, v) != 0.0 &&
           node_classes_[weights.nodes(slot, v)] != NodeClass::kFixed) {

@@ -170,6 +170,8 @@ class Deformer {
   DeformerOptions options_;
   Mesh mesh_;
   Eigen::Matrix3Xd rest_normals_;
+  Components components_;             // of mesh_
+  std::vector<char> still_vertices_;  // per vertex, for the layout; empty: one component
   double diagonal_ = 0.0;
   Lattice lattice_;
   std::vector<DeformationGraph> graphs_;

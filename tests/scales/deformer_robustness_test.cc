@@ -83,6 +83,29 @@ TEST(DeformerRobustnessTest, ComponentWithoutHandleStaysAndHasNoVariables) {
   }
 }
 
+// A static graph of one node spans both bars (edge collapse merges across
+// components once no edge is left): the node moves with the handle, and the
+// second bar still stays at rest, bit for bit.
+TEST(DeformerRobustnessTest, ComponentWithoutHandleStaysWhenANodeSpansBothComponents) {
+  const TwoBars bars;
+  Eigen::Affine3d lift = Eigen::Affine3d::Identity();
+  lift.translation() << 0.0, 0.0, 2.0;
+  for (int static_nodes : {1, 2, 3}) {
+    DeformerOptions options = OptionsFor(Method::kStatic);
+    options.static_nodes = static_nodes;
+    Deformer deformer;
+    std::string error;
+    ASSERT_TRUE(deformer.Init(bars.mesh, options, &error)) << error;
+    ASSERT_TRUE(deformer.SetHandles(bars.layout, &error)) << error;
+    ASSERT_TRUE(deformer.Drag(lift, nullptr, &error)) << error;
+    const Eigen::Matrix3Xd& deformed = deformer.deformed_vertices();
+    for (int v : bars.second_bar) {
+      ASSERT_EQ(deformed.col(v), bars.mesh.vertices.col(v)) << static_nodes << " vertex " << v;
+    }
+    EXPECT_GT(MaxDistance(deformed, bars.mesh.vertices), 0.5) << static_nodes;
+  }
+}
+
 TEST(DeformerRobustnessTest, FailedSolveKeepsTheLastGoodFrame) {
   const TwoBars bars;
   Deformer deformer;
