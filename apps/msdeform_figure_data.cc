@@ -168,6 +168,20 @@ bool RunGraphs(std::string* error) {
   return WriteJson(FLAGS_out, out, error);
 }
 
+// Init, SetHandles and the whole drag; frame_ms gets each Drag's wall time.
+bool InitAndDrag(const Mesh& mesh, const DeformerOptions& options, const HandleLayout& layout,
+                 const std::vector<Eigen::Affine3d>& path, Deformer* deformer,
+                 std::vector<double>* frame_ms, std::string* error) {
+  if (!deformer->Init(mesh, options, error)) return false;
+  if (!deformer->SetHandles(layout, error)) return false;
+  for (const Eigen::Affine3d& transform : path) {
+    const auto start = Clock::now();
+    if (!deformer->Drag(transform, nullptr, error)) return false;
+    frame_ms->push_back(MillisecondsSince(start));
+  }
+  return true;
+}
+
 bool RunEdit(std::string* error) {
   Scenario scenario;
   Mesh mesh;
@@ -178,15 +192,8 @@ bool RunEdit(std::string* error) {
   DeformerOptions options;
   if (!FillOptions(&options, error)) return false;
   Deformer deformer;
-  if (!deformer.Init(mesh, options, error)) return false;
-  if (!deformer.SetHandles(layout, error)) return false;
   std::vector<double> frame_ms;
-  for (const Eigen::Affine3d& transform : path) {
-    DragStats stats;
-    const auto start = Clock::now();
-    if (!deformer.Drag(transform, &stats, error)) return false;
-    frame_ms.push_back(MillisecondsSince(start));
-  }
+  if (!InitAndDrag(mesh, options, layout, path, &deformer, &frame_ms, error)) return false;
   const fs::path mesh_out = fs::path(FLAGS_out).replace_extension(".off");
   Mesh deformed = mesh;
   deformed.vertices = deformer.deformed_vertices();
@@ -258,15 +265,8 @@ bool RunNodesVsP(std::string* error) {
     if (!FillOptions(&options, error)) return false;
     options.method = Method::kMultiScale;
     Deformer deformer;
-    if (!deformer.Init(mesh, options, error)) return false;
-    if (!deformer.SetHandles(layout, error)) return false;
     std::vector<double> frame_ms;
-    for (const Eigen::Affine3d& transform : path) {
-      DragStats stats;
-      const auto start = Clock::now();
-      if (!deformer.Drag(transform, &stats, error)) return false;
-      frame_ms.push_back(MillisecondsSince(start));
-    }
+    if (!InitAndDrag(mesh, options, layout, path, &deformer, &frame_ms, error)) return false;
     const ScaleSelection& s = deformer.selection();
     rows.push_back({{"P", FLAGS_nodes_per_scale},
                     {"num_scales", static_cast<int>(deformer.graphs().size())},
