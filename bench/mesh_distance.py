@@ -28,6 +28,8 @@ def main():
     lo = [min(p[i] for p in a) for i in range(3)]
     hi = [max(p[i] for p in a) for i in range(3)]
     diag = math.dist(lo, hi)
+    if diag == 0.0:
+        sys.exit("%s: all vertices coincide (no bounding-box diagonal)" % sys.argv[1])
     d = [math.dist(p, q) for p, q in zip(a, b)]
     print("max %.2e rms %.2e" % (max(d) / diag, math.sqrt(sum(x * x for x in d) / len(d)) / diag))
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates docs/performance.md: the claw drag (data/scenarios/armadillo_claw.json,
 # 30 frames) on the 26K, 104K and 416K armadillo with msdeform for multiscale
-# (each solver backend, 1 and 2 threads), static (220 nodes) and static_dense,
+# (each solver backend, 1 and 2 threads; and with a stiff handle, --w_con=10000),
+# static (220 nodes) and static_dense,
 # whole-process peak memory from /usr/bin/time -v, CGAL ARAP per iteration on
 # the same handles (bench/cgal_arap_benchmark), and a perf profile of the
 # 104K drag.

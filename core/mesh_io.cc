@@ -394,8 +394,6 @@ bool CheckBinaryOff(const std::string& text, size_t data_start, const std::strin
   return true;
 }
 
-// Checks the OFF text; on failure puts "line N: ..." (or a whole-file problem)
-// in *problem.
 // tokens[first], tokens[first + 1], tokens[first + 2]: the coordinates of
 // vertex `vertex` on line `line_number` of an OFF or OBJ text; each must be a
 // finite number.
@@ -423,6 +421,8 @@ bool CheckVertexCoordinates(const Tokens& tokens, size_t first, int line_number,
   return true;
 }
 
+// Checks the OFF text; on failure puts "line N: ..." (or a whole-file problem)
+// in *problem.
 bool CheckOff(const std::string& text, OffCheck* check, std::string* problem) {
   std::ostringstream message;
   size_t pos = 0;

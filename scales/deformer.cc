@@ -33,7 +33,8 @@ std::vector<int> Indices(const std::vector<char>& flags) {
 }
 
 // Per vertex: whether its mesh component holds no moveable-handle vertex.
-// Nothing moves such a component, so it keeps its rest pose.
+// Nothing moves such a component, so it keeps its rest pose. An isolated
+// vertex (in no face) is a component of its own.
 std::vector<char> StillVertices(const Components& components, const HandleLayout& layout) {
   if (components.count <= 1) return {};
   std::vector<char> moves(components.count, 0);
@@ -43,19 +44,21 @@ std::vector<char> StillVertices(const Components& components, const HandleLayout
   return still;
 }
 
-// Makes Fixed every node of `graph` whose DG1 members hold only still
-// vertices: it gets no variables (and a free component with no constraint
-// cannot make the system singular).
-void FixNodesOfStillComponents(const std::vector<char>& still, const Lattice& lattice,
-                               const DeformationGraph& graph,
+// Makes Fixed every node of `graph` whose DG1 members hold no vertex of a
+// component with a moveable-handle vertex: it gets no variables (and a free
+// component with no constraint cannot make the system singular).
+void FixNodesOfStillComponents(const Components& components, const HandleLayout& layout,
+                               const Lattice& lattice, const DeformationGraph& graph,
                                std::vector<NodeClass>* node_classes) {
-  if (still.empty()) return;
+  if (components.count <= 1) return;
+  std::vector<char> moves(components.count, 0);
+  for (int v : layout.moveable) moves[components.component_of_vertex[v]] = 1;
   const CompressedLists& vertices = lattice.vertices_of_cell();
   for (int j = 0; j < graph.num_nodes(); ++j) {
     bool touches_handle = false;
     for (const int* m = graph.members.begin(j); m != graph.members.end(j) && !touches_handle; ++m) {
       for (const int* v = vertices.begin(*m); v != vertices.end(*m); ++v) {
-        if (!still[*v]) {
+        if (moves[components.component_of_vertex[*v]]) {
           touches_handle = true;
           break;
         }
@@ -134,6 +137,13 @@ bool DeformerOptions::Check(std::string* error) const {
   if (!(length_unit >= 0.0) || !std::isfinite(length_unit)) {
     *error = "length_unit must be a finite number >= 0 (0: the bounding-box diagonal)";
     return false;
+  }
+  for (double tolerance : {solver.function_tolerance, solver.gradient_tolerance,
+                           solver.parameter_tolerance}) {
+    if (!std::isfinite(tolerance)) {
+      *error = "solver tolerances must be finite";
+      return false;
+    }
   }
   for (double weight : {w_rot, w_coh, w_con}) {
     if (!(weight >= 0.0) || !std::isfinite(weight)) {
@@ -229,14 +239,14 @@ bool Deformer::SetHandles(const HandleLayout& layout, std::string* error) {
       for (NodeClass& node_class : node_classes_)
         if (node_class == NodeClass::kHalfFree) node_class = NodeClass::kFixed;
     }
-    FixNodesOfStillComponents(still_vertices_, lattice_, graphs_[active_graph_], &node_classes_);
+    FixNodesOfStillComponents(components_, layout_, lattice_, graphs_[active_graph_], &node_classes_);
     BuildProblem();
     setup_ms_ = MillisecondsSince(setup_start);
   } else {
     const auto setup_start = std::chrono::steady_clock::now();
     active_graph_ = static_graph_;
     node_classes_.assign(graphs_[active_graph_].num_nodes(), NodeClass::kTotallyFree);
-    FixNodesOfStillComponents(still_vertices_, lattice_, graphs_[active_graph_], &node_classes_);
+    FixNodesOfStillComponents(components_, layout_, lattice_, graphs_[active_graph_], &node_classes_);
     BuildProblem();
     setup_ms_ = MillisecondsSince(setup_start);
   }
@@ -353,7 +363,12 @@ void Deformer::BuildEnergy() {
   for (int v : layout_.moveable) add_position(v, true);
   num_position_terms_ = static_cast<int>(layout_.moveable.size());
   if (!multiscale) {
-    for (int v : layout_.fixed) add_position(v, false);
+    // A still component's fixed vertices stay at rest without a term (they
+    // are not skinned); a term would only pull on a node shared with a
+    // moving component.
+    for (int v : layout_.fixed) {
+      if (still_vertices_.empty() || !still_vertices_[v]) add_position(v, false);
+    }
   }
 }
 

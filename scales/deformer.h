@@ -80,7 +80,7 @@ struct DeformerOptions {
   int num_threads = 2;
   // Ceres settings. Defaults (set by the constructor; docs/decisions.md):
   // Levenberg-Marquardt, SPARSE_NORMAL_CHOLESKY on Eigen's sparse Cholesky
-  // (EIGEN_SPARSE: 1.5-1.7x faster than SuiteSparse here), at most 20 iterations,
+  // (EIGEN_SPARSE: 1.45-1.6x faster than SuiteSparse here), at most 20 iterations,
   // function tolerance 1e-8, gradient 1e-10, parameter 1e-10.
   ceres::Solver::Options solver;
   // Backend. The Gauss-Newton backend uses solver.max_num_iterations and the
@@ -127,7 +127,8 @@ class Deformer {
 
   // Moves the moveable handle to deformed_from_rest * (its rest position),
   // solves warm-started from the previous frame and skins the mesh (only the
-  // vertices with a non-Fixed node; the others stay at rest).
+  // vertices with a non-Fixed node and not in a component without a moveable
+  // handle vertex; the others stay at rest).
   bool Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats, std::string* error);
 
   const Mesh& rest_mesh() const { return mesh_; }
@@ -152,7 +153,8 @@ class Deformer {
   int num_position_terms() const { return num_position_terms_; }
   // Eq. 17 for the current layout, backend independent (tests, benchmarks).
   const DeformationEnergy& energy() const { return energy_; }
-  // Vertices skinned by Drag: those with a non-Fixed node among their k nearest.
+  // Vertices skinned by Drag: those with a non-Fixed node among their k
+  // nearest, outside components without a moveable-handle vertex.
   int num_skinned_vertices() const {
     return skin_all_ ? mesh_.num_vertices() : static_cast<int>(skinned_vertices_.size());
   }

@@ -106,6 +106,31 @@ TEST(DeformerRobustnessTest, ComponentWithoutHandleStaysWhenANodeSpansBothCompon
   }
 }
 
+// An isolated vertex (in no face) is a mesh component of its own: without a
+// moveable-handle vertex it stays at rest, even inside the dragged end.
+TEST(DeformerRobustnessTest, IsolatedVertexIsAComponentOfItsOwn) {
+  TwoBars bars;
+  Mesh& mesh = bars.mesh;
+  const int isolated = mesh.num_vertices();
+  mesh.vertices.conservativeResize(3, isolated + 1);
+  mesh.vertices.col(isolated) << 7.5, 0.5, 0.5;  // inside the handle end of the first bar
+  Eigen::Affine3d lift = Eigen::Affine3d::Identity();
+  lift.translation() << 0.0, 0.0, 2.0;
+  for (Method method : kAllMethods) {
+    Deformer deformer;
+    std::string error;
+    ASSERT_TRUE(deformer.Init(mesh, OptionsFor(method), &error)) << error;
+    ASSERT_TRUE(deformer.SetHandles(bars.layout, &error)) << error;
+    ASSERT_TRUE(deformer.Drag(lift, nullptr, &error)) << error;
+    const Eigen::Matrix3Xd& deformed = deformer.deformed_vertices();
+    EXPECT_EQ(deformed.col(isolated), mesh.vertices.col(isolated)) << MethodName(method);
+    EXPECT_GT(MaxDistance(deformed, mesh.vertices), 1.0) << MethodName(method);
+    for (int v : bars.second_bar) {
+      ASSERT_EQ(deformed.col(v), mesh.vertices.col(v)) << MethodName(method) << " vertex " << v;
+    }
+  }
+}
+
 TEST(DeformerRobustnessTest, FailedSolveKeepsTheLastGoodFrame) {
   const TwoBars bars;
   Deformer deformer;
