@@ -16,7 +16,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 seconds="${1:-60}"
 shift || true
 targets=("$@")
-(( ${#targets[@]} )) || targets=(sel def scenario off obj)
+(( ${#targets[@]} )) || targets=(sel def scenario off obj ply stl)
 step() { echo "fuzz: $*"; }
 
 for package in clang libclang-rt-14-dev; do

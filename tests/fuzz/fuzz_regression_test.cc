@@ -77,5 +77,19 @@ TEST(FuzzRegressionTest, Obj) {
             0);
 }
 
+TEST(FuzzRegressionTest, Ply) {
+  EXPECT_GT(Replay("ply", {".ply"}, [](const uint8_t* data, size_t size) {
+              fuzz::FuzzMesh(data, size, ".ply");
+            }),
+            0);
+}
+
+TEST(FuzzRegressionTest, Stl) {
+  EXPECT_GT(Replay("stl", {".stl"}, [](const uint8_t* data, size_t size) {
+              fuzz::FuzzMesh(data, size, ".stl");
+            }),
+            0);
+}
+
 }  // namespace
 }  // namespace msdeform
