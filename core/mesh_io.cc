@@ -655,7 +655,6 @@ bool CheckPly(const std::string& text, int* num_vertices, int* num_faces, std::s
     std::string name;
     long long count = 0;
     long long min_bytes = 0;  // per element, lists counted with 3 items for faces.
-    bool sizes_known = true;
   };
   std::vector<Element> elements;
   bool ended = false;
@@ -664,7 +663,16 @@ bool CheckPly(const std::string& text, int* num_vertices, int* num_faces, std::s
     Tokenize(line, &tokens, &had_comment);
     if (tokens.empty() || tokens[0] == "comment" || tokens[0] == "obj_info") continue;
     if (tokens[0] == "format") {
-      if (tokens.size() >= 2) format = std::string(tokens[1]);
+      // OpenMesh loops forever on a version it cannot parse (found by
+      // tests/fuzz/ply_fuzzer: 'format ascii @1.0'); PLY has only 1.0.
+      if (tokens.size() != 3 || (tokens[1] != "ascii" && tokens[1] != "binary_little_endian" &&
+                                 tokens[1] != "binary_big_endian") || tokens[2] != "1.0") {
+        message << "line " << line_number
+                << ": expected 'format ascii|binary_little_endian|binary_big_endian 1.0'";
+        *problem = message.str();
+        return false;
+      }
+      format = std::string(tokens[1]);
     } else if (tokens[0] == "element") {
       long long count = -1;
       if (tokens.size() != 3 || !ParseInt(tokens[2], &count) || count < 0 ||
@@ -673,28 +681,49 @@ bool CheckPly(const std::string& text, int* num_vertices, int* num_faces, std::s
         *problem = message.str();
         return false;
       }
-      elements.push_back({std::string(tokens[1]), count, 0, true});
+      elements.push_back({std::string(tokens[1]), count, 0});
       if (tokens[1] == "vertex") *num_vertices = static_cast<int>(count);
       if (tokens[1] == "face") *num_faces = static_cast<int>(count);
     } else if (tokens[0] == "property") {
-      if (elements.empty()) continue;
+      // OpenMesh's header parser writes a property into the last element
+      // without checking there is one (a segfault, found by
+      // tests/fuzz/ply_fuzzer), so the header is checked strictly here.
+      if (elements.empty()) {
+        message << "line " << line_number << ": 'property' before any 'element'";
+        *problem = message.str();
+        return false;
+      }
       Element& element = elements.back();
-      if (tokens.size() >= 5 && tokens[1] == "list") {
-        const int count_size = PlyTypeSize(tokens[2]);
-        const int item_size = PlyTypeSize(tokens[3]);
-        element.sizes_known &= count_size > 0 && item_size > 0;
-        element.min_bytes += count_size + (element.name == "face" ? 3 * item_size : 0);
-      } else if (tokens.size() >= 3) {
-        const int size = PlyTypeSize(tokens[1]);
-        element.sizes_known &= size > 0;
-        element.min_bytes += size;
+      const bool is_list = tokens.size() >= 2 && tokens[1] == "list";
+      if (is_list ? (tokens.size() != 5 || PlyTypeSize(tokens[2]) == 0 ||
+                     PlyTypeSize(tokens[3]) == 0)
+                  : (tokens.size() != 3 || PlyTypeSize(tokens[1]) == 0)) {
+        message << "line " << line_number
+                << ": expected 'property <type> <name>' or 'property list <count type> <item "
+                   "type> <name>' with PLY scalar types";
+        *problem = message.str();
+        return false;
+      }
+      if (is_list) {
+        element.min_bytes += PlyTypeSize(tokens[2]) +
+                             (element.name == "face" ? 3 * PlyTypeSize(tokens[3]) : 0);
+      } else {
+        element.min_bytes += PlyTypeSize(tokens[1]);
       }
     } else if (tokens[0] == "end_header") {
       ended = true;
+    } else {
+      message << "line " << line_number << ": unknown PLY header keyword " << Quote(tokens[0]);
+      *problem = message.str();
+      return false;
     }
   }
   if (!ended) {
     *problem = "truncated: the PLY header has no end_header line";
+    return false;
+  }
+  if (format.empty()) {
+    *problem = "the PLY header has no 'format' line";
     return false;
   }
   long long total = 0;
@@ -725,13 +754,9 @@ bool CheckPly(const std::string& text, int* num_vertices, int* num_faces, std::s
     }
   } else {
     long long min_bytes = 0;
-    bool known = true;
-    for (const Element& element : elements) {
-      known &= element.sizes_known;
-      min_bytes += element.count * element.min_bytes;
-    }
+    for (const Element& element : elements) min_bytes += element.count * element.min_bytes;
     const long long have = static_cast<long long>(text.size()) - static_cast<long long>(pos);
-    if (known && have < min_bytes) {
+    if (have < min_bytes) {
       message << "truncated: the header announces data of at least " << min_bytes
               << " bytes, but only " << have << " follow it";
       *problem = message.str();
