@@ -726,6 +726,12 @@ bool CheckPly(const std::string& text, int* num_vertices, int* num_faces, std::s
       element.properties.push_back(is_list ? Property{true, tokens[3], tokens[2]}
                                            : Property{false, tokens[1], {}});
     } else if (tokens[0] == "end_header") {
+      // The data starts right after this line's end, so nothing else on it.
+      if (line != "end_header") {
+        message << "line " << line_number << ": expected 'end_header' alone on its line";
+        *problem = message.str();
+        return false;
+      }
       ended = true;
     } else {
       message << "line " << line_number << ": unknown PLY header keyword " << Quote(tokens[0]);
@@ -824,7 +830,7 @@ bool CheckPly(const std::string& text, int* num_vertices, int* num_faces, std::s
       }
       return static_cast<long long>(bits);
     };
-    size_t at = pos;
+    size_t at = std::min(pos, text.size());  // pos is past the end without a final newline
     for (const Element& element : elements) {
       for (long long item = 0; item < element.count; ++item) {
         for (const Property& property : element.properties) {
