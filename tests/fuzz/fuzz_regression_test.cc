@@ -63,33 +63,19 @@ TEST(FuzzRegressionTest, Scenario) {
   EXPECT_GT(Replay("scenario", {".json"}, fuzz::FuzzScenario), 0);
 }
 
-TEST(FuzzRegressionTest, Off) {
-  EXPECT_GT(Replay("off", {".off"}, [](const uint8_t* data, size_t size) {
-              fuzz::FuzzMesh(data, size, ".off");
-            }),
+// The mesh readers: saved inputs of tests/data/fuzz/<extension>/ and the
+// corpus files with that extension.
+void ReplayMeshes(const std::string& extension) {
+  const std::string dotted = "." + extension;
+  EXPECT_GT(Replay(extension, {dotted},
+                   [&](const uint8_t* data, size_t size) { fuzz::FuzzMesh(data, size, dotted); }),
             0);
 }
 
-TEST(FuzzRegressionTest, Obj) {
-  EXPECT_GT(Replay("obj", {".obj"}, [](const uint8_t* data, size_t size) {
-              fuzz::FuzzMesh(data, size, ".obj");
-            }),
-            0);
-}
-
-TEST(FuzzRegressionTest, Ply) {
-  EXPECT_GT(Replay("ply", {".ply"}, [](const uint8_t* data, size_t size) {
-              fuzz::FuzzMesh(data, size, ".ply");
-            }),
-            0);
-}
-
-TEST(FuzzRegressionTest, Stl) {
-  EXPECT_GT(Replay("stl", {".stl"}, [](const uint8_t* data, size_t size) {
-              fuzz::FuzzMesh(data, size, ".stl");
-            }),
-            0);
-}
+TEST(FuzzRegressionTest, Off) { ReplayMeshes("off"); }
+TEST(FuzzRegressionTest, Obj) { ReplayMeshes("obj"); }
+TEST(FuzzRegressionTest, Ply) { ReplayMeshes("ply"); }
+TEST(FuzzRegressionTest, Stl) { ReplayMeshes("stl"); }
 
 }  // namespace
 }  // namespace msdeform
