@@ -44,21 +44,19 @@ std::vector<char> StillVertices(const Components& components, const HandleLayout
   return still;
 }
 
-// Makes Fixed every node of `graph` whose DG1 members hold no vertex of a
-// component with a moveable-handle vertex: it gets no variables (and a free
-// component with no constraint cannot make the system singular).
-void FixNodesOfStillComponents(const Components& components, const HandleLayout& layout,
-                               const Lattice& lattice, const DeformationGraph& graph,
+// Makes Fixed every node of `graph` whose DG1 members hold only still
+// vertices (StillVertices): it gets no variables (and a free component with
+// no constraint cannot make the system singular).
+void FixNodesOfStillComponents(const std::vector<char>& still, const Lattice& lattice,
+                               const DeformationGraph& graph,
                                std::vector<NodeClass>* node_classes) {
-  if (components.count <= 1) return;
-  std::vector<char> moves(components.count, 0);
-  for (int v : layout.moveable) moves[components.component_of_vertex[v]] = 1;
+  if (still.empty()) return;
   const CompressedLists& vertices = lattice.vertices_of_cell();
   for (int j = 0; j < graph.num_nodes(); ++j) {
     bool touches_handle = false;
     for (const int* m = graph.members.begin(j); m != graph.members.end(j) && !touches_handle; ++m) {
       for (const int* v = vertices.begin(*m); v != vertices.end(*m); ++v) {
-        if (moves[components.component_of_vertex[*v]]) {
+        if (!still[*v]) {
           touches_handle = true;
           break;
         }
@@ -239,14 +237,14 @@ bool Deformer::SetHandles(const HandleLayout& layout, std::string* error) {
       for (NodeClass& node_class : node_classes_)
         if (node_class == NodeClass::kHalfFree) node_class = NodeClass::kFixed;
     }
-    FixNodesOfStillComponents(components_, layout_, lattice_, graphs_[active_graph_], &node_classes_);
+    FixNodesOfStillComponents(still_vertices_, lattice_, graphs_[active_graph_], &node_classes_);
     BuildProblem();
     setup_ms_ = MillisecondsSince(setup_start);
   } else {
     const auto setup_start = std::chrono::steady_clock::now();
     active_graph_ = static_graph_;
     node_classes_.assign(graphs_[active_graph_].num_nodes(), NodeClass::kTotallyFree);
-    FixNodesOfStillComponents(components_, layout_, lattice_, graphs_[active_graph_], &node_classes_);
+    FixNodesOfStillComponents(still_vertices_, lattice_, graphs_[active_graph_], &node_classes_);
     BuildProblem();
     setup_ms_ = MillisecondsSince(setup_start);
   }
