@@ -11,24 +11,10 @@
 #include "core/handles.h"
 #include "core/procedural_meshes.h"
 #include "scales/deformer.h"
+#include "tests/scales/deformer_test_util.h"
 
 namespace msdeform {
 namespace {
-
-const Method kAllMethods[] = {Method::kMultiScale, Method::kStatic, Method::kStaticDense};
-
-DeformerOptions OptionsFor(Method method) {
-  DeformerOptions options;
-  options.method = method;
-  options.static_nodes = 40;
-  options.graph.nodes_per_scale = 20;
-  options.num_threads = 1;
-  return options;
-}
-
-double MaxDistance(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {
-  return (a - b).colwise().norm().maxCoeff();
-}
 
 // Two bars side by side along y; the first (y < 1) has its first voxel fixed
 // and its last voxel as the handle; the second has no handle at all.

@@ -8,11 +8,10 @@
 #include "core/mesh_io.h"
 #include "core/procedural_meshes.h"
 #include "core/scenario.h"
+#include "tests/scales/deformer_test_util.h"
 
 namespace msdeform {
 namespace {
-
-const Method kAllMethods[] = {Method::kMultiScale, Method::kStatic, Method::kStaticDense};
 
 // A 12 x 1 x 1 bar, the first voxel fixed and the last one the handle.
 struct BarEdit {
@@ -26,24 +25,11 @@ struct BarEdit {
   }
 };
 
-DeformerOptions OptionsFor(Method method) {
-  DeformerOptions options;
-  options.method = method;
-  options.static_nodes = 40;
-  options.graph.nodes_per_scale = 20;
-  options.num_threads = 1;
-  return options;
-}
-
 void InitOrDie(Deformer* deformer, const Mesh& mesh, const DeformerOptions& options,
                const HandleLayout& layout) {
   std::string error;
   ASSERT_TRUE(deformer->Init(mesh, options, &error)) << error;
   ASSERT_TRUE(deformer->SetHandles(layout, &error)) << error;
-}
-
-double MaxDistance(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {
-  return (a - b).colwise().norm().maxCoeff();
 }
 
 TEST(DeformerTest, IdentityTargetLeavesTheMeshUnchanged) {
