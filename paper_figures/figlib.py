@@ -52,19 +52,25 @@ def load_json(path):
         return json.load(f)
 
 
-def polydata(V, F, scalars=None):
+def point_polydata(P, scalars=None):
+    """Points P (#P x 3) as vtkPolyData, with optional per-point scalars."""
     pts = vtk.vtkPoints()
-    pts.SetData(nps.numpy_to_vtk(np.ascontiguousarray(V, dtype=np.float64), deep=True))
-    cells = vtk.vtkCellArray()
-    conn = np.hstack([np.full((len(F), 1), 3, np.int64), F]).ravel()
-    cells.SetCells(len(F), nps.numpy_to_vtkIdTypeArray(conn, deep=True))
+    pts.SetData(nps.numpy_to_vtk(np.ascontiguousarray(P, dtype=np.float64), deep=True))
     pd = vtk.vtkPolyData()
     pd.SetPoints(pts)
-    pd.SetPolys(cells)
     if scalars is not None:
         arr = nps.numpy_to_vtk(np.ascontiguousarray(scalars, dtype=np.float64), deep=True)
         arr.SetName("s")
         pd.GetPointData().SetScalars(arr)
+    return pd
+
+
+def polydata(V, F, scalars=None):
+    pd = point_polydata(V, scalars)
+    cells = vtk.vtkCellArray()
+    conn = np.hstack([np.full((len(F), 1), 3, np.int64), F]).ravel()
+    cells.SetCells(len(F), nps.numpy_to_vtkIdTypeArray(conn, deep=True))
+    pd.SetPolys(cells)
     normals = vtk.vtkPolyDataNormals()
     normals.SetInputData(pd)
     normals.SetSplitting(False)      # vertex normals: smooth shading
@@ -102,14 +108,7 @@ def mesh_actor(V, F, color=MESH_GREY, opacity=1.0, scalars=None, lut=None, rng=N
 
 def spheres_actor(P, radius, color=None, scalars=None, lut=None, rng=None, resolution=10):
     """Glyph spheres at points P (#P x 3), one colour or scalars through lut."""
-    pts = vtk.vtkPoints()
-    pts.SetData(nps.numpy_to_vtk(np.ascontiguousarray(P, dtype=np.float64), deep=True))
-    pd = vtk.vtkPolyData()
-    pd.SetPoints(pts)
-    if scalars is not None:
-        arr = nps.numpy_to_vtk(np.ascontiguousarray(scalars, dtype=np.float64), deep=True)
-        arr.SetName("s")
-        pd.GetPointData().SetScalars(arr)
+    pd = point_polydata(P, scalars)
     src = vtk.vtkSphereSource()
     src.SetRadius(radius)
     src.SetThetaResolution(resolution)

@@ -209,11 +209,12 @@ def fig5_ablation():
 
 
 def edits_figure(edits, path, panel_size=(400, 460)):
+    """Rest and deformed panels per edit (name, title, view, up, zoom[, part]);
+    the camera frames part(V) when given, else the rest and deformed meshes."""
     panels = []
-    for name, title, view, up, zoom in edits:
+    for name, title, view, up, zoom, *part in edits:
         d, V, F, Vd = edit(name)
-        both = np.vstack([V, Vd])
-        cam = camera_for(both, view, up, zoom)
+        cam = camera_for(part[0](V) if part else np.vstack([V, Vd]), view, up, zoom)
         panels.append(dict(actors=[handles_mesh_actor(d, V, F)], camera=cam,
                            label="%s: rest" % title, label_size=16))
         panels.append(dict(actors=[handles_mesh_actor(d, Vd, F)], camera=cam,
@@ -240,27 +241,12 @@ def fig6_fig8():
         ("edit_camel_leg_bend_multiscale", "camel leg", (1, 0.1, 0.2), (0, 1, 0), 1.0),
     ] + extra, os.path.join(OUT, "fig6_large_edits.png"))
     # Small edits: zoomed on the edited part.
-    small = []
-    for name, title, view, up, zoom, part in [
-            ("edit_armadillo_ear_multiscale", "armadillo ear", (-0.15, 0.25, -1), (0, 1, 0), 1.0,
-             lambda V: V[(V[:, 1] > 62) & (np.abs(V[:, 0]) < 40)]),
-            ("edit_hand_thumb_multiscale", "hand thumb", (-0.6, -0.3, 0.8), (0, 1, 0), 1.0,
-             lambda V: V)]:
-        small.append((name, title, view, up, zoom, part))
-    panels = []
-    for name, title, view, up, zoom, part in small:
-        d, V, F, Vd = edit(name)
-        cam = camera_for(part(V), view, up, zoom)
-        panels.append(dict(actors=[handles_mesh_actor(d, V, F)], camera=cam,
-                           label="%s: rest" % title, label_size=16))
-        panels.append(dict(actors=[handles_mesh_actor(d, Vd, F)], camera=cam,
-                           label="%s: deformed" % title, label_size=16,
-                           texts=[("scale %d of %d, %d variables" % (d["selected_scale"],
-                                                                     d["num_scales"],
-                                                                     d["variables"]),
-                                   (0.02, 0.06), 13)]))
-    render_panels(panels, os.path.join(OUT, "fig8_small_edits.png"), panel_size=(400, 460),
-                  columns=4)
+    edits_figure([
+        ("edit_armadillo_ear_multiscale", "armadillo ear", (-0.15, 0.25, -1), (0, 1, 0), 1.0,
+         lambda V: V[(V[:, 1] > 62) & (np.abs(V[:, 0]) < 40)]),
+        ("edit_hand_thumb_multiscale", "hand thumb", (-0.6, -0.3, 0.8), (0, 1, 0), 1.0,
+         lambda V: V),
+    ], os.path.join(OUT, "fig8_small_edits.png"))
 
 
 def fig7_leakage():
