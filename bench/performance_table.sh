@@ -34,10 +34,14 @@ for mesh in armadillo armadillo_104k armadillo_416k; do
                 static:ceres:2 static:gauss_newton:2 static_dense:ceres:2 static_dense:gauss_newton:2; do
     IFS=: read -r method solver threads w_con <<< "$config"
     label=$method
-    [[ -n "$w_con" ]] && label="$method-wcon$w_con"
+    extra=()  # msdeform's own default weight unless the config names one
+    if [[ -n "$w_con" ]]; then
+      label="$method-wcon$w_con"
+      extra=(--w_con="$w_con")
+    fi
     name="${mesh}__${label}__${solver}__${threads}"
     /usr/bin/time -v "$BUILD/apps/msdeform" --mesh="data/meshes/$mesh.off" --method="$method" \
-      --solver="$solver" --threads="$threads" --w_con="${w_con:-100}" --frames=30 \
+      --solver="$solver" --threads="$threads" "${extra[@]}" --frames=30 \
       --out="$OUT/$name.off" --report="$OUT/$name.json" --quiet 2> "$OUT/$name.time"
     rm -f "$OUT/$name.off"
   done
