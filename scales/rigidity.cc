@@ -7,6 +7,8 @@
 #include <sstream>
 #include <unordered_map>
 
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 #include <glog/logging.h>
 
 #include "scales/polar_decomposition.h"
@@ -72,6 +74,26 @@ bool ValidParticles(const std::vector<int>& particles, int num_particles, const 
 
 }  // namespace
 
+const char* RigidityModelName(RigidityModel model) {
+  switch (model) {
+    case RigidityModel::kShapeMatching:
+      return "paper";
+    case RigidityModel::kHarmonic:
+      return "harmonic";
+  }
+  return "unknown";
+}
+
+bool ParseRigidityModel(const std::string& name, RigidityModel* model) {
+  for (RigidityModel m : {RigidityModel::kShapeMatching, RigidityModel::kHarmonic}) {
+    if (name == RigidityModelName(m)) {
+      *model = m;
+      return true;
+    }
+  }
+  return false;
+}
+
 bool RigidityOptions::Check(std::string* error) const {
   auto fail = [error](const char* message) {
     *error = message;
@@ -136,6 +158,7 @@ bool RigidityEstimator::Init(const Lattice& lattice, const RigidityOptions& opti
   rest_ = (lattice.rest_positions().colwise() - centre_) / cell_width_;
 
   regions_ = RingsOf(lattice.particle_adjacency(), r);
+  adjacency_ = lattice.particle_adjacency();
   // Goals average over the regions holding i, which are R_i itself only when
   // membership is symmetric; the lattice adjacency is.
   for (int i = 0; i < n; ++i) {
@@ -316,7 +339,30 @@ bool RigidityEstimator::Estimate(const std::vector<int>& fixed_particles,
   }
   std::vector<char> fixed(n, 0);
   for (int p : fixed_particles) fixed[p] = 1;
+  estimate->initial_direction.setZero();
+  estimate->rotation_iterations = 0;
+  if (options_.model == RigidityModel::kHarmonic) {
+    SolveHarmonic(fixed, moveable_particles, estimate);
+  } else {
+    SimulateShapeMatching(fixed, moveable_particles, seed, estimate);
+  }
+  double handle_extent = 0.0;
+  for (int p : moveable_particles) handle_extent = std::max(handle_extent, estimate->extent[p]);
+  if (!(handle_extent > 0.0)) {
+    *error =
+        "the moveable handle does not move: every moveable-handle particle is also a "
+        "fixed-handle particle; separate the handles";
+    return false;
+  }
+  estimate->handle_extent = handle_extent;
+  estimate->relative_extent = estimate->extent / handle_extent;
+  return true;
+}
 
+void RigidityEstimator::SimulateShapeMatching(const std::vector<char>& fixed,
+                                              const std::vector<int>& moveable_particles,
+                                              std::uint64_t seed, RigidityEstimate* estimate) {
+  const int n = num_particles();
   // Lattice units: lengths in cell widths. Time keeps its unit.
   const double h = options_.time_step;
   const double spring = h * options_.external_stiffness;  // h k_ext / m
@@ -332,7 +378,6 @@ bool RigidityEstimator::Estimate(const std::vector<int>& fixed_particles,
   Eigen::Matrix3Xd goals = rest_;  // At t0 every region is at rest.
   Eigen::VectorXd squared_extent = Eigen::VectorXd::Zero(n);
   std::fill(rotations_.begin(), rotations_.end(), Eigen::Quaterniond::Identity());
-  estimate->rotation_iterations = 0;
 
   for (int step = 1; step <= options_.num_steps; ++step) {
     for (int i = 0; i < n; ++i) {
@@ -347,17 +392,67 @@ bool RigidityEstimator::Estimate(const std::vector<int>& fixed_particles,
 
   estimate->extent.resize(n);
   for (int i = 0; i < n; ++i) estimate->extent[i] = std::sqrt(squared_extent[i]) * cell_width_;
-  double handle_extent = 0.0;
-  for (int p : moveable_particles) handle_extent = std::max(handle_extent, estimate->extent[p]);
-  if (!(handle_extent > 0.0)) {
-    *error =
-        "the moveable handle does not move: every moveable-handle particle is also a "
-        "fixed-handle particle; separate the handles";
-    return false;
+}
+
+void RigidityEstimator::SolveHarmonic(const std::vector<char>& fixed,
+                                      const std::vector<int>& moveable_particles,
+                                      RigidityEstimate* estimate) {
+  const int n = num_particles();
+  // Dirichlet values: 1 on the moveable handle, 0 on the fixed one (a
+  // particle in both stays fixed); -1 marks a free particle.
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(n);
+  std::vector<int> unknown(n, -1);
+  std::vector<char> known(n, 0);
+  std::vector<int> queue;
+  for (int p = 0; p < n; ++p) {
+    if (fixed[p]) {
+      known[p] = 1;
+      queue.push_back(p);
+    }
   }
-  estimate->handle_extent = handle_extent;
-  estimate->relative_extent = estimate->extent / handle_extent;
-  return true;
+  for (int p : moveable_particles) {
+    if (known[p]) continue;
+    known[p] = 1;
+    u[p] = 1.0;
+    queue.push_back(p);
+  }
+  // Free particles reachable from a handle particle are the unknowns; a piece
+  // of the lattice without one keeps u = 0 (nothing moves it).
+  int num_unknowns = 0;
+  for (std::size_t front = 0; front < queue.size(); ++front) {
+    const int p = queue[front];
+    for (const int* q = adjacency_.begin(p); q != adjacency_.end(p); ++q) {
+      if (known[*q] || unknown[*q] >= 0) continue;
+      unknown[*q] = num_unknowns++;
+      queue.push_back(*q);
+    }
+  }
+  if (num_unknowns > 0) {
+    std::vector<Eigen::Triplet<double>> entries;
+    entries.reserve(adjacency_.values.size() + num_unknowns);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(num_unknowns);
+    for (int p = 0; p < n; ++p) {
+      const int row = unknown[p];
+      if (row < 0) continue;
+      entries.emplace_back(row, row, adjacency_.size(p));
+      for (const int* q = adjacency_.begin(p); q != adjacency_.end(p); ++q) {
+        if (unknown[*q] >= 0) {
+          entries.emplace_back(row, unknown[*q], -1.0);
+        } else {
+          rhs[row] += u[*q];  // a handle particle (every neighbour is reachable)
+        }
+      }
+    }
+    Eigen::SparseMatrix<double> laplacian(num_unknowns, num_unknowns);
+    laplacian.setFromTriplets(entries.begin(), entries.end());
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> cholesky(laplacian);
+    CHECK(cholesky.info() == Eigen::Success) << "harmonic rigidity: factorisation failed";
+    const Eigen::VectorXd solution = cholesky.solve(rhs);
+    for (int p = 0; p < n; ++p) {
+      if (unknown[p] >= 0) u[p] = std::clamp(solution[unknown[p]], 0.0, 1.0);
+    }
+  }
+  estimate->extent = u * cell_width_;
 }
 
 bool EstimateRigidity(const Lattice& lattice, const std::vector<int>& fixed_particles,

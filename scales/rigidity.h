@@ -20,6 +20,24 @@
 //
 // The work per step is linear in the number of particles (region sums, see
 // RegionSummation). Runs only when the handle layout changes.
+//
+// That is RigidityModel::kShapeMatching, the paper's procedure. Its e' falls
+// off about like 1 / distance from the handle (a kick that has not crossed a
+// limb in S steps), so on a limb edit the deforming region stops short of the
+// joint. The default, RigidityModel::kHarmonic, replaces the S steps by the
+// state they tend to when the handle is driven and nothing oscillates: with
+// translation-only matching, a particle's goal is the mean displacement of
+// its neighbours, and the rest state under a displaced handle is the harmonic
+// field on the particle adjacency,
+//   (L u)_i = sum_{j adjacent to i} (u_i - u_j) = 0 for every free particle,
+//   u = 1 on moveable-handle particles, u = 0 on fixed-handle particles,
+// one sparse Cholesky solve. e'_i = u_i (e_i = u_i w for a handle displaced by
+// one cell width w). Along a limb between the handle and a fixed region u
+// falls off about linearly; a thin part (ear, toe, finger) takes the whole
+// drop, so a small edit stays local. Particles whose piece of the lattice has
+// no handle particle get 0; a piece with a moveable and no fixed particle
+// moves as a whole (u = 1). No seed, no time step. docs/decisions.md,
+// "Rigidity: the harmonic estimate".
 
 #ifndef MSDEFORM_SCALES_RIGIDITY_H_
 #define MSDEFORM_SCALES_RIGIDITY_H_
@@ -45,7 +63,20 @@ enum class RegionSummation {
   kBox,
 };
 
+// How e' is estimated (see the top of this file).
+enum class RigidityModel {
+  kShapeMatching,  // the paper: S steps of lattice shape matching after a kick
+  kHarmonic,       // the driven lattice's rest state: a harmonic field
+};
+// "paper", "harmonic".
+const char* RigidityModelName(RigidityModel model);
+bool ParseRigidityModel(const std::string& name, RigidityModel* model);
+
 struct RigidityOptions {
+  // Which estimate (docs/decisions.md, "Rigidity: the harmonic estimate").
+  // The fields below up to `seed` and the rotation settings apply to
+  // kShapeMatching only.
+  RigidityModel model = RigidityModel::kHarmonic;
   // S: number of shape-matching steps (METHOD.md: 20).
   int num_steps = 20;
   // h: time step, in lattice-time units. With positions in mesh units the
@@ -101,11 +132,12 @@ class RigidityEstimator {
   // copied from; it need not outlive the estimator.
   bool Init(const Lattice& lattice, const RigidityOptions& options, std::string* error);
 
-  // Runs the S steps with the given fixed and moveable handle particles
-  // (particle ids, duplicates allowed; a particle in both stays fixed) and the
-  // given seed for the direction of v0. Returns false with a message when an
-  // id is out of range, the moveable handle is empty, or it does not move
-  // (every moveable particle is also fixed).
+  // Estimates e' for the given fixed and moveable handle particles (particle
+  // ids, duplicates allowed; a particle in both stays fixed): the S steps with
+  // the given seed for the direction of v0, or the harmonic field (no seed).
+  // Returns false with a message when an id is out of range, the moveable
+  // handle is empty, or it does not move (every moveable particle is also
+  // fixed).
   bool Estimate(const std::vector<int>& fixed_particles,
                 const std::vector<int>& moveable_particles, std::uint64_t seed,
                 RigidityEstimate* estimate, std::string* error);
@@ -132,6 +164,12 @@ class RigidityEstimator {
 
   // Sums columns of `values` over each region into `sums` (12 by #particles).
   void SumOverRegions(const Matrix12Xd& values, Matrix12Xd* sums);
+  // The two models' e (lattice units, squared for shape matching) per particle.
+  void SimulateShapeMatching(const std::vector<char>& fixed,
+                             const std::vector<int>& moveable_particles, std::uint64_t seed,
+                             RigidityEstimate* estimate);
+  void SolveHarmonic(const std::vector<char>& fixed, const std::vector<int>& moveable_particles,
+                     RigidityEstimate* estimate);
   // Goals in lattice units from positions in lattice units; updates the
   // warm-started rotations and adds the polar updates to *iterations.
   void ComputeGoalsInLatticeUnits(const Eigen::Matrix3Xd& positions,
@@ -143,6 +181,7 @@ class RigidityEstimator {
   Eigen::Vector3d centre_ = Eigen::Vector3d::Zero();
   Eigen::Matrix3Xd rest_;              // x0, lattice units. 3 by #particles.
   CompressedLists regions_;
+  CompressedLists adjacency_;  // the lattice's particle adjacency
   Eigen::VectorXd inverse_region_size_;  // 1 / |R_i|. #particles.
   Eigen::Matrix3Xd rest_centroids_;      // c0 of each region. 3 by #particles.
 

@@ -257,6 +257,13 @@ TEST(RigidityTest, RegionsAreRingsOfTheAdjacency) {
 // ---------------------------------------------------------------------------
 // Rigidity of a bar fixed at one end and kicked at the other.
 
+// The paper's estimate: S steps of lattice shape matching after a kick.
+RigidityOptions PaperOptions() {
+  RigidityOptions options;
+  options.model = RigidityModel::kShapeMatching;
+  return options;
+}
+
 struct BarSetup {
   // A solid bar: 12 voxels along x, w = diag / 48 = voxel / 4, vertices a
   // quarter voxel apart so that the surface cells close (49 x 5 x 5 cells).
@@ -304,7 +311,7 @@ TEST(RigidityTest, BarExtentDecreasesAwayFromTheKickedEnd) {
   const BarSetup bar;
   for (RegionSummation summation : {RegionSummation::kPerRegion, RegionSummation::kBox}) {
     for (std::uint64_t seed : {1, 2, 3, 4, 5}) {
-      RigidityOptions options;
+      RigidityOptions options = PaperOptions();
       options.seed = seed;
       options.region_summation = summation;
       const RigidityEstimate estimate = bar.Estimate(options);
@@ -329,7 +336,7 @@ TEST(RigidityTest, BarExtentDecreasesAwayFromTheKickedEnd) {
 
 TEST(RigidityTest, SameSeedSameResultOtherSeedSameRanking) {
   const BarSetup bar;
-  RigidityOptions options;
+  RigidityOptions options = PaperOptions();
   options.seed = 42;
   const RigidityEstimate first = bar.Estimate(options);
   const RigidityEstimate again = bar.Estimate(options);
@@ -357,7 +364,7 @@ TEST(RigidityTest, SameSeedSameResultOtherSeedSameRanking) {
 TEST(RigidityTest, BoxAndPerRegionSummationsAgree) {
   const BarSetup bar;
   for (int half_width : {1, 2}) {
-    RigidityOptions options;
+    RigidityOptions options = PaperOptions();
     options.region_half_width = half_width;
     options.region_summation = RegionSummation::kPerRegion;
     const RigidityEstimate listed = bar.Estimate(options);
@@ -369,7 +376,7 @@ TEST(RigidityTest, BoxAndPerRegionSummationsAgree) {
 
 TEST(RigidityTest, RelativeExtentDoesNotDependOnMeshUnitsOrTimeStep) {
   const BarSetup bar;
-  RigidityOptions options;
+  RigidityOptions options = PaperOptions();
   const RigidityEstimate reference = bar.Estimate(options);
 
   // The mesh scaled by 2^10 (exact in floating point): the same lattice in
@@ -409,7 +416,7 @@ TEST(RigidityTest, FixedParticlesArePinned) {
   }
   RigidityEstimate estimate;
   std::string error;
-  ASSERT_TRUE(EstimateRigidity(bar.lattice, fixed, bar.moveable, RigidityOptions(), &estimate,
+  ASSERT_TRUE(EstimateRigidity(bar.lattice, fixed, bar.moveable, PaperOptions(), &estimate,
                                &error))
       << error;
   for (int p = 0; p < bar.lattice.num_particles(); ++p) {
@@ -417,6 +424,100 @@ TEST(RigidityTest, FixedParticlesArePinned) {
       EXPECT_LT(estimate.extent[p], 1e-12 * bar.lattice.cell_width()) << p;
     }
   }
+}
+
+// ---------------------------------------------------------------------------
+// The harmonic estimate (RigidityModel::kHarmonic, the default).
+
+TEST(HarmonicRigidityTest, IsTheDiscreteHarmonicFieldBetweenTheHandles) {
+  // The defining equations: u = 0 on fixed particles, 1 on moveable ones, and
+  // every other particle at the mean of its adjacent particles.
+  const BarSetup bar;
+  const RigidityEstimate estimate = bar.Estimate(RigidityOptions());
+  const Eigen::VectorXd& u = estimate.relative_extent;
+  for (int p : bar.fixed) EXPECT_EQ(u[p], 0.0) << p;
+  for (int p : bar.moveable) EXPECT_EQ(u[p], 1.0) << p;
+  const CompressedLists& adjacency = bar.lattice.particle_adjacency();
+  for (int p = 0; p < bar.lattice.num_particles(); ++p) {
+    if (std::binary_search(bar.fixed.begin(), bar.fixed.end(), p) ||
+        std::binary_search(bar.moveable.begin(), bar.moveable.end(), p)) {
+      continue;
+    }
+    double mean = 0.0;
+    for (const int* q = adjacency.begin(p); q != adjacency.end(p); ++q) mean += u[*q];
+    mean /= adjacency.size(p);
+    EXPECT_NEAR(u[p], mean, 1e-10) << p;
+  }
+  EXPECT_EQ(estimate.handle_extent, bar.lattice.cell_width());
+}
+
+TEST(HarmonicRigidityTest, FallsOffLinearlyAlongABar) {
+  // A bar fixed at x < 1 and held at x > 11: away from its ends, where the
+  // pinned surface cells meet free interior ones, the field of a long
+  // prism is the 1D one, linear in x. Not 1 / distance: the middle of the
+  // bar is half-way.
+  const BarSetup bar;
+  const std::vector<double> means = bar.SliceMeans(bar.Estimate(RigidityOptions()).relative_extent);
+  for (int s = 0; s + 1 < BarSetup::kLength; ++s) EXPECT_LT(means[s], means[s + 1]) << s;
+  // Slopes of the inner slices (2..9) agree within 10% with their mean.
+  const double slope = (means[9] - means[2]) / 7.0;
+  EXPECT_NEAR(slope, 0.1, 0.01);  // 1 over the 10 units between the handles
+  for (int s = 2; s < 9; ++s) EXPECT_NEAR(means[s + 1] - means[s], slope, 0.1 * slope) << s;
+  EXPECT_NEAR(means[5] + means[6], 1.0, 0.05);  // symmetric about the middle
+}
+
+TEST(HarmonicRigidityTest, NeedsNoSeedAndNoUnits) {
+  const BarSetup bar;
+  RigidityOptions options;
+  const RigidityEstimate reference = bar.Estimate(options);
+  options.seed = 12345;
+  EXPECT_EQ(bar.Estimate(options).relative_extent, reference.relative_extent);  // bitwise
+  Mesh scaled = bar.mesh;
+  scaled.vertices *= 1024.0;
+  RigidityEstimate estimate;
+  std::string error;
+  ASSERT_TRUE(EstimateRigidity(BuildTestLattice(scaled), bar.fixed, bar.moveable, options,
+                               &estimate, &error))
+      << error;
+  EXPECT_LT(MaxAbsDifference(estimate.relative_extent, reference.relative_extent), 1e-12);
+}
+
+TEST(HarmonicRigidityTest, WithoutAFixedHandleEverythingMovesAndOtherPiecesStay) {
+  // Two bars: the handle on the first and nothing fixed. The first moves as a
+  // whole (u = 1); nothing moves the second (u = 0).
+  const Mesh mesh = MakeTwoBars(8, 2, 1.0, 4);
+  const Lattice lattice = BuildTestLattice(mesh);
+  std::vector<int> handle_vertices;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (mesh.vertices(0, v) > 7.0 && mesh.vertices(1, v) < 1.0) handle_vertices.push_back(v);
+  }
+  std::vector<int> moveable;
+  std::string error;
+  ASSERT_TRUE(ParticlesOfVertices(lattice, handle_vertices, &moveable, &error)) << error;
+  RigidityEstimate estimate;
+  ASSERT_TRUE(EstimateRigidity(lattice, {}, moveable, RigidityOptions(), &estimate, &error))
+      << error;
+  int first = 0, second = 0;
+  for (int p = 0; p < lattice.num_particles(); ++p) {
+    if (lattice.rest_positions()(1, p) < 1.0) {
+      EXPECT_NEAR(estimate.relative_extent[p], 1.0, 1e-12) << p;
+      ++first;
+    } else if (lattice.rest_positions()(1, p) > 3.0) {
+      EXPECT_EQ(estimate.relative_extent[p], 0.0) << p;
+      ++second;
+    }
+  }
+  EXPECT_GT(first, 0);
+  EXPECT_GT(second, 0);
+}
+
+TEST(HarmonicRigidityTest, ParsesItsName) {
+  RigidityModel model = RigidityModel::kHarmonic;
+  EXPECT_TRUE(ParseRigidityModel("paper", &model));
+  EXPECT_EQ(model, RigidityModel::kShapeMatching);
+  EXPECT_TRUE(ParseRigidityModel("harmonic", &model));
+  EXPECT_EQ(model, RigidityModel::kHarmonic);
+  EXPECT_FALSE(ParseRigidityModel("lsm", &model));
 }
 
 }  // namespace
