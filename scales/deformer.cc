@@ -227,16 +227,14 @@ bool Deformer::SetHandles(const HandleLayout& layout, std::string* error) {
     const std::vector<double> dg1_extent(
         rigidity_.relative_extent.data(),
         rigidity_.relative_extent.data() + lattice_.num_surface_cells());
-    if (!SelectScale(graphs_, dg1_extent, handles, diagonal_, options_.selection, &selection_,
+    ScaleSelectionOptions selection_options = options_.selection;
+    if (options_.fix_fixed_handle_nodes) selection_options.half_free = HalfFreeRule::kNone;
+    if (!SelectScale(graphs_, dg1_extent, handles, diagonal_, selection_options, &selection_,
                      error)) {
       return false;
     }
     active_graph_ = selection_.scale - 1;
     node_classes_ = selection_.node_class;
-    if (options_.fix_fixed_handle_nodes) {
-      for (NodeClass& node_class : node_classes_)
-        if (node_class == NodeClass::kHalfFree) node_class = NodeClass::kFixed;
-    }
     FixNodesOfStillComponents(still_vertices_, lattice_, graphs_[active_graph_], &node_classes_);
     BuildProblem();
     setup_ms_ = MillisecondsSince(setup_start);

@@ -74,7 +74,8 @@ struct DeformerOptions {
   double length_unit = 0.0;
   // Ablation "Deformed 2" (paper Fig. 5): keep E(j, k) for Half Free j.
   bool keep_left_out_terms = false;
-  // Ablation "Deformed 3": fixed-handle nodes get no rotation (Fixed, not Half Free).
+  // Ablation "Deformed 3": fixed-handle nodes get no rotation (Fixed, not Half
+  // Free); overrides selection.half_free with HalfFreeRule::kNone.
   bool fix_fixed_handle_nodes = false;
   // Threads for skinning and the Ceres solve.
   int num_threads = 2;

@@ -23,6 +23,51 @@ const char* NodeClassName(NodeClass node_class) {
   return "unknown";
 }
 
+const char* HalfFreeRuleName(HalfFreeRule rule) {
+  switch (rule) {
+    case HalfFreeRule::kNextToTotallyFree:
+      return "next_to_totally_free";
+    case HalfFreeRule::kEveryFixedHandleNode:
+      return "every_fixed_handle_node";
+    case HalfFreeRule::kNone:
+      return "none";
+  }
+  return "unknown";
+}
+
+bool ParseHalfFreeRule(const std::string& name, HalfFreeRule* rule) {
+  for (HalfFreeRule r : {HalfFreeRule::kNextToTotallyFree, HalfFreeRule::kEveryFixedHandleNode,
+                         HalfFreeRule::kNone}) {
+    if (name == HalfFreeRuleName(r)) {
+      *rule = r;
+      return true;
+    }
+  }
+  return false;
+}
+
+const char* BorderRuleName(BorderRule rule) {
+  switch (rule) {
+    case BorderRule::kFixed:
+      return NodeClassName(NodeClass::kFixed);
+    case BorderRule::kHalfFree:
+      return NodeClassName(NodeClass::kHalfFree);
+    case BorderRule::kTotallyFree:
+      return NodeClassName(NodeClass::kTotallyFree);
+  }
+  return "unknown";
+}
+
+bool ParseBorderRule(const std::string& name, BorderRule* rule) {
+  for (BorderRule r : {BorderRule::kFixed, BorderRule::kHalfFree, BorderRule::kTotallyFree}) {
+    if (name == BorderRuleName(r)) {
+      *rule = r;
+      return true;
+    }
+  }
+  return false;
+}
+
 bool ScaleSelectionOptions::Check(std::string* error) const {
   if (nodes_per_scale < 1) {
     *error = "nodes_per_scale (P) must be >= 1";
@@ -123,28 +168,46 @@ bool SelectScale(const std::vector<DeformationGraph>& graphs,
     const DeformationGraph& graph = graphs[scale - 1];
     const int n = graph.num_nodes();
     bool conflict = false;
+    std::vector<char> holds_fixed(n, 0);
     result.node_extent.assign(n, 0.0);
     result.node_class.assign(n, NodeClass::kFixed);
     for (int j = 0; j < n && !conflict; ++j) {
-      bool fixed = false, moveable = false;
+      bool moveable = false;
       double extent = 0.0;
       for (const int* m = graph.members.begin(j); m != graph.members.end(j); ++m) {
-        fixed |= handles.holds_fixed[*m] != 0;
+        holds_fixed[j] |= handles.holds_fixed[*m] != 0;
         moveable |= handles.holds_moveable[*m] != 0;
         extent = options.member_extent == MemberExtent::kMax ? std::max(extent, dg1_extent[*m])
                                                              : extent + dg1_extent[*m];
       }
       if (options.member_extent == MemberExtent::kMean) extent /= graph.members.size(j);
       result.node_extent[j] = extent;
-      if (fixed && moveable) {
-        conflict = true;
-      } else if (fixed) {
-        result.node_class[j] = NodeClass::kHalfFree;
-      } else if (moveable || extent > result.threshold) {
+      conflict = holds_fixed[j] && moveable;
+      if (!holds_fixed[j] && (moveable || extent > result.threshold)) {
         result.node_class[j] = NodeClass::kTotallyFree;
       }
     }
-    if (!conflict) break;
+    if (conflict) continue;
+    // Nodes next to the Totally Free region (decided before any changes).
+    std::vector<char> borders_free(n, 0);
+    for (int j = 0; j < n; ++j) {
+      for (const int* k = graph.neighbors.begin(j); k != graph.neighbors.end(j); ++k) {
+        borders_free[j] |= result.node_class[*k] == NodeClass::kTotallyFree;
+      }
+    }
+    for (int j = 0; j < n; ++j) {
+      if (result.node_class[j] == NodeClass::kTotallyFree) continue;
+      if (holds_fixed[j]) {
+        if (options.half_free == HalfFreeRule::kEveryFixedHandleNode ||
+            (options.half_free == HalfFreeRule::kNextToTotallyFree && borders_free[j])) {
+          result.node_class[j] = NodeClass::kHalfFree;
+        }
+      } else if (borders_free[j] && options.border != BorderRule::kFixed) {
+        result.node_class[j] = options.border == BorderRule::kHalfFree ? NodeClass::kHalfFree
+                                                                       : NodeClass::kTotallyFree;
+      }
+    }
+    break;
   }
   if (scale < 1) {
     *error =

@@ -9,9 +9,14 @@
 //   s = min{ i : P1 < i P }, clamped to [1, N]                      (Eq. 6).
 // At scale s a node's e' is the max (or, as an ablation, the mean) over its
 // DG1 members, and each node is
-//   Half Free    if a member's cell holds a fixed-handle vertex (9 variables),
+//   Half Free    if a member's cell holds a fixed-handle vertex (9 variables)
+//                and, by default, a Totally Free node is its neighbour (the
+//                joint; the paper's rule, every fixed-handle node Half Free, is
+//                HalfFreeRule::kEveryFixedHandleNode),
 //   Totally Free if it holds a moveable-handle vertex or has e' > T (12),
 //   Fixed        otherwise (0).
+// BorderRule then decides what the Fixed nodes next to a Totally Free one
+// become (by default nothing changes: the paper).
 // A node holding both fixed and moveable vertices cannot serve both, so the
 // selection moves to finer scales until no node does.
 
@@ -33,6 +38,33 @@ const char* NodeClassName(NodeClass node_class);
 // How a coarse node's e' is made from its DG1 members' e'.
 enum class MemberExtent { kMax, kMean };
 
+// Which nodes holding fixed-handle vertices are Half Free (the rest are Fixed).
+enum class HalfFreeRule {
+  // Those with a Totally Free neighbour at the selected scale: the others
+  // cannot move, so they need no variables however large the fixed region.
+  kNextToTotallyFree,
+  // Every one (the paper's rule; an ablation).
+  kEveryFixedHandleNode,
+  // None: fixed-handle nodes are Fixed (paper Fig. 5, "Deformed 3"; the
+  // DeformerOptions::fix_fixed_handle_nodes ablation).
+  kNone,
+};
+
+// What a Fixed node (no handle vertex, e' <= T) with a Totally Free neighbour
+// becomes; Fixed pins its Totally Free neighbours to rest through E(j, k).
+enum class BorderRule {
+  kFixed,      // stays Fixed (the paper)
+  kHalfFree,   // a joint: rotation only (9 variables)
+  kTotallyFree,  // one more ring of Totally Free nodes (12 variables)
+};
+
+// "next_to_totally_free", "every_fixed_handle_node", "none".
+const char* HalfFreeRuleName(HalfFreeRule rule);
+bool ParseHalfFreeRule(const std::string& name, HalfFreeRule* rule);
+// "fixed", "half_free", "totally_free".
+const char* BorderRuleName(BorderRule rule);
+bool ParseBorderRule(const std::string& name, BorderRule* rule);
+
 struct ScaleSelectionOptions {
   // P: nodes per scale step in Eq. 6 (paper: 100).
   int nodes_per_scale = 100;
@@ -50,6 +82,10 @@ struct ScaleSelectionOptions {
   double omega_max = 4.0;
   // Ablation: alpha_jk = 1 for every edge.
   bool alpha_all_one = false;
+  // Half Free nodes (docs/decisions.md, "Node classes on large fixed regions").
+  HalfFreeRule half_free = HalfFreeRule::kNextToTotallyFree;
+  // Fixed nodes bordering the Totally Free region.
+  BorderRule border = BorderRule::kFixed;
 
   bool Check(std::string* error) const;
 };

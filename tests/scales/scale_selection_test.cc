@@ -113,6 +113,63 @@ TEST(ScaleSelectionTest, ClassesAndVariableCount) {
   EXPECT_NEAR(mean.node_extent[1], 0.325, 1e-12);
 }
 
+TEST(ScaleSelectionTest, OnlyFixedHandleNodesNextToTheFreeRegionAreHalfFree) {
+  // A line of 10 DG1 nodes: the handle at 0, nodes 1-2 deform, nodes 3-9
+  // hold the fixed handle. Only node 3 touches a Totally Free node; the
+  // others cannot move and get no variables, however long the fixed part.
+  const auto graphs = LineGraphs(10, 1);
+  const std::vector<double> e = {1.0, 0.7, 0.4, 0, 0, 0, 0, 0, 0, 0};
+  HandleNodes handles = NoHandles(10);
+  handles.holds_moveable[0] = 1;
+  for (int i = 3; i < 10; ++i) handles.holds_fixed[i] = 1;
+  const NodeClass kT = NodeClass::kTotallyFree, kH = NodeClass::kHalfFree,
+                  kF = NodeClass::kFixed;
+  ScaleSelectionOptions options;
+  EXPECT_EQ(Select(graphs, e, handles, options).node_class,
+            (std::vector<NodeClass>{kT, kT, kT, kH, kF, kF, kF, kF, kF, kF}));
+  options.half_free = HalfFreeRule::kEveryFixedHandleNode;  // the paper
+  const ScaleSelection paper = Select(graphs, e, handles, options);
+  EXPECT_EQ(paper.node_class, (std::vector<NodeClass>{kT, kT, kT, kH, kH, kH, kH, kH, kH, kH}));
+  EXPECT_EQ(paper.num_variables(), 3 * 12 + 7 * 9);
+  options.half_free = HalfFreeRule::kNone;  // Deformed 3
+  EXPECT_EQ(Select(graphs, e, handles, options).node_class,
+            (std::vector<NodeClass>{kT, kT, kT, kF, kF, kF, kF, kF, kF, kF}));
+}
+
+TEST(ScaleSelectionTest, BorderRuleDecidesTheFixedNodesNextToTheFreeRegion) {
+  // Node 3 is rigid (e' < T) and holds no handle: it borders the free region.
+  // Node 4 holds the fixed handle but borders only node 3.
+  const auto graphs = LineGraphs(8, 1);
+  const std::vector<double> e = {1.0, 0.7, 0.4, 0.05, 0, 0, 0, 0};
+  HandleNodes handles = NoHandles(8);
+  handles.holds_moveable[0] = 1;
+  for (int i = 4; i < 8; ++i) handles.holds_fixed[i] = 1;
+  const NodeClass kT = NodeClass::kTotallyFree, kH = NodeClass::kHalfFree,
+                  kF = NodeClass::kFixed;
+  ScaleSelectionOptions options;
+  options.border = BorderRule::kFixed;
+  EXPECT_EQ(Select(graphs, e, handles, options).node_class,
+            (std::vector<NodeClass>{kT, kT, kT, kF, kF, kF, kF, kF}));
+  options.border = BorderRule::kHalfFree;
+  EXPECT_EQ(Select(graphs, e, handles, options).node_class,
+            (std::vector<NodeClass>{kT, kT, kT, kH, kF, kF, kF, kF}));
+  options.border = BorderRule::kTotallyFree;
+  EXPECT_EQ(Select(graphs, e, handles, options).node_class,
+            (std::vector<NodeClass>{kT, kT, kT, kT, kF, kF, kF, kF}));
+  // Names round-trip.
+  for (BorderRule rule : {BorderRule::kFixed, BorderRule::kHalfFree, BorderRule::kTotallyFree}) {
+    BorderRule parsed = BorderRule::kFixed;
+    EXPECT_TRUE(ParseBorderRule(BorderRuleName(rule), &parsed));
+    EXPECT_EQ(parsed, rule);
+  }
+  for (HalfFreeRule rule : {HalfFreeRule::kNextToTotallyFree,
+                            HalfFreeRule::kEveryFixedHandleNode, HalfFreeRule::kNone}) {
+    HalfFreeRule parsed = HalfFreeRule::kNone;
+    EXPECT_TRUE(ParseHalfFreeRule(HalfFreeRuleName(rule), &parsed));
+    EXPECT_EQ(parsed, rule);
+  }
+}
+
 TEST(ScaleSelectionTest, NodeHoldingBothHandlesMovesToFinerScale) {
   const auto graphs = LineGraphs(400, 4);
   std::vector<double> e(400, 0.0);
