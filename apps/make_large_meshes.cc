@@ -1,9 +1,14 @@
-// msdeform_make_large: makes the large armadillo variants used for scaling
-// work by Loop subdivision of data/meshes/armadillo.off (26K vertices):
+// msdeform_make_large: makes the generated meshes of data/meshes/: the large
+// armadillo variants used for scaling work, by Loop subdivision of
+// data/meshes/armadillo.off (26K vertices),
 //   armadillo_104k.off  1 step,  #V + #E          = 104,002 vertices
 //   armadillo_416k.off  2 steps, 104,002 + 312,000 = 416,002 vertices
-// Input vertex ids are kept first, so selections on the original still apply.
-// Run data/fetch_meshes.sh first. Each output is written atomically.
+// (input vertex ids are kept first, so selections on the original still
+// apply; run data/fetch_meshes.sh first), and the capped cylinder of the
+// Botsch-Sorkine bending test (experiments/scenarios/cylinder_bend.json),
+//   cylinder.off        radius 1, height 10, 64 segments, 118 rings = 8,322 vertices
+// (core/procedural_meshes.h, MakeCylinder). Each output is written
+// atomically, and only when missing (--force remakes them).
 
 #include <chrono>
 #include <cstdio>
@@ -15,13 +20,14 @@
 
 #include "core/mesh.h"
 #include "core/mesh_io.h"
+#include "core/procedural_meshes.h"
 #include "core/subdivide.h"
 
 DEFINE_string(mesh_dir, MSDEFORM_DATA_DIR "/meshes",
               "Folder holding armadillo.off (from data/fetch_meshes.sh); the large "
-              "variants are written next to it.");
+              "variants and cylinder.off are written next to it.");
 DEFINE_bool(force, false,
-            "Remake the variants even when both files already exist.");
+            "Remake the meshes even when their files already exist.");
 
 namespace msdeform {
 namespace {
@@ -37,7 +43,36 @@ bool FileExists(const std::string& path) {
   return true;
 }
 
-int Run() {
+// The cylinder: a bar of aspect 10 (as Botsch & Sorkine's), its side edge
+// 2 pi / 64 = 0.098 well below the lattice cell diagonal / 48 = 0.22 (the
+// bounding-box diagonal is sqrt(2^2 + 2^2 + 10^2) = 10.4), and its rows
+// 10 / 118 = 0.085 apart, sqrt(3) / 2 of the edge: near-equilateral triangles.
+constexpr double kCylinderRadius = 1.0;
+constexpr double kCylinderHeight = 10.0;
+constexpr int kCylinderSegments = 64;
+constexpr int kCylinderRings = 118;
+
+int MakeCylinderFile() {
+  const std::string output = FLAGS_mesh_dir + "/cylinder.off";
+  if (!FLAGS_force && FileExists(output)) {
+    std::printf("msdeform_make_large: %s exists; nothing to do (--force remakes it)\n",
+                output.c_str());
+    return 0;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const Mesh cylinder =
+      MakeCylinder(kCylinderRadius, kCylinderHeight, kCylinderSegments, kCylinderRings);
+  std::string error;
+  if (!WriteMesh(output, cylinder, &error)) {
+    std::fprintf(stderr, "msdeform_make_large: %s\n", error.c_str());
+    return 1;
+  }
+  std::printf("msdeform_make_large: wrote %s: %d vertices, %d faces (%.2f s)\n", output.c_str(),
+              cylinder.num_vertices(), cylinder.num_faces(), SecondsSince(start));
+  return 0;
+}
+
+int MakeArmadilloVariants() {
   const std::string input = FLAGS_mesh_dir + "/armadillo.off";
   const std::string outputs[2] = {FLAGS_mesh_dir + "/armadillo_104k.off",
                                   FLAGS_mesh_dir + "/armadillo_416k.off"};
@@ -82,13 +117,19 @@ int Run() {
   return 0;
 }
 
+int Run() {
+  const int armadillo = MakeArmadilloVariants();
+  const int cylinder = MakeCylinderFile();
+  return armadillo != 0 ? armadillo : cylinder;
+}
+
 }  // namespace
 }  // namespace msdeform
 
 int main(int argc, char** argv) {
   gflags::SetUsageMessage(
       "Writes armadillo_104k.off and armadillo_416k.off (Loop subdivision of "
-      "armadillo.off) into --mesh_dir.");
+      "armadillo.off) and cylinder.off (a capped cylinder) into --mesh_dir.");
   gflags::ParseCommandLineFlags(&argc, &argv, true);
   google::InitGoogleLogging(argv[0]);
   FLAGS_logtostderr = true;

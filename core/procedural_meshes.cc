@@ -1,5 +1,6 @@
 #include "core/procedural_meshes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <tuple>
@@ -129,6 +130,92 @@ Mesh MakeOpenTube(double radius, double height, int segments, int rings) {
       mesh.faces.col(f++) << a, d, c;
     }
   }
+  return mesh;
+}
+
+int CylinderCapRings(int segments) {
+  return std::max(1, static_cast<int>(std::lround(segments / (M_PI * std::sqrt(3.0)))));
+}
+
+Mesh MakeCylinder(double radius, double height, int segments, int rings) {
+  CHECK_GE(segments, 3);
+  CHECK_GE(rings, 1);
+  const int cap_rings = CylinderCapRings(segments);
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3i> faces;
+  // A circle of `count` vertices at height z, the first at angle `start`.
+  auto add_circle = [&](double circle_radius, double z, int count, double start) {
+    const int first = static_cast<int>(points.size());
+    for (int s = 0; s < count; ++s) {
+      const double angle = start + 2.0 * M_PI * s / count;
+      points.emplace_back(circle_radius * std::cos(angle), circle_radius * std::sin(angle), z);
+    }
+    return first;
+  };
+  // Side: circle r starts at r half segments.
+  const double segment_angle = 2.0 * M_PI / segments;
+  for (int r = 0; r <= rings; ++r) {
+    add_circle(radius, height * r / rings, segments, 0.5 * r * segment_angle);
+  }
+  for (int r = 0; r < rings; ++r) {
+    for (int s = 0; s < segments; ++s) {
+      const int a = r * segments + s, b = r * segments + (s + 1) % segments;
+      const int c = a + segments, d = b + segments;  // c sits half a segment past a.
+      faces.emplace_back(a, b, c);
+      faces.emplace_back(b, d, c);
+    }
+  }
+  // A cap: triangles between circles made outward (+z on top, -z below).
+  auto add_face = [&](bool top, int a, int b, int c) {
+    if (top) {
+      faces.emplace_back(a, b, c);
+    } else {
+      faces.emplace_back(a, c, b);
+    }
+  };
+  for (const bool top : {false, true}) {
+    // Every circle of a cap starts at the angle of the side's end circle.
+    const double z = top ? height : 0.0;
+    const double start = top ? 0.5 * rings * segment_angle : 0.0;
+    int outer = top ? rings * segments : 0;
+    int outer_count = segments;
+    for (int k = cap_rings - 1; k >= 1; --k) {
+      const int inner_count = std::max(
+          3, static_cast<int>(std::lround(static_cast<double>(segments) * k / cap_rings)));
+      const int inner = add_circle(radius * k / cap_rings, z, inner_count, start);
+      // Zip the two circles (both counterclockwise seen from +z) from their
+      // first vertices: from edge (a, b), step on the circle whose step
+      // leaves the shorter new edge. Both (a, b, next outer) and (a, b, next
+      // inner) are counterclockwise.
+      int i = 0, j = 0;
+      while (i < inner_count || j < outer_count) {
+        const int a = inner + i % inner_count, next_a = inner + (i + 1) % inner_count;
+        const int b = outer + j % outer_count, next_b = outer + (j + 1) % outer_count;
+        const double outer_edge = (points[next_b] - points[a]).squaredNorm();
+        const double inner_edge = (points[next_a] - points[b]).squaredNorm();
+        const bool step_outer = i == inner_count || (j < outer_count && outer_edge < inner_edge);
+        if (step_outer) {
+          add_face(top, a, b, next_b);
+          ++j;
+        } else {
+          add_face(top, a, b, next_a);
+          ++i;
+        }
+      }
+      outer = inner;
+      outer_count = inner_count;
+    }
+    const int centre = static_cast<int>(points.size());
+    points.emplace_back(0.0, 0.0, z);
+    for (int s = 0; s < outer_count; ++s) {
+      add_face(top, centre, outer + s, outer + (s + 1) % outer_count);
+    }
+  }
+  Mesh mesh;
+  mesh.vertices.resize(3, points.size());
+  for (size_t p = 0; p < points.size(); ++p) mesh.vertices.col(p) = points[p];
+  mesh.faces.resize(3, faces.size());
+  for (size_t f = 0; f < faces.size(); ++f) mesh.faces.col(f) = faces[f];
   return mesh;
 }
 

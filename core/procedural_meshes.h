@@ -49,6 +49,24 @@ Mesh MakeTwoBars(int length, int gap, double voxel_size = 1.0,
 // An open cylinder (no caps) of the given radius and height along z.
 Mesh MakeOpenTube(double radius, double height, int segments, int rings);
 
+// A closed cylinder along z from z = 0 to z = height, with flat caps, faces
+// outward. The side has rings + 1 circles of `segments` vertices (ids
+// r * segments + s, r = 0 at z = 0), each turned half a segment against the
+// one below, so a side triangle is equilateral when height / rings is
+// sqrt(3) / 2 of the side edge 2 pi radius / segments. Each cap (bottom, then
+// top, after the side) is CylinderCapRings(segments) = K concentric circles:
+// the side's end circle, circles of radius radius * k / K holding
+// round(segments * k / K) vertices (at least 3) for k = K - 1 .. 1, and the
+// centre; neighbouring circles are zipped (each step adds the shorter of the
+// two possible edges), the innermost fanned to the centre. K makes the
+// circles sqrt(3) / 2 of an edge apart, so cap triangles are near-equilateral
+// too. Vertices:
+//   segments * (rings + 1) + 2 * (1 + sum over k = 1 .. K-1 of max(3, round(segments * k / K))).
+Mesh MakeCylinder(double radius, double height, int segments, int rings);
+
+// K of MakeCylinder: round(segments / (pi sqrt(3))), at least 1.
+int CylinderCapRings(int segments);
+
 // The regular octahedron with vertices at +-x, +-y, +-z (ids 0..5 in that
 // order), faces outward: 6 vertices, 12 edges, 8 faces.
 Mesh MakeOctahedron();

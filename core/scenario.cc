@@ -113,11 +113,13 @@ class ScenarioParser {
   }
 
   bool Region(const Json& value, const std::string& field, VertexRegion* region) {
-    static const std::set<std::string> kKinds = {"vertices", "sphere", "slab", "any", "all"};
+    static const std::set<std::string> kKinds = {"vertices", "sphere", "slab", "any", "all",
+                                                 "not"};
     if (!ExpectObject(value, field, kKinds)) return false;
     if (value.size() != 1) {
-      return Fail(field, "a region needs exactly one of vertices, sphere, slab, any, all; found " +
-                             std::to_string(value.size()));
+      return Fail(field,
+                  "a region needs exactly one of vertices, sphere, slab, any, all, not; found " +
+                      std::to_string(value.size()));
     }
     region->field = field;
     const std::string kind = value.begin().key();
@@ -185,6 +187,12 @@ class ScenarioParser {
         return Fail(at, "from must not exceed to (fractions of the extent, e.g. 0 to 0.1)");
       }
       return true;
+    }
+    if (kind == "not") {
+      region->kind = VertexRegion::Kind::kNot;
+      if (!ExpectType(body, at, body.is_object(), "a region")) return false;
+      region->children.resize(1);
+      return Region(body, at, &region->children[0]);
     }
     // any / all
     region->kind = kind == "any" ? VertexRegion::Kind::kAny : VertexRegion::Kind::kAll;
@@ -391,6 +399,21 @@ bool Select(const VertexRegion& region, const Mesh& mesh, const MeshFrame& frame
         ids->swap(merged);
       }
       what = any ? "union" : "intersection of its regions";
+      break;
+    }
+    case VertexRegion::Kind::kNot: {
+      std::vector<int> excluded;
+      if (!Select(region.children[0], mesh, frame, &excluded, problem)) return false;
+      // `excluded` is sorted and unique: walk it alongside 0..n-1.
+      size_t next = 0;
+      for (int v = 0; v < n; ++v) {
+        if (next < excluded.size() && excluded[next] == v) {
+          ++next;
+        } else {
+          ids->push_back(v);
+        }
+      }
+      what = "complement of its region";
       break;
     }
   }

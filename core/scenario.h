@@ -30,9 +30,13 @@
 //       the lowest 10% along y is {"axis": "y", "from": 0, "to": 0.1}.
 //   {"any": [REGION, ...]}   union
 //   {"all": [REGION, ...]}   intersection
+//   {"not": REGION}          complement: every mesh vertex REGION does not
+//                            select ("everything but this leg" is
+//                            {"not": LEG}; "A but not B" is {"all": [A, {"not": B}]})
 // Spheres and slabs are closed (boundary included). Every region, nested ones
 // too, must select at least one vertex: an empty selection is almost always a
-// typo, so it is an error naming the region.
+// typo, so it is an error naming the region (a "not" of a region that selects
+// the whole mesh is one too).
 //
 // The handle transform is: rotate about the centre (the handle's rest
 // centroid unless given), then translate; "translation_rel" is in units of
@@ -54,7 +58,7 @@ namespace msdeform {
 
 // One node of a region expression; see the format above.
 struct VertexRegion {
-  enum class Kind { kVertices, kSphere, kSlab, kAny, kAll };
+  enum class Kind { kVertices, kSphere, kSlab, kAny, kAll, kNot };
   Kind kind = Kind::kVertices;
   // Where the region sits in the file, e.g. "fixed[1].any[0]", for messages.
   std::string field;
@@ -73,7 +77,7 @@ struct VertexRegion {
   double from = 0.0;
   double to = 0.0;
 
-  std::vector<VertexRegion> children;  // kAny, kAll.
+  std::vector<VertexRegion> children;  // kAny, kAll; kNot: the one complemented.
 };
 
 // The handle's motion as written in the file, before a mesh gives it scale

@@ -20,5 +20,5 @@ cmake --build "${root}/build" -j2
 step "real meshes"
 bash "${root}/data/fetch_meshes.sh"
 
-step "large armadillo variants"
+step "generated meshes (large armadillo variants, cylinder)"
 "${root}/build/apps/msdeform_make_large"

@@ -1,6 +1,9 @@
 #include "core/procedural_meshes.h"
 
+#include <algorithm>
+#include <cmath>
 #include <map>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -55,6 +58,75 @@ TEST(ProceduralMeshesTest, SphereIsClosedAndOutward) {
   ExpectClosedAndOriented(sphere);
   EXPECT_NEAR(SignedVolume(sphere), 4.0 / 3.0 * M_PI * 8.0, 0.05 * 33.5);
   EXPECT_GT(SignedVolume(sphere), 0.0);
+}
+
+// The smallest corner angle of any face, in degrees.
+double MinimumAngleDegrees(const Mesh& mesh) {
+  double smallest = 180.0;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector3d p = mesh.vertices.col(mesh.faces(c, f));
+      const Eigen::Vector3d u = mesh.vertices.col(mesh.faces((c + 1) % 3, f)) - p;
+      const Eigen::Vector3d v = mesh.vertices.col(mesh.faces((c + 2) % 3, f)) - p;
+      smallest = std::min(smallest, std::atan2(u.cross(v).norm(), u.dot(v)) * 180.0 / M_PI);
+    }
+  }
+  return smallest;
+}
+
+TEST(ProceduralMeshesTest, CylinderIsClosedOutwardAndWellShaped) {
+  // 24 segments: K = round(24 / (pi sqrt 3)) = 4 cap circles, the inner ones
+  // holding 18, 12 and 6 vertices, plus the centre: 37 per cap. Rings 13 make
+  // the side rows 3 / 13 = 0.23 apart, sqrt(3) / 2 of the edge 2 pi / 24 = 0.26.
+  const Mesh cylinder = MakeCylinder(1.0, 3.0, 24, 13);
+  EXPECT_EQ(CylinderCapRings(24), 4);
+  ASSERT_EQ(cylinder.num_vertices(), 24 * 14 + 2 * 37);
+  // Side 2 * 24 * 13; per cap 24 + 18, 18 + 12, 12 + 6 zipped and 6 fanned.
+  EXPECT_EQ(cylinder.num_faces(), 2 * 24 * 13 + 2 * (42 + 30 + 18 + 6));
+  ExpectClosedAndOriented(cylinder);
+  std::string error;
+  EXPECT_TRUE(ValidateMesh(cylinder, &error)) << error;
+  EXPECT_EQ(ConnectedComponents(cylinder).count, 1);
+  // Euler characteristic 2 (a sphere): every edge is in two faces, E = 3F / 2.
+  EXPECT_EQ(cylinder.num_vertices() - 3 * cylinder.num_faces() / 2 + cylinder.num_faces(), 2);
+  // Outward: side normals point away from the axis, cap normals along -z / +z.
+  for (int f = 0; f < cylinder.num_faces(); ++f) {
+    const Eigen::Vector3d a = cylinder.vertices.col(cylinder.faces(0, f));
+    const Eigen::Vector3d b = cylinder.vertices.col(cylinder.faces(1, f));
+    const Eigen::Vector3d c = cylinder.vertices.col(cylinder.faces(2, f));
+    const Eigen::Vector3d normal = (b - a).cross(c - a).normalized();
+    const Eigen::Vector3d centre = (a + b + c) / 3.0;
+    if (a.z() == b.z() && b.z() == c.z() && (a.z() == 0.0 || a.z() == 3.0)) {
+      EXPECT_NEAR(normal.z(), a.z() == 0.0 ? -1.0 : 1.0, 1e-12) << "cap face " << f;
+    } else {
+      EXPECT_GT(normal.dot(Eigen::Vector3d(centre.x(), centre.y(), 0.0).normalized()), 0.99)
+          << "side face " << f;
+    }
+  }
+  EXPECT_NEAR(SignedVolume(cylinder), M_PI * 3.0, 0.02 * M_PI * 3.0);
+  EXPECT_GT(SignedVolume(cylinder), 0.0);
+  EXPECT_GT(MinimumAngleDegrees(cylinder), 40.0);
+  // On z = 0 and z = height, nowhere else below or above.
+  EXPECT_EQ(cylinder.vertices.row(2).minCoeff(), 0.0);
+  EXPECT_EQ(cylinder.vertices.row(2).maxCoeff(), 3.0);
+}
+
+TEST(ProceduralMeshesTest, CylinderVertexCountFollowsTheFormula) {
+  for (const int segments : {3, 5, 7, 13, 64}) {
+    const int cap_rings = CylinderCapRings(segments);
+    int cap = 1;
+    for (int k = 1; k < cap_rings; ++k) {
+      cap += std::max(3, static_cast<int>(std::lround(1.0 * segments * k / cap_rings)));
+    }
+    const Mesh cylinder = MakeCylinder(0.5, 2.0, segments, 4);
+    EXPECT_EQ(cylinder.num_vertices(), segments * 5 + 2 * cap) << segments;
+    ExpectClosedAndOriented(cylinder);
+    EXPECT_EQ(cylinder.num_vertices() - 3 * cylinder.num_faces() / 2 + cylinder.num_faces(), 2)
+        << segments;
+    EXPECT_GT(SignedVolume(cylinder), 0.0) << segments;
+  }
+  EXPECT_EQ(CylinderCapRings(3), 1);  // the end circles fanned to the centres
+  EXPECT_EQ(CylinderCapRings(64), 12);
 }
 
 TEST(ProceduralMeshesTest, OpenTubeHasTwoBoundaryLoops) {

@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "core/procedural_meshes.h"
+
 namespace msdeform {
 namespace {
 
@@ -54,14 +56,16 @@ struct Resolved {
   Eigen::Affine3d deformed_from_rest = Eigen::Affine3d::Identity();
 };
 
-Resolved ReadAndResolve(const std::string& json) {
+Resolved ReadAndResolveOn(const std::string& json, const Mesh& mesh) {
   Resolved result;
   const std::string path = WriteText(FreshFolder() + "/scenario.json", json);
   if (!ReadScenario(path, &result.scenario, &result.error)) return result;
-  result.ok = ResolveScenario(result.scenario, Strip(), &result.layout, &result.watch,
+  result.ok = ResolveScenario(result.scenario, mesh, &result.layout, &result.watch,
                               &result.deformed_from_rest, &result.error);
   return result;
 }
+
+Resolved ReadAndResolve(const std::string& json) { return ReadAndResolveOn(json, Strip()); }
 
 // A scenario whose handle is the region given as JSON text.
 std::vector<int> SelectHandle(const std::string& region) {
@@ -100,6 +104,39 @@ TEST(ScenarioTest, AnyIsUnionAndAllIsIntersection) {
   EXPECT_EQ(SelectHandle(R"({"all": [{"slab": {"axis": "x", "from": 0, "to": 0.5}},
                                      {"slab": {"axis": "y", "from": 0.5, "to": 1}}]})"),
             (std::vector<int>{1, 3, 5, 7, 9, 11}));
+}
+
+TEST(ScenarioTest, NotIsTheComplementInTheMesh) {
+  // x < 1 on the strip: the slab keeps x >= 1 (0.1 of the extent).
+  EXPECT_EQ(SelectHandle(R"({"not": {"slab": {"axis": "x", "from": 0.1, "to": 1}}})"),
+            (std::vector<int>{0, 1}));
+  EXPECT_EQ(SelectHandle(R"({"not": {"not": {"vertices": [7, 3]}}})"),
+            (std::vector<int>{3, 7}));
+}
+
+TEST(ScenarioTest, NotFixesEverythingButALimbOfTheOctahedron) {
+  // MakeOctahedron: vertex 0 (1,0,0), 1 (-1,0,0), 2 (0,1,0), 3 (0,-1,0),
+  // 4 (0,0,1), 5 (0,0,-1); bounding box [-1, 1]^3. The ball of radius 0.5
+  // around vertex 1 holds only vertex 1 (the others are sqrt(2) or 2 away):
+  // "everything but it" is fixed, it is the handle.
+  const Mesh octahedron = MakeOctahedron();
+  Resolved resolved = ReadAndResolveOn(R"({
+    "mesh": "m.off",
+    "fixed": [{"not": {"sphere": {"center_vertex": 1, "radius": 0.5}}}],
+    "handle": {"vertices": [1]}
+  })",
+                                       octahedron);
+  ASSERT_TRUE(resolved.ok) << resolved.error;
+  EXPECT_EQ(resolved.layout.fixed, (std::vector<int>{0, 2, 3, 4, 5}));
+  EXPECT_EQ(resolved.layout.moveable, (std::vector<int>{1}));
+
+  // "The upper half but not vertices 2 and 4": z >= 0 is {0, 1, 2, 3, 4}
+  // (the slab is closed, z = 0 is its lower face).
+  resolved = ReadAndResolveOn(R"({"mesh": "m.off", "handle": {"all": [
+      {"slab": {"axis": "z", "from": 0.5, "to": 1}}, {"not": {"vertices": [4, 2]}}]}})",
+                              octahedron);
+  ASSERT_TRUE(resolved.ok) << resolved.error;
+  EXPECT_EQ(resolved.layout.moveable, (std::vector<int>{0, 1, 3}));
 }
 
 TEST(ScenarioTest, FixedIsTheUnionAndWatchIsOptional) {
@@ -285,6 +322,15 @@ INSTANTIATE_TEST_SUITE_P(
                     R"({"mesh": "m.off", "handle": {"vertices": [1]},
                         "watch": {"any": [{"vertices": [0]}, {"all": []}]}})",
                     "watch.any[1].all: needs at least one region"},
+        BadScenario{"not_of_a_list",
+                    R"({"mesh": "m.off", "handle": {"not": [{"vertices": [1]}]}})",
+                    "handle.not: expected a region, found an array"},
+        BadScenario{"not_of_nothing", R"({"mesh": "m.off", "handle": {"not": {}}})",
+                    "handle.not: a region needs exactly one of"},
+        BadScenario{"not_of_a_bad_region",
+                    R"({"mesh": "m.off", "handle": {"vertices": [1]},
+                        "fixed": [{"not": {"slab": {"axis": "x", "from": 0}}}]})",
+                    "fixed[0].not.slab.to: missing"},
         BadScenario{"not_an_object", R"([1, 2])", "expected an object, found an array"},
         BadScenario{"syntax", "{\"mesh\": \"m.off\",\n \"handle\": }",
                     "invalid JSON: parse error at line 2"}),
@@ -306,6 +352,17 @@ INSTANTIATE_TEST_SUITE_P(
             "empty_intersection",
             R"({"mesh": "m.off", "handle": {"all": [{"vertices": [0]}, {"vertices": [1]}]}})",
             "handle: intersection of its regions selects no vertex"},
+        BadScenario{"not_everything",
+                    R"({"mesh": "m.off", "handle": {"vertices": [1]},
+                        "fixed": [{"not": {"slab": {"axis": "y", "from": 0, "to": 1}}}]})",
+                    "fixed[0]: complement of its region selects no vertex of the mesh"},
+        BadScenario{"not_of_an_empty_region",
+                    R"({"mesh": "m.off",
+                        "handle": {"not": {"sphere": {"center": [5, 5, 5], "radius": 1}}}})",
+                    "handle.not: sphere of radius 1 around (5, 5, 5) selects no vertex"},
+        BadScenario{"not_out_of_range",
+                    R"({"mesh": "m.off", "handle": {"not": {"vertices": [0, 22]}}})",
+                    "handle.not.vertices[1]: vertex 22 is outside the mesh's 0..21"},
         BadScenario{"id_out_of_range", R"({"mesh": "m.off", "handle": {"vertices": [1, 2, 99]}})",
                     "handle.vertices[2]: vertex 99 is outside the mesh's 0..21"},
         BadScenario{
