@@ -54,6 +54,19 @@ DEFINE_double(w_con, msdeform::DeformerOptions().w_con, "Weight of E_con (Eq. 17
 DEFINE_bool(keep_left_out_terms, false, "Ablation: keep E(j,k) for Half Free j.");
 DEFINE_bool(fix_fixed_handle_nodes, false, "Ablation: fixed-handle nodes get no rotation.");
 DEFINE_bool(alpha_all_one, false, "Ablation: every coherence weight alpha = 1.");
+DEFINE_string(rigidity, msdeform::RigidityModelName(msdeform::RigidityOptions().model),
+              "Rigidity estimate: harmonic (the driven lattice's rest state) or paper "
+              "(S steps of lattice shape matching after a kick).");
+DEFINE_string(half_free,
+              msdeform::HalfFreeRuleName(msdeform::ScaleSelectionOptions().half_free),
+              "Which fixed-handle nodes are Half Free: next_to_totally_free, "
+              "every_fixed_handle_node (the paper) or none.");
+DEFINE_bool(hold_fixed_vertices, msdeform::DeformerOptions().hold_fixed_vertices,
+            "Multi-scale: hold the fixed vertices skinned by a non-Fixed node at rest with "
+            "Position terms (the paper: false).");
+DEFINE_string(border, msdeform::BorderRuleName(msdeform::ScaleSelectionOptions().border),
+              "What a Fixed node next to a Totally Free one becomes: fixed (the paper), "
+              "half_free or totally_free.");
 DEFINE_double(rigidity_stiffness, msdeform::RigidityOptions().external_stiffness,
               "k_ext h^2 of the rigidity estimation (METHOD.md §2).");
 DEFINE_double(rigidity_damping, msdeform::RigidityOptions().damping,
@@ -98,6 +111,19 @@ bool FillOptions(DeformerOptions* options, std::string* error) {
   options->lattice.cell_width = FLAGS_cell_width;
   options->graph.seed = FLAGS_seed;
   options->rigidity.seed = FLAGS_seed;
+  if (!ParseRigidityModel(FLAGS_rigidity, &options->rigidity.model)) {
+    *error = "--rigidity=" + FLAGS_rigidity + ": expected harmonic or paper";
+    return false;
+  }
+  if (!ParseHalfFreeRule(FLAGS_half_free, &options->selection.half_free)) {
+    *error = "--half_free=" + FLAGS_half_free +
+             ": expected next_to_totally_free, every_fixed_handle_node or none";
+    return false;
+  }
+  if (!ParseBorderRule(FLAGS_border, &options->selection.border)) {
+    *error = "--border=" + FLAGS_border + ": expected fixed, half_free or totally_free";
+    return false;
+  }
   options->rigidity.external_stiffness = FLAGS_rigidity_stiffness;
   options->rigidity.damping = FLAGS_rigidity_damping;
   options->rigidity.num_steps = FLAGS_rigidity_steps;
@@ -118,6 +144,7 @@ bool FillOptions(DeformerOptions* options, std::string* error) {
   options->fix_fixed_handle_nodes = FLAGS_fix_fixed_handle_nodes;
   options->selection.alpha_all_one = FLAGS_alpha_all_one;
   options->selection.threshold_floor = FLAGS_threshold_floor;
+  options->hold_fixed_vertices = FLAGS_hold_fixed_vertices;
   if (FLAGS_frames < 0 || FLAGS_frames > kMaxScenarioFrames) {
     *error = "--frames must be in 0.." + std::to_string(kMaxScenarioFrames);
     return false;

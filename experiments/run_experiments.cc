@@ -21,6 +21,25 @@ DEFINE_bool(quick, false, "The CI subset: cactus and hand_finger, 5 frames, abla
 DEFINE_int32(frames, 0, "Drag frames per scenario (0: the scenario's; 5 with --quick).");
 DEFINE_int32(threads, 1, "Threads for the Ceres solve and the skinning.");
 DEFINE_string(only, "", "Comma-separated scenario names to run (default: all).");
+DEFINE_string(methods, "",
+              "Comma-separated methods of table 2: multiscale, static, static_dense, "
+              "cgal_arap (default: all four).");
+DEFINE_bool(time_gauss_newton, true,
+            "Also time multiscale and static with the Gauss-Newton backend.");
+DEFINE_string(rigidity, msdeform::RigidityModelName(msdeform::RigidityOptions().model),
+              "Rigidity estimate of the multi-scale method: harmonic or paper.");
+DEFINE_string(half_free,
+              msdeform::HalfFreeRuleName(msdeform::ScaleSelectionOptions().half_free),
+              "Which fixed-handle nodes are Half Free: next_to_totally_free, "
+              "every_fixed_handle_node (the paper) or none.");
+DEFINE_bool(hold_fixed_vertices, msdeform::DeformerOptions().hold_fixed_vertices,
+            "Multi-scale: hold the fixed vertices skinned by a non-Fixed node at rest with "
+            "Position terms (the paper: false).");
+DEFINE_string(border, msdeform::BorderRuleName(msdeform::ScaleSelectionOptions().border),
+              "What a Fixed node next to a Totally Free one becomes: fixed (the paper), "
+              "half_free or totally_free.");
+DEFINE_double(threshold_floor, msdeform::ScaleSelectionOptions().threshold_floor,
+              "Lower bound of the rigidity threshold T (Eq. 7: 0.1).");
 DEFINE_uint64(seed, 1, "Seed of every random choice (DG1 node vertices, handle kick).");
 DEFINE_int32(max_iterations, 20, "Ceres iteration cap per frame.");
 DEFINE_int32(cgal_iterations, 20, "CGAL ARAP iterations per frame.");
@@ -39,6 +58,25 @@ bool FillOptions(RunnerOptions* options, std::string* error) {
   std::string name;
   while (std::getline(only, name, ','))
     if (!name.empty()) options->only.push_back(name);
+  std::stringstream methods(FLAGS_methods);
+  while (std::getline(methods, name, ','))
+    if (!name.empty()) options->methods.push_back(name);
+  options->time_gauss_newton = FLAGS_time_gauss_newton;
+  if (!msdeform::ParseRigidityModel(FLAGS_rigidity, &options->deformer.rigidity.model)) {
+    *error = "--rigidity=" + FLAGS_rigidity + ": expected harmonic or paper";
+    return false;
+  }
+  if (!msdeform::ParseHalfFreeRule(FLAGS_half_free, &options->deformer.selection.half_free)) {
+    *error = "--half_free=" + FLAGS_half_free +
+             ": expected next_to_totally_free, every_fixed_handle_node or none";
+    return false;
+  }
+  if (!msdeform::ParseBorderRule(FLAGS_border, &options->deformer.selection.border)) {
+    *error = "--border=" + FLAGS_border + ": expected fixed, half_free or totally_free";
+    return false;
+  }
+  options->deformer.selection.threshold_floor = FLAGS_threshold_floor;
+  options->deformer.hold_fixed_vertices = FLAGS_hold_fixed_vertices;
   options->deformer.graph.seed = FLAGS_seed;
   options->deformer.rigidity.seed = FLAGS_seed;
   options->deformer.solver.max_num_iterations = FLAGS_max_iterations;

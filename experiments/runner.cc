@@ -55,7 +55,8 @@ std::string Int(long long value) { return std::to_string(value); }
 }  // namespace
 
 bool RunDeformer(const ExperimentScenario& scenario, const DeformerOptions& options,
-                 const std::string& label, RunResult* result, std::string* error) {
+                 const std::string& label, const Eigen::Matrix3Xd* arap_result,
+                 RunResult* result, std::string* error) {
   const auto wall_start = Clock::now();
   *result = RunResult();
   result->scenario = scenario.name;
@@ -120,13 +121,18 @@ bool RunDeformer(const ExperimentScenario& scenario, const DeformerOptions& opti
   result->skin_ms = Median(skin_ms);
   result->iterations_median = Median(iterations);
   MeasureQuality(scenario, deformer.deformed_vertices(), result);
+  result->arap_distance_rel =
+      arap_result == nullptr
+          ? kNaN
+          : (deformer.deformed_vertices() - *arap_result).colwise().norm().mean() /
+                result->diagonal;
   result->orthogonality = OrthogonalityError(deformer.transforms(), optimised);
   result->wall_ms = MillisecondsSince(wall_start);
   return true;
 }
 
 bool RunCgalArap(const ExperimentScenario& scenario, const CgalArapOptions& options,
-                 RunResult* result, std::string* error) {
+                 RunResult* result, Eigen::Matrix3Xd* deformed, std::string* error) {
   const auto wall_start = Clock::now();
   *result = RunResult();
   result->scenario = scenario.name;
@@ -158,6 +164,9 @@ bool RunCgalArap(const ExperimentScenario& scenario, const CgalArapOptions& opti
   result->final_cost = kNaN;
   MeasureQuality(scenario, arap.deformed_vertices(), result);
   result->orthogonality = kNaN;
+  result->arap_distance_rel = 0.0;
+  result->gauss_newton_frame_ms = kNaN;
+  if (deformed != nullptr) *deformed = arap.deformed_vertices();
   result->wall_ms = MillisecondsSince(wall_start);
   return true;
 }
@@ -175,6 +184,14 @@ bool RunnerOptions::Check(std::string* error) const {
     *error = "threads must be >= 1";
     return false;
   }
+  for (const std::string& method : methods) {
+    Method parsed;
+    if (method != "cgal_arap" && !ParseMethod(method, &parsed)) {
+      *error = "methods: unknown method '" + method +
+               "' (expected multiscale, static, static_dense or cgal_arap)";
+      return false;
+    }
+  }
   return deformer.Check(error) && cgal.Check(error);
 }
 
@@ -190,6 +207,29 @@ struct Variant {
 std::vector<Variant> Ablations() {
   return {
       {"multiscale", [](DeformerOptions*) {}, "", "", ""},
+      // The paper's procedure as written: shape-matching rigidity, every
+      // fixed-handle node Half Free, the border Fixed, no terms on fixed vertices.
+      {"paper",
+       [](DeformerOptions* o) {
+         o->rigidity.model = RigidityModel::kShapeMatching;
+         o->selection.half_free = HalfFreeRule::kEveryFixedHandleNode;
+         o->selection.border = BorderRule::kFixed;
+         o->hold_fixed_vertices = false;
+       },
+       "", "", ""},
+      // One change of the default each.
+      {"rigidity_paper",
+       [](DeformerOptions* o) { o->rigidity.model = RigidityModel::kShapeMatching; }, "", "", ""},
+      {"half_free_every_fixed_node",
+       [](DeformerOptions* o) { o->selection.half_free = HalfFreeRule::kEveryFixedHandleNode; },
+       "", "", ""},
+      {"border_fixed", [](DeformerOptions* o) { o->selection.border = BorderRule::kFixed; }, "", "",
+       ""},
+      {"border_half_free", [](DeformerOptions* o) { o->selection.border = BorderRule::kHalfFree; },
+       "", "", ""},
+      {"no_fixed_vertex_terms", [](DeformerOptions* o) { o->hold_fixed_vertices = false; }, "", "",
+       ""},
+      // The paper's Fig. 5 and 7 ablations.
       {"keep_left_out_terms", [](DeformerOptions* o) { o->keep_left_out_terms = true; }, "", "", ""},
       {"fix_fixed_handle_nodes", [](DeformerOptions* o) { o->fix_fixed_handle_nodes = true; }, "", "", ""},
       {"alpha_all_one", [](DeformerOptions* o) { o->selection.alpha_all_one = true; }, "", "", ""},
@@ -282,6 +322,8 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
   }
   std::sort(files.begin(), files.end());
   std::vector<std::string> only = options.only;
+  std::vector<std::string> methods = options.methods;
+  if (methods.empty()) methods = {"multiscale", "static", "static_dense", "cgal_arap"};
   std::vector<std::string> ablation_names = options.ablation_scenarios;
   std::vector<std::string> solver_names = options.solver_scenarios;
   int frames = options.frames;
@@ -319,14 +361,15 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
                {"scenario", "method", "vertices", "nodes_optimized", "variables", "frame_ms",
                 "solve_ms", "skin_ms", "setup_ms", "iterations", "unconverged_frames",
                 "handle_rms_rel", "fixed_max_rel", "arap_energy", "arap_energy_joint", "strain",
-                "leakage_rel", "leakage_max_rel", "orthogonality", "precompute_ms",
-                "rigidity_ms"},
+                "leakage_rel", "leakage_max_rel", "orthogonality", "arap_distance_rel",
+                "gauss_newton_frame_ms", "precompute_ms", "rigidity_ms"},
                {},
                {}};
   Table ablations{"Ablations (METHOD.md §6; paper Fig. 5 and 7)",
                   {"scenario", "variant", "selected_scale", "nodes_optimized", "variables",
                    "frame_ms", "iterations", "handle_rms_rel", "fixed_max_rel", "arap_energy",
-                   "arap_energy_joint", "strain", "leakage_rel", "orthogonality"},
+                   "arap_energy_joint", "strain", "leakage_rel", "orthogonality",
+                   "arap_distance_rel"},
                   {},
                   {}};
   Table solvers{"Solver variants on the multi-scale problem",
@@ -345,6 +388,7 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
                    FormatNumber(r.arap_energy), FormatNumber(r.arap_energy_joint),
                    FormatNumber(r.strain), FormatNumber(r.leakage_rel),
                    FormatNumber(r.leakage_max_rel), FormatNumber(r.orthogonality),
+                   FormatNumber(r.arap_distance_rel), FormatNumber(r.gauss_newton_frame_ms),
                    FormatNumber(r.precompute_ms), FormatNumber(r.rigidity_ms)});
   };
 
@@ -363,11 +407,29 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
          << (scenario.has_watch ? std::to_string(scenario.watch.size()) : std::string("no"))
          << " watch, " << scenario.path.size() << " frames):";
 
+    // CGAL's ARAP first: its final mesh is the reference of arap_distance_rel.
+    Eigen::Matrix3Xd arap_result;
+    const bool run_cgal = Contains(methods, "cgal_arap");
+    RunResult cgal;
+    if (run_cgal && !RunCgalArap(scenario, options.cgal, &cgal, &arap_result, error)) return false;
+    const Eigen::Matrix3Xd* reference = run_cgal ? &arap_result : nullptr;
     for (Method method : {Method::kMultiScale, Method::kStatic, Method::kStaticDense}) {
+      if (!Contains(methods, MethodName(method))) continue;
       DeformerOptions run_options = base;
       run_options.method = method;
       RunResult r;
-      if (!RunDeformer(scenario, run_options, MethodName(method), &r, error)) return false;
+      if (!RunDeformer(scenario, run_options, MethodName(method), reference, &r, error)) {
+        return false;
+      }
+      r.gauss_newton_frame_ms = kNaN;
+      if (options.time_gauss_newton && method != Method::kStaticDense) {
+        run_options.backend = Solver::kGaussNewton;
+        RunResult gn;
+        if (!RunDeformer(scenario, run_options, MethodName(method), nullptr, &gn, error)) {
+          return false;
+        }
+        r.gauss_newton_frame_ms = gn.frame_ms;
+      }
       add_table2(r);
       line << " " << Describe(r) << ";";
       if (method == Method::kMultiScale) {
@@ -382,10 +444,10 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
                        Int(r.variables), FormatNumber(r.frame_ms)});
       }
     }
-    RunResult cgal;
-    if (!RunCgalArap(scenario, options.cgal, &cgal, error)) return false;
-    add_table2(cgal);
-    line << " " << Describe(cgal) << ";";
+    if (run_cgal) {
+      add_table2(cgal);
+      line << " " << Describe(cgal) << ";";
+    }
 
     if (Contains(ablation_names, scenario.name)) {
       for (const Variant& variant : Ablations()) {
@@ -393,13 +455,14 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
         run_options.method = Method::kMultiScale;
         variant.apply(&run_options);
         RunResult r;
-        if (!RunDeformer(scenario, run_options, variant.name, &r, error)) return false;
+        if (!RunDeformer(scenario, run_options, variant.name, reference, &r, error)) return false;
         ablations.AddRow({r.scenario, r.method, Int(r.selected_scale), Int(r.nodes_optimized),
                           Int(r.variables), FormatNumber(r.frame_ms),
                           FormatNumber(r.iterations_median), FormatNumber(r.handle_rms_rel),
                           FormatNumber(r.fixed_max_rel), FormatNumber(r.arap_energy),
                           FormatNumber(r.arap_energy_joint), FormatNumber(r.strain),
-                          FormatNumber(r.leakage_rel), FormatNumber(r.orthogonality)});
+                          FormatNumber(r.leakage_rel), FormatNumber(r.orthogonality),
+                          FormatNumber(r.arap_distance_rel)});
       }
       line << " ablations;";
     }
@@ -409,7 +472,7 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
         run_options.method = Method::kMultiScale;
         variant.apply(&run_options);
         RunResult r;
-        if (!RunDeformer(scenario, run_options, variant.name, &r, error)) return false;
+        if (!RunDeformer(scenario, run_options, variant.name, reference, &r, error)) return false;
         solvers.AddRow({r.scenario, r.method, variant.trust_region, variant.linear_solver,
                         variant.backend, Int(r.iterations_total),
                         FormatNumber(r.iterations_median), Int(r.unconverged_frames),

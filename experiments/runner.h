@@ -68,17 +68,26 @@ struct RunResult {
   double arap_energy_joint = 0.0;  // over the band near the fixed region (NaN: none)
   double strain = 0.0;
   double orthogonality = 0.0;  // mean |R^T R - I|_F over optimised nodes (NaN for CGAL)
+  // Mean distance of the final vertices to CGAL ARAP's on the same drag, over
+  // the diagonal (NaN when CGAL's was not run).
+  double arap_distance_rel = 0.0;
+  // Median frame time with the Gauss-Newton backend (multiscale and static;
+  // NaN when not run).
+  double gauss_newton_frame_ms = 0.0;
   double wall_ms = 0.0;
 };
 
 // Runs the deformer with `options` over the scenario's drag path and measures
-// it. `label` names the row (a method or a variant).
+// it. `label` names the row (a method or a variant). `arap_result`, when not
+// null, is CGAL ARAP's final mesh on the same drag (for arap_distance_rel).
 bool RunDeformer(const ExperimentScenario& scenario, const DeformerOptions& options,
-                 const std::string& label, RunResult* result, std::string* error);
-
-// The same for CGAL's ARAP (ROI = every non-fixed vertex).
-bool RunCgalArap(const ExperimentScenario& scenario, const CgalArapOptions& options,
+                 const std::string& label, const Eigen::Matrix3Xd* arap_result,
                  RunResult* result, std::string* error);
+
+// The same for CGAL's ARAP (ROI = every non-fixed vertex); its final mesh
+// goes to *deformed when not null.
+bool RunCgalArap(const ExperimentScenario& scenario, const CgalArapOptions& options,
+                 RunResult* result, Eigen::Matrix3Xd* deformed, std::string* error);
 
 struct RunnerOptions {
   // Folder of the scenario entries (*.json).
@@ -96,9 +105,16 @@ struct RunnerOptions {
   int threads = 1;
   // Only these scenario names (empty: all).
   std::vector<std::string> only;
+  // Methods of table 2, any of multiscale, static, static_dense, cgal_arap
+  // (empty: all four).
+  std::vector<std::string> methods;
+  // Also time multiscale and static with the Gauss-Newton backend
+  // (gauss_newton_frame_ms).
+  bool time_gauss_newton = true;
   // Scenarios of the ablation and solver tables (full run).
   std::vector<std::string> ablation_scenarios = {"man_knee_bend", "armadillo_arm_raise",
-                                                "man_leg_lift", "cactus"};
+                                                "man_leg_lift", "cactus", "cylinder_bend",
+                                                "armadillo_hand_drag", "camel_hoof_drag"};
   std::vector<std::string> solver_scenarios = {"cactus", "hand_finger", "armadillo_arm_raise"};
   // Base deformer settings (seed, lattice, ...); method and ablation switches
   // are set per run.

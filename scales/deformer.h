@@ -72,6 +72,11 @@ struct DeformerOptions {
   // by it), so that the weights above do not depend on the mesh's units; 0
   // means the bounding-box diagonal (docs/decisions.md, "Length unit").
   double length_unit = 0.0;
+  // Multi-scale: fixed-handle vertices skinned by a non-Fixed node get a
+  // Position term to their rest position, as the static baselines' fixed
+  // handles do (the paper has none: false; docs/decisions.md, "Node classes
+  // on large fixed regions").
+  bool hold_fixed_vertices = true;
   // Ablation "Deformed 2" (paper Fig. 5): keep E(j, k) for Half Free j.
   bool keep_left_out_terms = false;
   // Ablation "Deformed 3": fixed-handle nodes get no rotation (Fixed, not Half

@@ -16,7 +16,7 @@
 //   Totally Free if it holds a moveable-handle vertex or has e' > T (12),
 //   Fixed        otherwise (0).
 // BorderRule then decides what the Fixed nodes next to a Totally Free one
-// become (by default nothing changes: the paper).
+// become (by default Totally Free: one more ring; the paper keeps them Fixed).
 // A node holding both fixed and moveable vertices cannot serve both, so the
 // selection moves to finer scales until no node does.
 
@@ -84,8 +84,10 @@ struct ScaleSelectionOptions {
   bool alpha_all_one = false;
   // Half Free nodes (docs/decisions.md, "Node classes on large fixed regions").
   HalfFreeRule half_free = HalfFreeRule::kNextToTotallyFree;
-  // Fixed nodes bordering the Totally Free region.
-  BorderRule border = BorderRule::kFixed;
+  // Fixed nodes bordering the Totally Free region (docs/decisions.md, "Node
+  // classes on large fixed regions": one more Totally Free ring distorted
+  // least over the experiment edits; the paper keeps them Fixed).
+  BorderRule border = BorderRule::kTotallyFree;
 
   bool Check(std::string* error) const;
 };

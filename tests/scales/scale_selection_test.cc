@@ -194,7 +194,9 @@ TEST(ScaleSelectionTest, AlphaMapsExtentToOmegaAndTakesTheMin) {
   HandleNodes handles = NoHandles(5);
   handles.holds_moveable[0] = 1;
   handles.holds_fixed[4] = 1;  // 4 DG1 edges (length 1) away
-  const ScaleSelection selection = Select(graphs, e, handles, {}, /*diagonal=*/10.0);
+  ScaleSelectionOptions options;
+  options.border = BorderRule::kFixed;  // node 3 stays Fixed (e' 0 would set e_l)
+  const ScaleSelection selection = Select(graphs, e, handles, options, /*diagonal=*/10.0);
   EXPECT_FALSE(selection.local_detail_edit);  // 4 > 0.1 * 10
   // Totally Free: nodes 0, 1, 2 with e' 1.0, 0.6, 0.2 -> omega 4, 2.5, 1.
   EXPECT_DOUBLE_EQ(selection.omega[0], 4.0);
@@ -203,9 +205,8 @@ TEST(ScaleSelectionTest, AlphaMapsExtentToOmegaAndTakesTheMin) {
   EXPECT_DOUBLE_EQ(selection.Alpha(0, 1), 2.5);
   EXPECT_DOUBLE_EQ(selection.Alpha(1, 0), 2.5);
   EXPECT_DOUBLE_EQ(selection.Alpha(2, 3), 1.0);  // 3 is Fixed
-  ScaleSelectionOptions all_one;
-  all_one.alpha_all_one = true;
-  EXPECT_DOUBLE_EQ(Select(graphs, e, handles, all_one, 10.0).Alpha(0, 1), 1.0);
+  options.alpha_all_one = true;
+  EXPECT_DOUBLE_EQ(Select(graphs, e, handles, options, 10.0).Alpha(0, 1), 1.0);
 }
 
 TEST(ScaleSelectionTest, LocalDetailEditOnDg1HasUnitAlpha) {
