@@ -1,6 +1,7 @@
 #include "scales/deformer.h"
 
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
 #include <gtest/gtest.h>
 
 #include "core/drag_path.h"
@@ -170,6 +171,16 @@ TEST(DeformerTest, StaticBaselinesFreeEveryNodeOfTheirGraph) {
 
 std::string DataPath(const std::string& name) { return std::string(MSDEFORM_DATA_DIR) + "/" + name; }
 
+// The paper's procedure, every switch: shape-matching rigidity, every
+// fixed-handle node Half Free, the border Fixed, no terms on fixed vertices.
+DeformerOptions PaperMode(DeformerOptions options) {
+  options.rigidity.model = RigidityModel::kShapeMatching;
+  options.selection.half_free = HalfFreeRule::kEveryFixedHandleNode;
+  options.selection.border = BorderRule::kFixed;
+  options.hold_fixed_vertices = false;
+  return options;
+}
+
 // Handle rms and the largest fixed-vertex displacement, both relative to the
 // diagonal, after dragging the Botsch-Sorkine cactus to its .def over 30 frames.
 std::pair<double, double> CactusErrors(Method method, Solver backend,
@@ -216,18 +227,131 @@ TEST(DeformerTest, BotschSorkineCactusReachesItsTarget) {
   const auto [multiscale_rms, multiscale_fixed] =
       CactusErrors(Method::kMultiScale, Solver::kCeres);
   EXPECT_LT(multiscale_rms, 0.015);
-  DeformerOptions paper;
-  paper.rigidity.model = RigidityModel::kShapeMatching;
-  paper.selection.half_free = HalfFreeRule::kEveryFixedHandleNode;
-  paper.selection.border = BorderRule::kFixed;
-  paper.hold_fixed_vertices = false;
-  const auto [paper_rms, paper_fixed] = CactusErrors(Method::kMultiScale, Solver::kCeres, paper);
+  const auto [paper_rms, paper_fixed] =
+      CactusErrors(Method::kMultiScale, Solver::kCeres, PaperMode(DeformerOptions()));
   EXPECT_LT(paper_rms, 0.015);
   EXPECT_LT(paper_fixed, 3e-3);
   EXPECT_LT(multiscale_rms, paper_rms);
   // The same minimum as Ceres (tests/scales/gauss_newton_solver_test.cc), faster.
   EXPECT_LT(CactusErrors(Method::kStaticDense, Solver::kGaussNewton).first,
             0.005);
+}
+
+// The classic bending test (Botsch and Sorkine 2008): a cylinder of radius 1
+// and height 10 along z, fixed below z = 1, its top (z > 9) rotated 90 degrees
+// about x and moved so that the free length 8 could lie on a quarter circle
+// of radius 16 / pi. The right answer bends the whole free length: its middle
+// third turns by about 45 degrees.
+struct CylinderBend {
+  static constexpr double kFreeBottom = 1.0, kFreeTop = 9.0;
+  Mesh mesh = MakeCylinder(1.0, 10.0, 32, 60);
+  HandleLayout layout;
+  Eigen::Affine3d target = Eigen::Affine3d::Identity();
+  CylinderBend() {
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      if (mesh.vertices(2, v) < kFreeBottom) layout.fixed.push_back(v);
+      if (mesh.vertices(2, v) > kFreeTop) layout.moveable.push_back(v);
+    }
+    const double radius = 2.0 * (kFreeTop - kFreeBottom) / M_PI;
+    target.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    // (0, 0, 9) -> (0, -radius, 1 + radius): the end of the quarter circle.
+    target.translation() =
+        Eigen::Vector3d(0.0, -radius, kFreeBottom + radius) - target.linear() * Eigen::Vector3d(0, 0, kFreeTop);
+  }
+
+  // Angle (degrees) of the best-fit rotation of the vertices with z in
+  // [from, to] (Kabsch), from rest to `deformed`.
+  double TurnOf(const Eigen::Matrix3Xd& deformed, double from, double to) const {
+    std::vector<int> ids;
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      if (mesh.vertices(2, v) >= from && mesh.vertices(2, v) <= to) ids.push_back(v);
+    }
+    Eigen::Vector3d rest_mean = Eigen::Vector3d::Zero(), mean = Eigen::Vector3d::Zero();
+    for (int v : ids) {
+      rest_mean += mesh.vertices.col(v);
+      mean += deformed.col(v);
+    }
+    rest_mean /= ids.size();
+    mean /= ids.size();
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+    for (int v : ids) {
+      covariance += (deformed.col(v) - mean) * (mesh.vertices.col(v) - rest_mean).transpose();
+    }
+    Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
+    d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
+    const Eigen::Matrix3d rotation = svd.matrixU() * d * svd.matrixV().transpose();
+    return Eigen::AngleAxisd(rotation).angle() * 180.0 / M_PI;
+  }
+};
+
+TEST(DeformerTest, CylinderBendsOverItsWholeLength) {
+  const CylinderBend bend;
+  const double third = (CylinderBend::kFreeTop - CylinderBend::kFreeBottom) / 3.0;
+  DeformerOptions options;
+  options.backend = Solver::kGaussNewton;
+  options.num_threads = 1;
+  Deformer deformer;
+  InitOrDie(&deformer, bend.mesh, options, bend.layout);
+  // Group 1 reaches from the handle down into the lowest quarter of the free
+  // length (e' falls off linearly along a prism; T = 0.1).
+  const DeformationGraph& dg1 = deformer.graphs()[0];
+  double lowest_group1 = CylinderBend::kFreeTop;
+  for (int i = 0; i < dg1.num_nodes(); ++i) {
+    if (deformer.rigidity().relative_extent[i] > deformer.selection().threshold) {
+      lowest_group1 = std::min(lowest_group1, dg1.positions(2, i));
+    }
+  }
+  EXPECT_LT(lowest_group1, CylinderBend::kFreeBottom + 0.25 * 3.0 * third);
+  std::string error;
+  const Eigen::Vector3d centroid = [&] {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (int v : bend.layout.moveable) sum += bend.mesh.vertices.col(v);
+    return Eigen::Vector3d(sum / bend.layout.moveable.size());
+  }();
+  for (const Eigen::Affine3d& frame : InterpolateDragPath(bend.target, centroid, 10)) {
+    ASSERT_TRUE(deformer.Drag(frame, nullptr, &error)) << error;
+  }
+  // The middle third turns by about half the handle's 90 degrees, and the
+  // lowest third by less than the highest.
+  const double lowest = CylinderBend::kFreeBottom;
+  const double middle_turn =
+      bend.TurnOf(deformer.deformed_vertices(), lowest + third, lowest + 2 * third);
+  EXPECT_GT(middle_turn, 30.0);
+  EXPECT_LT(middle_turn, 60.0);
+  EXPECT_LT(bend.TurnOf(deformer.deformed_vertices(), lowest, lowest + third),
+            bend.TurnOf(deformer.deformed_vertices(), lowest + 2 * third, lowest + 3 * third));
+}
+
+TEST(DeformerTest, LargeFixedRegionGetsHalfFreeNodesOnlyAtItsBorder) {
+  // The cylinder fixed up to z = 7 (70% of it), its top dragged sideways.
+  CylinderBend bend;
+  bend.layout.fixed.clear();
+  for (int v = 0; v < bend.mesh.num_vertices(); ++v) {
+    if (bend.mesh.vertices(2, v) < 7.0) bend.layout.fixed.push_back(v);
+  }
+  DeformerOptions options;
+  options.num_threads = 1;
+  Deformer deformer;
+  InitOrDie(&deformer, bend.mesh, options, bend.layout);
+  const DeformationGraph& graph = deformer.active();
+  const std::vector<NodeClass>& classes = deformer.node_classes();
+  int half_free = 0;
+  for (int j = 0; j < graph.num_nodes(); ++j) {
+    if (classes[j] != NodeClass::kHalfFree) continue;
+    ++half_free;
+    bool next_to_free = false;
+    for (const int* k = graph.neighbors.begin(j); k != graph.neighbors.end(j); ++k) {
+      next_to_free |= classes[*k] == NodeClass::kTotallyFree;
+    }
+    EXPECT_TRUE(next_to_free) << "Half Free node " << j << " has no Totally Free neighbour";
+  }
+  EXPECT_GT(half_free, 0);
+  // The paper's rule makes every node of the fixed part Half Free.
+  Deformer paper;
+  InitOrDie(&paper, bend.mesh, PaperMode(options), bend.layout);
+  EXPECT_GT(paper.selection().num_half_free, 3 * half_free);
+  EXPECT_LT(deformer.num_variables(), paper.num_variables());
 }
 
 TEST(DeformerTest, LargeArmadilloEditKeepsOptimisedNodesNearP) {
