@@ -1,11 +1,13 @@
-// Analytic Jacobians of the cost functions in rot_cost.h, coherence_cost.h and
-// position_cost.h. Ceres stores each Jacobian block row-major: entry
-// (residual r, parameter p) of block b is jacobians[b][r * block_size + p].
+// Analytic Jacobians of the cost functions in rot_cost.h, coherence_cost.h,
+// position_cost.h and gauge_cost.h. Ceres stores each Jacobian block
+// row-major: entry (residual r, parameter p) of block b is
+// jacobians[b][r * block_size + p].
 // A rotation block is column-major, so R(a, c) is parameter c * 3 + a.
 
 #include <algorithm>
 
 #include "energies/coherence_cost.h"
+#include "energies/gauge_cost.h"
 #include "energies/position_cost.h"
 #include "energies/rot_cost.h"
 
@@ -57,6 +59,31 @@ bool CoherenceCostAnalytic::Evaluate(double const* const* parameters, double* re
     const double sign = block == 1 ? sqrt_weight_ : -sqrt_weight_;
     std::fill(jacobians[block], jacobians[block] + 9, 0.0);
     for (int a = 0; a < 3; ++a) jacobians[block][a * 3 + a] = sign;
+  }
+  return true;
+}
+
+Eigen::Matrix<double, 1, 9> GaugeCostAnalytic::Jacobian(const Eigen::Vector3d& axis,
+                                                         double sqrt_weight) {
+  // n^T omega(R) = 1/2 [n_x (R(2,1) - R(1,2)) + n_y (R(0,2) - R(2,0)) + n_z (R(1,0) - R(0,1))].
+  const Eigen::Vector3d half = 0.5 * sqrt_weight * axis;
+  Eigen::Matrix<double, 1, 9> row = Eigen::Matrix<double, 1, 9>::Zero();
+  row[1 * 3 + 2] = half.x();   // R(2, 1)
+  row[2 * 3 + 1] = -half.x();  // R(1, 2)
+  row[2 * 3 + 0] = half.y();   // R(0, 2)
+  row[0 * 3 + 2] = -half.y();  // R(2, 0)
+  row[0 * 3 + 1] = half.z();   // R(1, 0)
+  row[1 * 3 + 0] = -half.z();  // R(0, 1)
+  return row;
+}
+
+bool GaugeCostAnalytic::Evaluate(double const* const* parameters, double* residuals,
+                                 double** jacobians) const {
+  const Eigen::Matrix<double, 1, 9> row = Jacobian(axis_, sqrt_weight_);
+  residuals[0] = row * Eigen::Map<const Eigen::Matrix<double, 9, 1>>(parameters[0]);
+  if (jacobians != nullptr && jacobians[0] != nullptr) {
+    Eigen::Map<Eigen::Matrix<double, 1, 9>> jacobian(jacobians[0]);
+    jacobian = row;
   }
   return true;
 }

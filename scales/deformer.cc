@@ -11,6 +11,7 @@
 #include "core/skinning.h"
 #include "core/timing.h"
 #include "energies/coherence_cost.h"
+#include "energies/gauge_cost.h"
 #include "energies/position_cost.h"
 #include "energies/position_group_cost.h"
 #include "energies/rot_cost.h"
@@ -338,8 +339,8 @@ void Deformer::BuildEnergy() {
     }
   }
 
-  // E_con: the moveable handle follows its target; the static baselines also
-  // hold the fixed handles at rest.
+  // E_con: the moveable handle follows its target; the fixed handles are held
+  // at rest (static baselines: all; multi-scale: see below).
   const double sqrt_con = std::sqrt(options_.w_con) * length_scale;
   auto add_position = [&](int v, bool follows_handle) {
     DeformationEnergy::Position term;
@@ -358,14 +359,32 @@ void Deformer::BuildEnergy() {
   };
   for (int v : layout_.moveable) add_position(v, true);
   num_position_terms_ = static_cast<int>(layout_.moveable.size());
-  if (!multiscale) {
-    // A still component's fixed vertices stay at rest without a term (they
-    // are not skinned); a term would only pull on a node shared with a
-    // moving component.
+  // A still component's fixed vertices stay at rest without a term (they are
+  // not skinned); a term would only pull on a node shared with a moving
+  // component. The multi-scale method needs a term only where a fixed vertex
+  // has a non-Fixed node (a Half Free rotation or a Totally Free neighbour
+  // would carry it along); elsewhere it stays at rest exactly.
+  auto has_free_node = [&](int v) {
+    for (int slot = 0; slot < graph.weights.k; ++slot) {
+      if (graph.weights.weights(slot, v) != 0.0 &&
+          node_classes_[graph.weights.nodes(slot, v)] != NodeClass::kFixed) {
+        return true;
+      }
+    }
+    return false;
+  };
+  if (!multiscale || options_.hold_fixed_vertices) {
     for (int v : layout_.fixed) {
-      if (still_vertices_.empty() || !still_vertices_[v]) add_position(v, false);
+      if (!still_vertices_.empty() && still_vertices_[v]) continue;
+      if (multiscale && !has_free_node(v)) continue;
+      add_position(v, false);
     }
   }
+
+  // Rotations the terms above leave free to spin (a Half Free node with one
+  // edge direction, or none) get a gauge term that picks one member of the
+  // family of equal-energy minima (docs/decisions.md, "Gauge freedom").
+  energy_.gauge = GaugeTerms(energy_);
 }
 
 void Deformer::BuildCeresProblem() {
@@ -391,6 +410,11 @@ void Deformer::BuildCeresProblem() {
   for (int j : energy_.rot_nodes) {
     ensure_blocks(j);
     problem.AddResidualBlock(new RotCostAnalytic(energy_.sqrt_rot), nullptr, rotation(j));
+  }
+  for (const DeformationEnergy::Gauge& term : energy_.gauge) {
+    ensure_blocks(term.node);
+    problem.AddResidualBlock(new GaugeCostAnalytic(term.axis, term.sqrt_weight), nullptr,
+                             rotation(term.node));
   }
   for (const DeformationEnergy::Coherence& term : energy_.coherence) {
     ensure_blocks(term.j);

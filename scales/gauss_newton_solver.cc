@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
 #include <glog/logging.h>
 #ifdef MSDEFORM_HAVE_CHOLMOD
 #include <Eigen/CholmodSupport>
 #endif
+
+#include "energies/gauge_cost.h"
 
 namespace msdeform {
 namespace {
@@ -65,6 +68,37 @@ int DeformationEnergy::num_variables() const {
   return variables;
 }
 
+std::vector<DeformationEnergy::Gauge> GaugeTerms(const DeformationEnergy& energy) {
+  std::vector<DeformationEnergy::Gauge> gauge;
+  if (!(energy.sqrt_rot > 0.0)) return gauge;
+  const int num_nodes = static_cast<int>(energy.node_class.size());
+  std::vector<Eigen::Matrix3d> scatter(num_nodes, Eigen::Matrix3d::Zero());
+  for (const DeformationEnergy::Coherence& term : energy.coherence) {
+    const Eigen::Vector3d u = term.sqrt_weight * term.edge;
+    scatter[term.j] += u * u.transpose();
+  }
+  for (const DeformationEnergy::Position& term : energy.positions) {
+    for (size_t i = 0; i < term.nodes.size(); ++i) {
+      const Eigen::Vector3d u = term.sqrt_weight * term.terms[i].weight * term.terms[i].offset;
+      scatter[term.nodes[i]] += u * u.transpose();
+    }
+  }
+  for (int j : energy.rot_nodes) {
+    if (energy.node_class[j] == NodeClass::kFixed) continue;
+    const Eigen::Matrix3d& S = scatter[j];
+    if (S.trace() == 0.0) {
+      for (int axis = 0; axis < 3; ++axis)
+        gauge.push_back({j, Eigen::Vector3d::Unit(axis), energy.sqrt_rot});
+      continue;
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(S);
+    const Eigen::Vector3d lambda = eigen.eigenvalues();  // ascending
+    if (lambda[1] <= 1e-12 * lambda[2])
+      gauge.push_back({j, eigen.eigenvectors().col(2).normalized(), energy.sqrt_rot});
+  }
+  return gauge;
+}
+
 double EvaluateEnergy(const DeformationEnergy& energy, const NodeTransforms& transforms,
                       const Eigen::Affine3d& handle) {
   double sum = 0.0;
@@ -89,6 +123,11 @@ double EvaluateEnergy(const DeformationEnergy& energy, const NodeTransforms& tra
                                          term.terms[i].position + transforms.translations.col(j));
     }
     sum += (term.sqrt_weight * skinned).squaredNorm();
+  }
+  for (const DeformationEnergy::Gauge& term : energy.gauge) {
+    const double r = GaugeCostAnalytic::Jacobian(term.axis, term.sqrt_weight)
+                         .dot(transforms.rotations.col(term.node));
+    sum += r * r;
   }
   return 0.5 * sum;
 }
@@ -303,6 +342,18 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
       for (int a = 0; a < 3; ++a) constant[row + a] -= s * term.rest[a];
     }
     row += 3;
+  }
+  for (const DeformationEnergy::Gauge& term : energy.gauge) {
+    // Linear in R with no constant: one row of A.
+    CHECK_GE(rotation_variable(term.node), 0) << "gauge term on a Fixed node";
+    constant.resize(row + 1, 0.0);
+    const Eigen::Matrix<double, 1, 9> jacobian =
+        GaugeCostAnalytic::Jacobian(term.axis, term.sqrt_weight);
+    for (int i = 0; i < 9; ++i) {
+      if (jacobian[i] != 0.0)
+        a_entries.emplace_back(row, rotation_variable(term.node) + i, jacobian[i]);
+    }
+    row += 1;
   }
   SparseMatrix a_matrix(row, n), p_matrix(row, 13);
   a_matrix.setFromTriplets(a_entries.begin(), a_entries.end());

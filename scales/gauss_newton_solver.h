@@ -7,7 +7,8 @@
 // (its 3x3 matrix column-major, then its translation):
 //   F(x) = 1/2 |r_rot(x)|^2 + 1/2 |A x + c - P tau|^2,
 // r_rot the six Rot residuals (Eq. 12) per free node, and the second term
-// every Coherence (Eq. 14) and Position (Eq. 16) residual, all linear in x.
+// every Coherence (Eq. 14) and Position (Eq. 16) residual and the gauge terms
+// (DeformationEnergy::Gauge), all linear in x.
 // So J^T J = H + blockdiag(J_rot^T J_rot) with H = A^T A constant: H, its
 // sparsity pattern with the 9x9 rotation blocks, and the symbolic Cholesky
 // analysis are built once per handle layout (Setup); a frame only moves tau
@@ -18,12 +19,12 @@
 //
 // Iteration: solve (J^T J + mu D) delta = -g (J^T J possibly lagged, see
 // GaussNewtonOptions::hessian_reuse), D = diag(J^T J), mu starting at
-// a 1e-9 floor (keeps gauge directions such as a Half Free node's spin about
-// its only edge factorisable; the gradient has no component along them);
-// accept if F decreases (then mu /= 10 down to the floor), else mu *= 10 and
-// retry. Stops like Ceres: |dF| <= function_tolerance F, max |g| <=
-// gradient_tolerance, |delta| <= parameter_tolerance (|x| +
-// parameter_tolerance), or max_iterations (every linear solve counts).
+// a 1e-9 floor (J^T J is positive definite once the gauge terms pin the spins
+// Eq. 17 leaves free, so the floor is only a safeguard); accept if F decreases
+// (then mu /= 10 down to the floor), else mu *= 10 and retry. Stops like
+// Ceres: |dF| <= function_tolerance F, max |g| <= gradient_tolerance,
+// |delta| <= parameter_tolerance (|x| + parameter_tolerance), or
+// max_iterations (every linear solve counts).
 // Costs are reported as Ceres does: 1/2 sum of squared residuals.
 
 #ifndef MSDEFORM_SCALES_GAUSS_NEWTON_SOLVER_H_
@@ -71,9 +72,37 @@ struct DeformationEnergy {
     double sqrt_weight;
   };
   std::vector<Position> positions;
+  // Gauge fixing (energies/gauge_cost.h, docs/decisions.md "Gauge freedom"):
+  //   sqrt_weight * axis^T omega(R_node),  omega(R) = 1/2 (R32 - R23, R13 - R31, R21 - R12),
+  // one per unit axis along which Eq. 17 leaves R_node free (GaugeTerms).
+  // Zero on a member of every such family of minima, so the minimum value
+  // does not change; J^T J becomes non-singular.
+  struct Gauge {
+    int node;
+    Eigen::Vector3d axis;  // unit
+    double sqrt_weight;
+  };
+  std::vector<Gauge> gauge;
 
   int num_variables() const;
 };
+
+// The gauge terms `energy` needs, from its Rot, Coherence and Position terms
+// (energy.gauge is ignored). R_j of a node in rot_nodes enters Eq. 17 through
+// Rot, which depends on R_j^T R_j only, and through R_j u for the vectors u of
+// its terms: the edge of each Coherence term with j as source, the offset of
+// each Position term's share of j. Spinning R_j about a unit axis n
+// (R_j -> Q R_j, Q a rotation about R_j n; = R_j Q_n for a rotation R_j)
+// changes none of these when every u is parallel to n. With S the sum of
+// u u^T over those vectors scaled as in J (sqrt weight, times w_i for a
+// Position share):
+//   S = 0 (no such term): axes x, y and z;
+//   S of rank one (second eigenvalue <= 1e-12 times the first, a relative
+//   test): its leading eigenvector, the common direction of the edges;
+//   otherwise none (the terms pin R_j).
+// Weight sqrt_rot (the Rot residuals' scale, so the term is as stiff as the
+// Rot terms that pin R_j's other directions); none when sqrt_rot is 0.
+std::vector<DeformationEnergy::Gauge> GaugeTerms(const DeformationEnergy& energy);
 
 // 1/2 sum of squared residuals of `energy` at `transforms` with the handle at
 // `handle` (deformed_from_rest), evaluated term by term (the reference).
