@@ -111,17 +111,7 @@ bool FillOptions(DeformerOptions* options, std::string* error) {
   options->lattice.cell_width = FLAGS_cell_width;
   options->graph.seed = FLAGS_seed;
   options->rigidity.seed = FLAGS_seed;
-  if (!ParseRigidityModel(FLAGS_rigidity, &options->rigidity.model)) {
-    *error = "--rigidity=" + FLAGS_rigidity + ": expected harmonic or paper";
-    return false;
-  }
-  if (!ParseHalfFreeRule(FLAGS_half_free, &options->selection.half_free)) {
-    *error = "--half_free=" + FLAGS_half_free +
-             ": expected next_to_totally_free, every_fixed_handle_node or none";
-    return false;
-  }
-  if (!ParseBorderRule(FLAGS_border, &options->selection.border)) {
-    *error = "--border=" + FLAGS_border + ": expected fixed, half_free or totally_free";
+  if (!ParseMethodVariant(FLAGS_rigidity, FLAGS_half_free, FLAGS_border, options, error)) {
     return false;
   }
   options->rigidity.external_stiffness = FLAGS_rigidity_stiffness;

@@ -62,17 +62,8 @@ bool FillOptions(RunnerOptions* options, std::string* error) {
   while (std::getline(methods, name, ','))
     if (!name.empty()) options->methods.push_back(name);
   options->time_gauss_newton = FLAGS_time_gauss_newton;
-  if (!msdeform::ParseRigidityModel(FLAGS_rigidity, &options->deformer.rigidity.model)) {
-    *error = "--rigidity=" + FLAGS_rigidity + ": expected harmonic or paper";
-    return false;
-  }
-  if (!msdeform::ParseHalfFreeRule(FLAGS_half_free, &options->deformer.selection.half_free)) {
-    *error = "--half_free=" + FLAGS_half_free +
-             ": expected next_to_totally_free, every_fixed_handle_node or none";
-    return false;
-  }
-  if (!msdeform::ParseBorderRule(FLAGS_border, &options->deformer.selection.border)) {
-    *error = "--border=" + FLAGS_border + ": expected fixed, half_free or totally_free";
+  if (!msdeform::ParseMethodVariant(FLAGS_rigidity, FLAGS_half_free, FLAGS_border,
+                                    &options->deformer, error)) {
     return false;
   }
   options->deformer.selection.threshold_floor = FLAGS_threshold_floor;

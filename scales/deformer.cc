@@ -111,6 +111,25 @@ bool ParseSolver(const std::string& name, Solver* solver) {
   return false;
 }
 
+bool ParseMethodVariant(const std::string& rigidity, const std::string& half_free,
+                        const std::string& border, DeformerOptions* options,
+                        std::string* error) {
+  if (!ParseRigidityModel(rigidity, &options->rigidity.model)) {
+    *error = "--rigidity=" + rigidity + ": expected harmonic or paper";
+    return false;
+  }
+  if (!ParseHalfFreeRule(half_free, &options->selection.half_free)) {
+    *error = "--half_free=" + half_free +
+             ": expected next_to_totally_free, every_fixed_handle_node or none";
+    return false;
+  }
+  if (!ParseBorderRule(border, &options->selection.border)) {
+    *error = "--border=" + border + ": expected fixed, half_free or totally_free";
+    return false;
+  }
+  return true;
+}
+
 DeformerOptions::DeformerOptions() {
   solver.minimizer_type = ceres::TRUST_REGION;
   solver.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;

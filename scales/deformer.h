@@ -56,6 +56,15 @@ bool ParseMethod(const std::string& name, Method* method);
 const char* SolverName(Solver solver);
 bool ParseSolver(const std::string& name, Solver* solver);
 
+struct DeformerOptions;
+// Sets the multi-scale method's variant switches (rigidity.model,
+// selection.half_free, selection.border) from their names, as the command-line
+// flags --rigidity, --half_free and --border spell them; false with
+// "--<flag>=<value>: expected ..." when a name is not one.
+bool ParseMethodVariant(const std::string& rigidity, const std::string& half_free,
+                        const std::string& border, DeformerOptions* options,
+                        std::string* error);
+
 struct DeformerOptions {
   Method method = Method::kMultiScale;
   LatticeOptions lattice;            // cell width (default diag / 48)
