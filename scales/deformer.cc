@@ -67,6 +67,19 @@ void FixNodesOfStillComponents(const std::vector<char>& still, const Lattice& la
   }
 }
 
+// Whether vertex v has a non-Fixed node of non-zero weight: only such a
+// vertex can move (a Fixed node is the identity).
+bool MovesWithANode(const SkinningWeights& weights, const std::vector<NodeClass>& node_classes,
+                    int v) {
+  for (int slot = 0; slot < weights.k; ++slot) {
+    if (weights.weights(slot, v) != 0.0 &&
+        node_classes[weights.nodes(slot, v)] != NodeClass::kFixed) {
+      return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 const char* MethodName(Method method) {
@@ -294,13 +307,7 @@ void Deformer::BuildProblem() {
   const SkinningWeights& weights = graph.weights;
   for (int v = 0; v < weights.num_vertices(); ++v) {
     if (!still_vertices_.empty() && still_vertices_[v]) continue;
-    for (int slot = 0; slot < weights.k; ++slot) {
-      if (weights.weights(slot, v) != 0.0 &&
-          node_classes_[weights.nodes(slot, v)] != NodeClass::kFixed) {
-        skinned_vertices_.push_back(v);
-        break;
-      }
-    }
+    if (MovesWithANode(weights, node_classes_, v)) skinned_vertices_.push_back(v);
   }
   skin_all_ = static_cast<int>(skinned_vertices_.size()) == weights.num_vertices();
   if (skin_all_) std::vector<int>().swap(skinned_vertices_);
@@ -383,19 +390,10 @@ void Deformer::BuildEnergy() {
   // component. The multi-scale method needs a term only where a fixed vertex
   // has a non-Fixed node (a Half Free rotation or a Totally Free neighbour
   // would carry it along); elsewhere it stays at rest exactly.
-  auto has_free_node = [&](int v) {
-    for (int slot = 0; slot < graph.weights.k; ++slot) {
-      if (graph.weights.weights(slot, v) != 0.0 &&
-          node_classes_[graph.weights.nodes(slot, v)] != NodeClass::kFixed) {
-        return true;
-      }
-    }
-    return false;
-  };
   if (!multiscale || options_.hold_fixed_vertices) {
     for (int v : layout_.fixed) {
       if (!still_vertices_.empty() && still_vertices_[v]) continue;
-      if (multiscale && !has_free_node(v)) continue;
+      if (multiscale && !MovesWithANode(graph.weights, node_classes_, v)) continue;
       add_position(v, false);
     }
   }
