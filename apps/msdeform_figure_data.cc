@@ -6,7 +6,10 @@
 //       deformation graphs DG1, a middle scale and DG_N (node positions and
 //       edges). --scales=1,5,N picks other scales ("N" is the coarsest).
 //   --mode=edit --scenario=S --out=F.json [--method=...] [ablations]
-//       One edit: handle and watch vertices, e' and class of every DG1 node, the
+//       One edit (ablations, as msdeform's: --keep_left_out_terms,
+//       --fix_fixed_handle_nodes, --rigidity, --half_free, --border,
+//       --hold_fixed_vertices; all recorded in F.json): handle and watch
+//       vertices, e' and class of every DG1 node, the size of group 1, the
 //       selected scale's nodes/edges/classes, per-vertex displacement; the
 //       deformed mesh is written to F with extension .off.
 //   --mode=nodes_vs_p --scenario=S --out=F.json --p_values=25,50,100,...
@@ -31,6 +34,8 @@
 #include "core/scenario.h"
 #include "core/timing.h"
 #include "scales/deformer.h"
+#include "scales/rigidity.h"
+#include "scales/scale_selection.h"
 
 DEFINE_string(mode, "edit", "graphs, edit or nodes_vs_p.");
 DEFINE_string(mesh, "", "Mesh (graphs mode; overrides the scenario's mesh otherwise).");
@@ -40,6 +45,19 @@ DEFINE_string(method, "multiscale", "multiscale, static or static_dense.");
 DEFINE_int32(static_nodes, 220, "Nodes of the static baseline graph.");
 DEFINE_bool(keep_left_out_terms, false, "Ablation: keep E(j,k) for Half Free j.");
 DEFINE_bool(fix_fixed_handle_nodes, false, "Ablation: fixed-handle nodes get no rotation.");
+DEFINE_string(rigidity, msdeform::RigidityModelName(msdeform::RigidityOptions().model),
+              "Rigidity estimate: harmonic (the driven lattice's rest state) or paper "
+              "(S steps of lattice shape matching after a kick).");
+DEFINE_string(half_free,
+              msdeform::HalfFreeRuleName(msdeform::ScaleSelectionOptions().half_free),
+              "Which fixed-handle nodes are Half Free: next_to_totally_free, "
+              "every_fixed_handle_node (the paper) or none.");
+DEFINE_bool(hold_fixed_vertices, msdeform::DeformerOptions().hold_fixed_vertices,
+            "Multi-scale: hold the fixed vertices skinned by a non-Fixed node at rest with "
+            "Position terms (the paper: false).");
+DEFINE_string(border, msdeform::BorderRuleName(msdeform::ScaleSelectionOptions().border),
+              "What a Fixed node next to a Totally Free one becomes: fixed (the paper), "
+              "half_free or totally_free.");
 DEFINE_int32(nodes_per_scale, 100, "P: nodes per scale step (graph and Eq. 6).");
 DEFINE_string(scales, "1,mid,N", "graphs mode: scales to export (1-based, 'mid' or 'N').");
 DEFINE_string(p_values, "25,50,100,200,400", "nodes_vs_p mode: the P values.");
@@ -97,10 +115,14 @@ bool FillOptions(DeformerOptions* options, std::string* error) {
   options->static_nodes = FLAGS_static_nodes;
   options->graph.seed = FLAGS_seed;
   options->rigidity.seed = FLAGS_seed;
+  if (!ParseMethodVariant(FLAGS_rigidity, FLAGS_half_free, FLAGS_border, options, error)) {
+    return false;
+  }
   options->graph.nodes_per_scale = FLAGS_nodes_per_scale;
   options->selection.nodes_per_scale = FLAGS_nodes_per_scale;
   options->keep_left_out_terms = FLAGS_keep_left_out_terms;
   options->fix_fixed_handle_nodes = FLAGS_fix_fixed_handle_nodes;
+  options->hold_fixed_vertices = FLAGS_hold_fixed_vertices;
   options->num_threads = FLAGS_threads;
   return options->Check(error);
 }
@@ -207,6 +229,10 @@ bool RunEdit(std::string* error) {
   out["method"] = FLAGS_method;
   out["keep_left_out_terms"] = FLAGS_keep_left_out_terms;
   out["fix_fixed_handle_nodes"] = FLAGS_fix_fixed_handle_nodes;
+  out["rigidity"] = FLAGS_rigidity;
+  out["half_free"] = FLAGS_half_free;
+  out["border"] = FLAGS_border;
+  out["hold_fixed_vertices"] = FLAGS_hold_fixed_vertices;
   out["deformed_mesh"] = mesh_out.filename().string();
   out["vertices"] = mesh.num_vertices();
   out["diag"] = deformer.diagonal();
@@ -219,6 +245,7 @@ bool RunEdit(std::string* error) {
                           : 1;
   out["selected_scale"] = deformer.active_graph() + 1;
   out["threshold"] = deformer.selection().threshold;
+  out["group1"] = deformer.selection().group1_size;
   out["variables"] = deformer.num_variables();
   out["frame_ms_median"] = Median(frame_ms);
 
@@ -285,6 +312,10 @@ bool RunNodesVsP(std::string* error) {
   out["name"] = scenario.name;
   out["vertices"] = mesh.num_vertices();
   out["frames"] = frames;
+  out["rigidity"] = FLAGS_rigidity;
+  out["half_free"] = FLAGS_half_free;
+  out["border"] = FLAGS_border;
+  out["hold_fixed_vertices"] = FLAGS_hold_fixed_vertices;
   out["rows"] = rows;
   return WriteJson(FLAGS_out, out, error);
 }

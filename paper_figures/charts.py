@@ -38,6 +38,8 @@ def table_path(name):
     return None, None
 METHOD_STYLE = {
     "multiscale": dict(color="#d62728", marker="o", label="multi-scale (ours)"),
+    # docs/performance.md: the multi-scale method with w_con = 10^4 (--w_con=10000).
+    "multiscale-wcon10000": dict(color="#ff7f0e", marker="v", label="multi-scale, w_con 1e4"),
     "static": dict(color="#1f77b4", marker="s", label="static graph, 220 nodes"),
     "static_dense": dict(color="#2ca02c", marker="^", label="static graph = DG1"),
     "cgal_arap": dict(color="#7f7f7f", marker="D", label="CGAL ARAP"),
@@ -136,7 +138,8 @@ def chart_frame_time():
         series, load = perf
         for (method, solver), pts in sorted(series.items()):
             pts.sort()
-            style = dict(METHOD_STYLE[method])
+            style = dict(METHOD_STYLE.get(method, dict(color="#9467bd", marker="x",
+                                                       label=method)))
             if solver == "gauss_newton":
                 style.update(linestyle="--", markerfacecolor="white",
                              label=style["label"] + ", Gauss-Newton")

@@ -234,6 +234,12 @@ def scalar_bar(renderer, lut, title, rng=None, pos=(0.82, 0.12)):
         tp.ShadowOff()
         tp.ItalicOff()
     bar.GetTitleTextProperty().SetFontSize(16)
+    at = bar.GetAnnotationTextProperty()  # lut.SetAnnotation marks, e.g. a threshold
+    at.SetColor(0, 0, 0)
+    at.SetFontSize(14)
+    at.ItalicOff()
+    at.ShadowOff()
+    at.BoldOn()
     renderer.AddActor2D(bar)
     return bar
 
@@ -316,14 +322,137 @@ def render_panels(panels, path, panel_size=(520, 600), title=None, columns=None)
 
 
 def shrink_png(path, limit_kb=200):
-    """Re-encodes a PNG with an adaptive 256-colour palette when it is larger
-    than limit_kb, so committed figures stay small. libimagequant (in
-    Debian's Pillow) keeps smooth shading and colour maps free of banding."""
+    """Re-encodes a PNG with an adaptive palette when it is larger than limit_kb,
+    so committed figures stay small: 256 colours, fewer (192, 128) only while
+    the file is still over 205 KiB. libimagequant (in Debian's Pillow) keeps smooth
+    shading and colour maps free of banding."""
     if os.path.getsize(path) <= limit_kb * 1024:
         return
     from PIL import Image, features
     method = (Image.Quantize.LIBIMAGEQUANT if features.check_feature("libimagequant")
               else Image.Quantize.MEDIANCUT)
     image = Image.open(path).convert("RGB")
-    image.quantize(colors=256, method=method,
-                   dither=Image.Dither.FLOYDSTEINBERG).save(path, optimize=True)
+    for colors in (256, 192, 128):
+        image.quantize(colors=colors, method=method,
+                       dither=Image.Dither.FLOYDSTEINBERG).save(path, optimize=True)
+        if os.path.getsize(path) <= 205 * 1024:
+            break
+
+
+def arap_energy_per_vertex(V, F, Vd):
+    """(E_i, N_i) per vertex: the cotangent ARAP energy of experiments/metrics.h
+    (Sorkine & Alexa 2007; w_ij = (cot a + cot b) / 2 clamped at 0, the best
+    rotation per vertex without reflection) and its normaliser sum w |e|^2.
+    sum(E) / sum(N) is experiments' arap_energy."""
+    V = np.asarray(V, float)
+    Vd = np.asarray(Vd, float)
+    F = np.asarray(F, np.int64)
+    n = len(V)
+    keys, weights = [], []
+    for c in range(3):
+        i, j, k = F[:, c], F[:, (c + 1) % 3], F[:, (c + 2) % 3]
+        a, b = V[j] - V[i], V[k] - V[i]
+        cross = np.linalg.norm(np.cross(a, b), axis=1)
+        dot = (a * b).sum(1)
+        cot = np.where(cross > 0, dot / np.where(cross > 0, cross, 1.0), 0.0)
+        keys.append(np.minimum(j, k) * n + np.maximum(j, k))
+        weights.append(0.5 * cot)
+    keys = np.concatenate(keys)
+    weights = np.concatenate(weights)
+    uniq, inv = np.unique(keys, return_inverse=True)
+    w = np.maximum(np.bincount(inv, weights=weights), 0.0)
+    ea, eb = uniq // n, uniq % n
+    e0 = V[ea] - V[eb]
+    e1 = Vd[ea] - Vd[eb]
+    outer = w[:, None, None] * e1[:, :, None] * e0[:, None, :]
+    S = np.zeros((n, 3, 3))
+    np.add.at(S, ea, outer)
+    np.add.at(S, eb, outer)
+    N = np.zeros(n)
+    l2 = w * (e0 ** 2).sum(1)
+    np.add.at(N, ea, l2)
+    np.add.at(N, eb, l2)
+    U, _, Vt = np.linalg.svd(S)
+    det = np.linalg.det(U @ Vt)
+    U[:, :, 2] *= np.where(det < 0, -1.0, 1.0)[:, None]
+    R = U @ Vt
+    E = np.zeros(n)
+    for ends in (ea, eb):
+        r = e1 - np.einsum("nij,nj->ni", R[ends], e0)
+        np.add.at(E, ends, w * (r ** 2).sum(1))
+    return E, N
+
+
+def group1_stats(d, V, up=None):
+    """Numbers of an edit's group 1 (DG1 nodes with e' > T) for figures and captions:
+    group1, dg1 (counts), reach (largest distance of a group-1 node from the moveable
+    handle's centroid over the diagonal) and, with `up` an axis, top (the highest
+    group-1 node) and free_top (the highest vertex that is not a fixed handle), both
+    as fractions of the height; `where` is a one-line summary."""
+    P = np.asarray(d["dg1"]["positions"])
+    e = np.asarray(d["dg1"]["e_prime"])
+    g1 = P[e > d["threshold"]]
+    c = V[np.asarray(d["moveable"], dtype=int)].mean(0)
+    out = dict(group1=len(g1), dg1=len(P),
+               reach=float(np.linalg.norm(g1 - c, axis=1).max()) / d["diag"] if len(g1) else 0.0)
+    if up is None:
+        out["where"] = "all within %.2f diag of the handle" % out["reach"]
+        return out
+    lo, hi = V[:, up].min(), V[:, up].max()
+    free = np.ones(len(V), bool)
+    free[np.asarray(d["fixed"], dtype=int)] = False
+    out["top"] = float(g1[:, up].max() - lo) / (hi - lo) if len(g1) else 0.0
+    out["free_top"] = float(V[free, up].max() - lo) / (hi - lo)
+    out["where"] = "up to %.0f%% of the height (free leg: 0-%.0f%%)" % (
+        100 * out["top"], 100 * out["free_top"])
+    return out
+
+
+def vertices_near(V, F, sources, radius):
+    """Vertices not in `sources` whose distance along mesh edges (Dijkstra) from the
+    nearest source is at most `radius`: experiments' VerticesNear, the band around
+    the fixed region where arap_energy_joint is measured."""
+    import heapq
+    E = np.vstack([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])
+    E = np.unique(np.sort(E, axis=1), axis=0)
+    length = np.linalg.norm(V[E[:, 0]] - V[E[:, 1]], axis=1)
+    adj = [[] for _ in range(len(V))]
+    for (a, b), l in zip(E.tolist(), length.tolist()):
+        adj[a].append((b, l))
+        adj[b].append((a, l))
+    dist = np.full(len(V), np.inf)
+    heap = []
+    for s in np.asarray(sources, dtype=int).tolist():
+        dist[s] = 0.0
+        heap.append((0.0, s))
+    heapq.heapify(heap)
+    while heap:
+        d, v = heapq.heappop(heap)
+        if d > dist[v] or d > radius:
+            continue
+        for w, l in adj[v]:
+            if d + l < dist[w] and d + l <= radius:
+                dist[w] = d + l
+                heapq.heappush(heap, (d + l, w))
+    near = dist <= radius
+    near[np.asarray(sources, dtype=int)] = False
+    return np.where(near)[0]
+
+
+def edit_metrics(d, V, F, Vd, V_ref=None, joint_band=0.05):
+    """Numbers of one exported edit (the figures' captions): arap (experiments'
+    arap_energy), arap_joint (over the vertices within joint_band diag of the fixed
+    region along edges), local_max (largest E_i / N_i), fixed_max (largest fixed-
+    vertex displacement) and, with V_ref, diff_max (largest |Vd - V_ref|), lengths
+    over the diagonal; `local` is E_i / N_i per vertex."""
+    E, N = arap_energy_per_vertex(V, F, Vd)
+    local = E / np.maximum(N, 1e-300)
+    fixed = np.asarray(d["fixed"], dtype=int)
+    band = vertices_near(V, F, fixed, joint_band * d["diag"]) if len(fixed) else []
+    out = dict(arap=E.sum() / N.sum(), local=local, local_max=float(local.max()),
+               arap_joint=E[band].sum() / N[band].sum() if len(band) else float("nan"),
+               fixed_max=float(np.linalg.norm(Vd[fixed] - V[fixed], axis=1).max()) / d["diag"]
+               if len(fixed) else 0.0)
+    if V_ref is not None:
+        out["diff_max"] = float(np.linalg.norm(Vd - V_ref, axis=1).max()) / d["diag"]
+    return out

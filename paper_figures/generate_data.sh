@@ -21,17 +21,56 @@ run "$D/graphs_armadillo.json" --mode=graphs --mesh="$ROOT/data/meshes/armadillo
 run "$D/graphs_camel.json" --mode=graphs --mesh="$ROOT/data/meshes/camel.off" --scales=1
 run "$D/graphs_hand.json" --mode=graphs --mesh="$ROOT/data/meshes/hand.off" --scales=1
 
-# Fig. 4: handles, particle groups and e'.
+# The paper's settings together ("paper mode"; docs/decisions.md): its rigidity estimate, every
+# fixed-handle node Half Free, Fixed nodes at the border, no Position terms on fixed vertices.
+PAPER=(--rigidity=paper --half_free=every_fixed_handle_node --border=fixed
+       --hold_fixed_vertices=false)
+EXP="$ROOT/experiments/scenarios"
+
+# Fig. 4: e' and group 1, the harmonic estimate (default) against the paper's, on a limb edit
+# (experiments' man_foot_drag) and a small one (experiments' armadillo_ear: a band fixed).
+if [ -f "$EXP/man_foot_drag.json" ] && [ -f "$EXP/armadillo_ear.json" ]; then
+  run "$D/edit_man_foot_drag_multiscale.json" --mode=edit --scenario="$EXP/man_foot_drag.json" \
+    --frames=10
+  run "$D/edit_man_foot_drag_paper_rigidity.json" --mode=edit --scenario="$EXP/man_foot_drag.json" \
+    --frames=10 --rigidity=paper
+  run "$D/edit_armadillo_ear_band_multiscale.json" --mode=edit \
+    --scenario="$EXP/armadillo_ear.json" --frames=10
+  run "$D/edit_armadillo_ear_band_paper_rigidity.json" --mode=edit \
+    --scenario="$EXP/armadillo_ear.json" --frames=10 --rigidity=paper
+fi
+
+# The leg edits figure and chart_nodes_vs_p: the armadillo foot lift, default, paper mode and
+# every DG1 node free.
 run "$D/edit_armadillo_foot_multiscale.json" --mode=edit --scenario="$SC/armadillo_foot.json"
+run "$D/edit_armadillo_foot_paper.json" --mode=edit --scenario="$SC/armadillo_foot.json" \
+  "${PAPER[@]}"
 run "$D/edit_armadillo_foot_static_dense.json" --mode=edit --scenario="$SC/armadillo_foot.json" \
   --method=static_dense --frames=5
 
-# Fig. 5: ours and the two ablations.
+# Fig. 5: experiments' man_knee_bend (the knee bends right at a fixed band around the thigh):
+# default, paper mode and one change each, 10 frames.
+FIG5_VARIANTS=(
+  "multiscale"
+  "paper ${PAPER[*]}"
+  "keep_left_out --keep_left_out_terms"
+  "fix_fixed --fix_fixed_handle_nodes"
+  "border_fixed --border=fixed"
+  "half_free_every --half_free=every_fixed_handle_node"
+)
+if [ -f "$EXP/man_knee_bend.json" ]; then
+  for v in "${FIG5_VARIANTS[@]}"; do
+    read -r tag flags <<<"$v"
+    # shellcheck disable=SC2086
+    run "$D/edit_man_knee_bend_$tag.json" --mode=edit --scenario="$EXP/man_knee_bend.json" \
+      --frames=10 $flags
+  done
+fi
+
+# Fig. 6's camel leg (the former Fig. 5 edit), default and paper mode.
 run "$D/edit_camel_leg_bend_multiscale.json" --mode=edit --scenario="$SC/camel_leg_bend.json"
-run "$D/edit_camel_leg_bend_keep_left_out.json" --mode=edit --scenario="$SC/camel_leg_bend.json" \
-  --keep_left_out_terms
-run "$D/edit_camel_leg_bend_fix_fixed.json" --mode=edit --scenario="$SC/camel_leg_bend.json" \
-  --fix_fixed_handle_nodes
+run "$D/edit_camel_leg_bend_paper.json" --mode=edit --scenario="$SC/camel_leg_bend.json" \
+  "${PAPER[@]}"
 
 # Fig. 6 / 8: large- and small-scale edits.
 run "$D/edit_armadillo_claw_multiscale.json" --mode=edit \
@@ -47,20 +86,25 @@ for s in man_leg_lift dino_tail_swing; do
       --frames=10
   fi
 done
-# Open issue figure: leg edits against every DG1 node free.
+# Leg edits figure: the man leg lift in paper mode and with every DG1 node free.
 if [ -f "$ROOT/experiments/scenarios/man_leg_lift.json" ]; then
+  run "$D/edit_man_leg_lift_paper.json" --mode=edit --frames=10 "${PAPER[@]}" \
+    --scenario="$ROOT/experiments/scenarios/man_leg_lift.json"
   run "$D/edit_man_leg_lift_static_dense.json" --mode=edit --method=static_dense --frames=5 \
     --scenario="$ROOT/experiments/scenarios/man_leg_lift.json"
 fi
 
-# Fig. 7: the thumb, ours against the 220-node static graph.
+# Fig. 7: the thumb, ours (default and paper mode) against the 220-node static graph.
 run "$D/edit_hand_thumb_multiscale.json" --mode=edit --scenario="$SC/hand_thumb.json"
+run "$D/edit_hand_thumb_paper.json" --mode=edit --scenario="$SC/hand_thumb.json" "${PAPER[@]}"
 run "$D/edit_hand_thumb_static.json" --mode=edit --scenario="$SC/hand_thumb.json" \
   --method=static --static_nodes=220
 
 # The experiments' one-finger edit (middle knuckle, neighbours watched), when present.
 if [ -f "$ROOT/experiments/scenarios/hand_finger.json" ]; then
   run "$D/edit_hand_finger_multiscale.json" --mode=edit \
+    --scenario="$ROOT/experiments/scenarios/hand_finger.json"
+  run "$D/edit_hand_finger_paper.json" --mode=edit "${PAPER[@]}" \
     --scenario="$ROOT/experiments/scenarios/hand_finger.json"
   run "$D/edit_hand_finger_static.json" --mode=edit \
     --scenario="$ROOT/experiments/scenarios/hand_finger.json" --method=static --static_nodes=220

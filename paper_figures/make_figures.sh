@@ -4,8 +4,8 @@
 #   bash paper_figures/make_figures.sh          # from the repository root, as root
 #
 # 1. installs the Debian packages it needs when missing (python3-vtk9, xvfb,
-#    python3-matplotlib, python3-numpy),
-# 2. builds msdeform and msdeform_figure_data in build/ (incrementally),
+#    python3-matplotlib, python3-numpy, python3-pil),
+# 2. builds msdeform and msdeform_figure_data in build/ (incrementally; SKIP_BUILD=1: not),
 # 3. generates the figure data into paper_figures/data/ (skipped when present;
 #    FORCE=1 regenerates), timing runs included when experiments/results/ has none,
 #    and a `msdeform_experiments --quick` preview when it has no solvers.csv,
@@ -23,6 +23,7 @@ missing=()
 $PY -c "import vtk" 2>/dev/null || missing+=(python3-vtk9)
 $PY -c "import matplotlib" 2>/dev/null || missing+=(python3-matplotlib)
 $PY -c "import numpy" 2>/dev/null || missing+=(python3-numpy)
+$PY -c "import PIL" 2>/dev/null || missing+=(python3-pil)   # figlib.shrink_png
 command -v xvfb-run >/dev/null || missing+=(xvfb xauth)
 if [ ${#missing[@]} -gt 0 ]; then
   echo "make_figures: installing ${missing[*]}"
@@ -31,12 +32,16 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 # 2. Executables (an incremental build: nothing to do when up to date) and meshes.
-[ -f "$BUILD/CMakeCache.txt" ] || cmake -S "$ROOT" -B "$BUILD"
-cmake --build "$BUILD" -j2 --target msdeform msdeform_figure_data
-# The experiment runner, for a --quick preview of the tables experiments/results/ lacks.
-if [ ! -f "$ROOT/experiments/results/solvers.csv" ]; then
-  cmake --build "$BUILD" -j2 --target run_experiments || \
-    echo "make_figures: msdeform_experiments did not build; charts from it are skipped"
+# SKIP_BUILD=1 builds nothing (a build folder shared with a running experiment: build
+# msdeform_figure_data yourself first).
+if [ "${SKIP_BUILD:-0}" != 1 ]; then
+  [ -f "$BUILD/CMakeCache.txt" ] || cmake -S "$ROOT" -B "$BUILD"
+  cmake --build "$BUILD" -j2 --target msdeform msdeform_figure_data
+  # The experiment runner, for a --quick preview of the tables experiments/results/ lacks.
+  if [ ! -f "$ROOT/experiments/results/solvers.csv" ]; then
+    cmake --build "$BUILD" -j2 --target run_experiments || \
+      echo "make_figures: msdeform_experiments did not build; charts from it are skipped"
+  fi
 fi
 if [ ! -f "$ROOT/data/meshes/armadillo.off" ]; then
   bash "$ROOT/data/fetch_meshes.sh"

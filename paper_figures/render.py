@@ -11,9 +11,9 @@ import numpy as np
 import vtk
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from figlib import (DATA, FIXED, GROUP1, GROUP2, MESH_GREY, MOVEABLE, OUT, ROOT, camera_for,
-                    cubes_actor, lines_actor, load_json, lut_blue_red, lut_viridis, mesh_actor,
-                    read_off, render_panels, spheres_actor)
+from figlib import (DATA, FIXED, MESH_GREY, MOVEABLE, OUT, ROOT, arap_energy_per_vertex,
+                    camera_for, cubes_actor, edit_metrics, group1_stats, lines_actor, load_json,
+                    lut_viridis, mesh_actor, read_off, render_panels, spheres_actor)
 
 MESHES = os.path.join(ROOT, "data", "meshes")
 _mesh_cache = {}
@@ -120,92 +120,161 @@ def fig3_graphs():
     render_panels(panels, os.path.join(OUT, "fig3_graphs.png"), panel_size=(540, 620))
 
 
-def nearest_node_values(V, P, values):
-    """Per-vertex value of the nearest point of P (brute force in chunks)."""
+def knn_interpolate(V, P, values, k=4):
+    """Per-vertex value interpolated from the k nearest points of P with
+    inverse-distance weights (brute force in chunks; no scipy)."""
     out = np.empty(len(V))
+    k = min(k, len(P))
     for s in range(0, len(V), 2000):
         d2 = ((V[s:s + 2000, None, :] - P[None, :, :]) ** 2).sum(-1)
-        out[s:s + 2000] = values[np.argmin(d2, axis=1)]
+        idx = np.argpartition(d2, k - 1, axis=1)[:, :k]
+        dk = np.sqrt(np.take_along_axis(d2, idx, axis=1)) + 1e-12
+        w = 1.0 / dk
+        out[s:s + 2000] = (w * values[idx]).sum(1) / w.sum(1)
     return out
 
 
-def fig4_rigidity():
-    d, V, F, Vd = edit("edit_armadillo_foot_multiscale")
+def lut_threshold(T, steps=512):
+    """e' in [0, 1] with a break at T: greens below T (rigid group, pale at 0),
+    oranges above (group 1, light at T, dark at 1); below-range colour (fixed
+    handles) blue, above-range (the moveable handle) red."""
+    lut = vtk.vtkLookupTable()
+    lut.SetNumberOfTableValues(steps)
+    lut.SetTableRange(0.0, 1.0)
+    lut.Build()
+    lo0, lo1 = np.array((0.86, 0.90, 0.84)), np.array((0.36, 0.66, 0.36))
+    hi0, hi1 = np.array((1.0, 0.86, 0.45)), np.array((0.62, 0.20, 0.02))
+    for i in range(steps):
+        x = (i + 0.5) / steps
+        if x < T:
+            c = lo0 + (lo1 - lo0) * (x / T)
+        else:
+            c = hi0 + (hi1 - hi0) * ((x - T) / (1.0 - T)) ** 0.7
+        lut.SetTableValue(i, c[0], c[1], c[2], 1.0)
+    lut.SetUseBelowRangeColor(True)
+    lut.SetBelowRangeColor(*FIXED, 1.0)
+    lut.SetUseAboveRangeColor(True)
+    lut.SetAboveRangeColor(*MOVEABLE, 1.0)
+    lut.SetAnnotation(T, "T = %.2g" % T)
+    return lut
+
+
+def rigidity_panel(d, V, F, cam, label, part_note):
+    """Mesh coloured by e' (nearest DG1 nodes interpolated) with the break at T,
+    fixed handles blue, the moveable handle red, group-1 nodes as dark dots."""
     P = np.asarray(d["dg1"]["positions"])
-    e = np.asarray(d["dg1"]["e_prime"])
+    e = np.minimum(np.asarray(d["dg1"]["e_prime"]), 1.0)
     T = d["threshold"]
-    diag = d["diag"]
-    view, up = (1, 0.15, -0.6), (0, 1, 0)  # three-quarter view: the lift shows
-    cam = camera_for(np.vstack([V, Vd]), view, up, 0.9)
-    r = 0.005 * diag
-    n1 = int((e > T).sum())
-    group = np.where(e > T, 1.0, 0.0)
-    glut = vtk.vtkLookupTable()
-    glut.SetNumberOfTableValues(2)
-    glut.Build()
-    glut.SetTableValue(0, *GROUP2, 1.0)
-    glut.SetTableValue(1, *GROUP1, 1.0)
-    elut = lut_blue_red()
-    elut.SetTableRange(0, 1)
-    cls = np.asarray(d["active"]["class"])
-    counts = [(cls == k).sum() for k in (2, 1, 0)]
-    panels = [
-        dict(actors=[handles_mesh_actor(d, V, F)], camera=cam,
-             label="(a) handles", texts=HANDLE_LEGEND),
-        dict(actors=[mesh_actor(V, F, opacity=0.15),
-                     spheres_actor(P, r, scalars=group, lut=glut, rng=(0, 1), resolution=8)],
-             camera=cam, label="(b) two groups of particles",
-             texts=[("orange: e' > T (group 1, %d), green: rigid (%d)\nT = %.3g"
-                     % (n1, len(e) - n1, T), (0.02, 0.1), 13)]),
-        dict(actors=[mesh_actor(V, F, scalars=nearest_node_values(V, P, np.minimum(e, 1.0)),
-                                lut=elut, rng=(0, 1))],
-             camera=cam, label="(c) deforming extent e'", bar=(elut, "e'"),
-             texts=[("e' of the nearest DG1 node, clipped at 1", (0.02, 0.06), 13)]),
-        dict(actors=[handles_mesh_actor(d, Vd, F)], camera=cam,
-             label="(d) result, scale %d of %d" % (d["selected_scale"], d["num_scales"]),
-             texts=[("%d totally free, %d half free, %d fixed nodes"
-                     % tuple(counts), (0.02, 0.06), 13)]),
-    ]
-    if os.path.exists(os.path.join(DATA, "edit_armadillo_foot_static_dense.json")):
-        d_dense, _, _, V_dense = edit("edit_armadillo_foot_static_dense")
-        panels.append(dict(actors=[handles_mesh_actor(d_dense, V_dense, F)], camera=cam,
-                           label="(e) reference: every DG1 node free",
-                           texts=[("static_dense, %d variables" % d_dense["variables"],
-                                   (0.02, 0.06), 13)]))
-    render_panels(panels, os.path.join(OUT, "fig4_rigidity.png"), panel_size=(370, 500))
+    s = knn_interpolate(V, P, e)
+    s[np.asarray(d["fixed"], dtype=int)] = -1.0
+    s[np.asarray(d["moveable"], dtype=int)] = 2.0
+    lut = lut_threshold(T)
+    a = mesh_actor(V, F, scalars=s, lut=lut, rng=(0.0, 1.0))
+    g1 = P[np.asarray(d["dg1"]["e_prime"]) > T]
+    dots = spheres_actor(g1, 0.0045 * d["diag"], color=(0.12, 0.08, 0.25), resolution=8)
+    return dict(actors=[a, dots], camera=cam, label=label, label_size=16,
+                bar=(lut, "e'"), texts=[(part_note, (0.02, 0.1), 13)])
 
 
-def fig5_ablation():
-    runs = [("edit_camel_leg_bend_multiscale", "(b) ours"),
-            ("edit_camel_leg_bend_keep_left_out", "(c) left-out terms kept"),
-            ("edit_camel_leg_bend_fix_fixed", "(d) fixed-handle nodes fixed")]
-    d0, V, F, V0 = edit(runs[0][0])
-    diag = d0["diag"]
-    # Zoom on the front-right leg (rest and bent), seen from the right side.
-    leg = (V[:, 0] > 0.0) & (V[:, 2] > -0.1) & (V[:, 1] < 0.05)
-    cam = camera_for(np.vstack([V[leg], V0[leg]]), (1, 0.1, 0.15), (0, 1, 0), 1.0)
+def fig4_rigidity():
+    """Rows: a limb edit and a small edit; columns: the harmonic estimate (the
+    default) and the paper's lattice shape matching (--rigidity=paper)."""
+    rows = [("man_foot_drag", "man: foot lifted, body fixed", (-1, -0.35, 0.1), (0, 0, 1), 1.1,
+             lambda V: V[V[:, 2] < 0.05], 2),
+            ("armadillo_ear_band", "armadillo: ear tip pulled, a band fixed", (-0.25, 0.2, -1),
+             (0, 1, 0), 1.1, lambda V: V[V[:, 1] > 30], None)]
+    panels = []
+    for key, title, view, up, zoom, part, axis in rows:
+        runs = [("edit_%s_multiscale" % key, "harmonic e' (default)"),
+                ("edit_%s_paper_rigidity" % key, "paper's e' (--rigidity=paper)")]
+        if not all(os.path.exists(os.path.join(DATA, r + ".json")) for r, _ in runs):
+            continue
+        cam = None
+        for name, what in runs:
+            d, V, F, _ = edit(name)
+            if cam is None:  # the part framed a little high: the numbers go below it
+                Vp = part(V)
+                c = 0.5 * (Vp.min(0) + Vp.max(0))
+                c -= 0.1 * np.linalg.norm(Vp.max(0) - Vp.min(0)) * np.asarray(up, float)
+                cam = camera_for(Vp, view, up, zoom, center=c)
+            st = group1_stats(d, V, axis)
+            panels.append(rigidity_panel(
+                d, V, F, cam, "%s\n%s" % (title, what),
+                "group 1 (e' > T = %.2g, dots): %d of %d DG1 nodes\n%s"
+                % (d["threshold"], st["group1"], st["dg1"], st["where"])))
+    if panels:
+        render_panels(panels, os.path.join(OUT, "fig4_rigidity.png"), panel_size=(520, 560),
+                      columns=2)
+
+
+FIG5_RUNS = [("multiscale", "(b) default"),
+             ("paper", "(c) paper mode"),
+             ("keep_left_out", "(d) keep_left_out_terms"),
+             ("fix_fixed", "(e) fix_fixed_handle_nodes"),
+             ("border_fixed", "(f) --border=fixed"),
+             ("half_free_every", "(g) --half_free=every_fixed_handle_node")]
+# experiments' man_knee_bend: a band around the left thigh just above the knee fixed,
+# the foot moved back and up, so the knee bends right at the band. Seen from the left.
+FIG5 = dict(key="man_knee_bend", view=(-1, 0.15, 0.0), up=(0, 0, 1), zoom=1.0,
+            part=lambda V: (V[:, 0] < 0.0) & (V[:, 2] < 0.0), hi=0.1)
+CLASS_COLOURS = ((0.55, 0.55, 0.55), (0.55, 0.2, 0.75), (0.95, 0.55, 0.1))  # F, HF, TF
+
+
+def class_lut():
+    lut = vtk.vtkLookupTable()
+    lut.SetNumberOfTableValues(3)
+    lut.Build()
+    for i, c in enumerate(CLASS_COLOURS):
+        lut.SetTableValue(i, c[0], c[1], c[2], 1.0)
+    return lut
+
+
+def fig5_ablation(cfg=None, out="fig5_ablation.png"):
+    """A knee bent next to the fixed band: the default, paper mode and one change
+    each, coloured by the local ARAP distortion E_i / N_i; (h) the default's nodes
+    at the knee, zoomed."""
+    cfg = cfg or FIG5
+    key = cfg["key"]
+    runs = [(tag, label) for tag, label in FIG5_RUNS
+            if os.path.exists(os.path.join(DATA, "edit_%s_%s.json" % (key, tag)))]
+    if not runs:
+        return
+    d0, V, F, V0 = edit("edit_%s_%s" % (key, runs[0][0]))
+    leg = cfg["part"](V)
+    cam = camera_for(np.vstack([V[leg], V0[leg]]), cfg["view"], cfg["up"], cfg["zoom"])
     panels = [dict(actors=[handles_mesh_actor(d0, V, F)], camera=cam, label="(a) rest",
                    texts=HANDLE_LEGEND)]
-    results = []
-    for name, label in runs:
-        d, V, F, Vd = edit(name)
-        results.append((d, Vd, label))
-        panels.append(dict(actors=[handles_mesh_actor(d, Vd, F)], camera=cam, label=label,
-                           texts=[("scale %d, %d variables" % (d["selected_scale"], d["variables"]),
-                                   (0.02, 0.06), 13)]))
-    # Second row: how far each ablation lands from ours, per vertex.
-    devs = [np.linalg.norm(Vd - V0, axis=1) / diag for _, Vd, _ in results[1:]]
-    hi = max(1e-6, max(float(x.max()) for x in devs))
     lut = lut_viridis()
+    hi = cfg["hi"]
     lut.SetTableRange(0, hi)
-    for (d, Vd, label), dev in zip(results[1:], devs):
+    for tag, label in runs:
+        d, _, _, Vd = edit("edit_%s_%s" % (key, tag))
+        m = edit_metrics(d, V, F, Vd, V_ref=V0)
+        cls = np.asarray(d["active"]["class"])
         panels.append(dict(
-            actors=[mesh_actor(Vd, F, scalars=dev, lut=lut, rng=(0, hi))], camera=cam,
-            label=label + " vs (b)", label_size=15, bar=(lut, "dist./diag"),
-            texts=[("max %.2g, mean %.2g of the diagonal" % (dev.max(), dev.mean()),
-                    (0.02, 0.06), 13)]))
-    render_panels(panels, os.path.join(OUT, "fig5_ablation.png"), panel_size=(400, 500),
-                  columns=4)
+            actors=[mesh_actor(Vd, F, scalars=np.minimum(m["local"], hi), lut=lut, rng=(0, hi))],
+            camera=cam, label=label, label_size=15 if len(label) < 30 else 13,
+            bar=(lut, "E_i/N_i"),
+            texts=[("scale %d: %d TF, %d HF nodes\nARAP %.3g, at the joint %.3g\n"
+                    "max E_i/N_i %.2g; %.2g diag from (b)"
+                    % (d["selected_scale"], (cls == 2).sum(), (cls == 1).sum(), m["arap"],
+                       m["arap_joint"], m["local_max"], m["diff_max"]), (0.02, 0.14), 13)]))
+    # (h) Where the ablations act: the default's nodes at the knee, on the rest mesh.
+    fixed = V[np.asarray(d0["fixed"], dtype=int)]
+    c = fixed.mean(0)
+    near = V[np.linalg.norm(V - c, axis=1) < 0.15 * d0["diag"]]
+    kcam = camera_for(near, cfg["view"], cfg["up"], 1.1)
+    P = np.asarray(d0["active"]["positions"])
+    cls = np.asarray(d0["active"]["class"], dtype=float)
+    show = np.linalg.norm(P - c, axis=1) < 0.15 * d0["diag"]
+    panels.append(dict(
+        actors=[handles_mesh_actor(d0, V, F, opacity=0.35),
+                spheres_actor(P[show], 0.006 * d0["diag"], scalars=cls[show], lut=class_lut(),
+                              rng=(0, 2), resolution=12)],
+        camera=kcam, label="(h) (b)'s nodes at the knee", label_size=15,
+        texts=[("scale %d nodes on the rest mesh: orange Totally\nFree, purple Half Free, "
+                "grey Fixed; blue band fixed" % d0["selected_scale"], (0.02, 0.1), 13)]))
+    render_panels(panels, os.path.join(OUT, out), panel_size=(400, 480), columns=4)
 
 
 def edits_figure(edits, path, panel_size=(400, 460)):
@@ -250,22 +319,27 @@ def fig6_fig8():
 
 
 def fig7_leakage():
-    """One row per fine hand edit: rest, ours, the 220-node static graph, coloured
-    by displacement on one scale per row."""
+    """One row per fine hand edit: rest, ours (default and paper mode), the 220-node
+    static graph, coloured by displacement on one scale per row."""
     rows = [("hand_thumb", "thumb tip pulled out", (0.3, -0.35, 1))]
     if os.path.exists(os.path.join(DATA, "edit_hand_finger_multiscale.json")):
         rows.append(("hand_finger", "middle knuckle pulled out", (0.45, -0.25, 1)))
     panels = []
     for key, title, view in rows:
-        d_ms, V, F, V_ms = edit("edit_%s_multiscale" % key)
-        d_st, _, _, V_st = edit("edit_%s_static" % key)
+        d_ms, V, F, _ = edit("edit_%s_multiscale" % key)
+        runs = [(n, t) for n, t in (("multiscale", "ours, default"),
+                                    ("paper", "ours, paper mode"),
+                                    ("static", "static graph"))
+                if os.path.exists(os.path.join(DATA, "edit_%s_%s.json" % (key, n)))]
+        results = []
+        for n, t in runs:
+            d, _, _, Vd = edit("edit_%s_%s" % (key, n))
+            results.append((d, Vd, t, np.asarray(d["displacement"]) / d["diag"]))
         diag = d_ms["diag"]
-        disp_ms = np.asarray(d_ms["displacement"]) / diag
-        disp_st = np.asarray(d_st["displacement"]) / diag
-        hi = float(np.percentile(np.concatenate([disp_ms, disp_st]), 99.5))
+        hi = float(np.percentile(np.concatenate([r[3] for r in results]), 99.5))
         lut = lut_viridis()
         lut.SetTableRange(0, hi)
-        cam = camera_for(V, view, (0, 1, 0), 1.0)
+        cam = camera_for(V, view, (0, 1, 0), 0.85)  # room for the colour bar
         watch = np.asarray(d_ms.get("watch", []), dtype=int)
         if len(watch):
             region, what = watch, "watched knuckles"
@@ -275,8 +349,8 @@ def fig7_leakage():
             what = "far from the thumb"
 
         def stats(disp):
-            return "%s: mean %.4f, max %.4f of diag" % (what, disp[region].mean(),
-                                                        disp[region].max())
+            return "%s:\nmean %.4f, max %.4f of diag" % (what, disp[region].mean(),
+                                                         disp[region].max())
 
         rest_actors = [handles_mesh_actor(d_ms, V, F)]
         if len(watch):
@@ -287,49 +361,77 @@ def fig7_leakage():
                            texts=[("blue: fixed, red: moveable" +
                                    (", yellow: watched" if len(watch) else ""),
                                    (0.02, 0.06), 13)]))
-        panels.append(dict(actors=[mesh_actor(V_ms, F, scalars=disp_ms, lut=lut, rng=(0, hi))],
-                           camera=cam, label="ours (multi-scale)", label_size=16,
-                           bar=(lut, "|d|/diag"),
-                           texts=[("scale %d, %d variables\n%s"
-                                   % (d_ms["selected_scale"], d_ms["variables"], stats(disp_ms)),
-                                   (0.02, 0.1), 13)]))
-        panels.append(dict(actors=[mesh_actor(V_st, F, scalars=disp_st, lut=lut, rng=(0, hi))],
-                           camera=cam, label="static graph, %d nodes"
-                           % len(d_st["active"]["positions"]), label_size=16,
-                           bar=(lut, "|d|/diag"),
-                           texts=[("%d variables\n%s" % (d_st["variables"], stats(disp_st)),
-                                   (0.02, 0.1), 13)]))
-    render_panels(panels, os.path.join(OUT, "fig7_leakage.png"), panel_size=(500, 480),
-                  columns=3)
+        for d, Vd, t, disp in results:
+            if d["method"] == "multiscale":
+                head = "scale %d of %d, %d variables" % (d["selected_scale"], d["num_scales"],
+                                                         d["variables"])
+                label = t
+            else:
+                head = "%d variables" % d["variables"]
+                label = "%s, %d nodes" % (t, len(d["active"]["positions"]))
+            panels.append(dict(actors=[mesh_actor(Vd, F, scalars=disp, lut=lut, rng=(0, hi))],
+                               camera=cam, label=label, label_size=16,
+                               bar=(lut, "|d|/diag"),
+                               texts=[("%s\n%s" % (head, stats(disp)), (0.02, 0.13), 13)]))
+    render_panels(panels, os.path.join(OUT, "fig7_leakage.png"), panel_size=(420, 430),
+                  columns=4)
 
 
 def fig_leg_edits():
-    """Open issue: leg edits where only the part near the handle is Totally Free,
-    against the same edit with every DG1 node free (static_dense)."""
-    rows = [("armadillo_foot", "armadillo foot", (1, 0.15, -0.6), (0, 1, 0), 1.0),
-            ("man_leg_lift", "man leg", (1, -0.6, 0.1), (0, 0, 1), 0.85)]
+    """Leg edits: the default and paper mode against every DG1 node free
+    (static_dense). Per edit, a row of shapes (the rest mesh with the default's e'
+    and group 1 as in Fig. 4, then the three results) and a row with the results
+    coloured by the local ARAP distortion E_i / N_i; one camera per edit."""
+    rows = [("armadillo_foot", "armadillo foot", (1, 0.15, -0.6), (0, 1, 0), 1.15,
+             lambda V: V[:, 1] < 45, None),
+            ("man_leg_lift", "man leg lift", (-1, -0.7, 0.1), (0, 0, 1), 1.1,
+             lambda V: V[:, 2] < 0.1, 2)]
+    methods = (("multiscale", "default"), ("paper", "paper mode"),
+               ("static_dense", "every DG1 node free"))
+    hi = 0.1
+    lut = lut_viridis()
+    lut.SetTableRange(0, hi)
     panels = []
-    for key, title, view, up, zoom in rows:
-        if not os.path.exists(os.path.join(DATA, "edit_%s_static_dense.json" % key)):
+    for key, title, view, up, zoom, part, axis in rows:
+        names = ["edit_%s_%s" % (key, m) for m, _ in methods]
+        if not all(os.path.exists(os.path.join(DATA, n + ".json")) for n in names):
             continue
-        d, V, F, Vd = edit("edit_%s_multiscale" % key)
-        d2, _, _, V2 = edit("edit_%s_static_dense" % key)
-        cam = camera_for(np.vstack([V, Vd]), view, up, zoom)
-        cls = np.asarray(d["active"]["class"])
-        panels.append(dict(actors=[handles_mesh_actor(d, V, F)], camera=cam,
-                           label="%s: rest" % title, label_size=16, texts=HANDLE_LEGEND))
-        panels.append(dict(actors=[handles_mesh_actor(d, Vd, F)], camera=cam,
-                           label="ours, scale %d of %d" % (d["selected_scale"], d["num_scales"]),
-                           label_size=16,
-                           texts=[("%d totally free, %d half free, %d fixed nodes"
-                                   % tuple((cls == k).sum() for k in (2, 1, 0)),
-                                   (0.02, 0.06), 13)]))
-        panels.append(dict(actors=[handles_mesh_actor(d2, V2, F)], camera=cam,
-                           label="every DG1 node free (static_dense)", label_size=16,
-                           texts=[("%d variables" % d2["variables"], (0.02, 0.06), 13)]))
+        d0, V, F, Vd = edit(names[0])
+        # The legs, rest and lifted, framed a little high: the numbers go below them.
+        Vp = np.vstack([V[part(V)], Vd[part(V)]])
+        c = 0.5 * (Vp.min(0) + Vp.max(0))
+        c -= 0.08 * np.linalg.norm(Vp.max(0) - Vp.min(0)) * np.asarray(up, float)
+        cam = camera_for(Vp, view, up, zoom, center=c)
+        st = group1_stats(d0, V, axis)
+        shapes = [rigidity_panel(d0, V, F, cam, "%s: rest, default's e'" % title,
+                                 "group 1 (dots): %d of %d DG1 nodes\nblue: fixed, red: moveable"
+                                 % (st["group1"], st["dg1"]))]
+        distortion = [dict(actors=[], camera=cam, label="%s: distortion" % title, label_size=16,
+                           texts=[("right: the results above, coloured by\ntheir local ARAP "
+                                   "distortion E_i / N_i\n(experiments/metrics.h), clipped at "
+                                   "%.2g" % hi, (0.04, 0.75), 15)])]
+        for name, (method, what) in zip(names, methods):
+            d, _, _, Vd = edit(name)
+            cls = np.asarray(d["active"]["class"])
+            E, N = arap_energy_per_vertex(V, F, Vd)
+            local = E / np.maximum(N, 1e-300)
+            if d["method"] == "multiscale":
+                note = ("scale %d of %d: %d TF, %d HF, %d fixed nodes"
+                        % (d["selected_scale"], d["num_scales"], (cls == 2).sum(),
+                           (cls == 1).sum(), (cls == 0).sum()))
+            else:
+                note = "static_dense: %d variables" % d["variables"]
+            shapes.append(dict(actors=[handles_mesh_actor(d, Vd, F)], camera=cam,
+                               label=what, label_size=16, texts=[(note, (0.02, 0.06), 13)]))
+            distortion.append(dict(
+                actors=[mesh_actor(Vd, F, scalars=np.minimum(local, hi), lut=lut, rng=(0, hi))],
+                camera=cam, label="%s: E_i/N_i" % what, label_size=16, bar=(lut, "E_i/N_i"),
+                texts=[("ARAP energy %.3g, max E_i/N_i %.2g" % (E.sum() / N.sum(), local.max()),
+                        (0.02, 0.06), 13)]))
+        panels += shapes + distortion
     if panels:
         render_panels(panels, os.path.join(OUT, "fig_open_leg_edits.png"),
-                      panel_size=(420, 480), columns=3)
+                      panel_size=(340, 380), columns=4)
 
 
 if __name__ == "__main__":
