@@ -68,13 +68,13 @@ DEFINE_string(border, msdeform::BorderRuleName(msdeform::ScaleSelectionOptions()
               "What a Fixed node next to a Totally Free one becomes: fixed (the paper), "
               "half_free or totally_free.");
 DEFINE_double(rigidity_stiffness, msdeform::RigidityOptions().external_stiffness,
-              "k_ext h^2 of the rigidity estimation (METHOD.md §2).");
+              "k_ext h^2 of the rigidity estimation (docs/method.md §2).");
 DEFINE_double(rigidity_damping, msdeform::RigidityOptions().damping,
               "Velocity damping per shape-matching step, in [0, 1).");
 DEFINE_int32(rigidity_steps, msdeform::RigidityOptions().num_steps,
              "S: shape-matching steps of the rigidity estimation.");
 DEFINE_int32(rigidity_region, msdeform::RigidityOptions().region_half_width,
-             "Region half-width r of the shape matching (METHOD.md: 1).");
+             "Region half-width r of the shape matching (the paper: 1).");
 DEFINE_double(threshold_floor, msdeform::ScaleSelectionOptions().threshold_floor,
               "Lower bound of the rigidity threshold T (Eq. 7: 0.1).");
 DEFINE_bool(quiet, false, "Print nothing but errors.");

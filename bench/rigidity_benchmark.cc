@@ -1,4 +1,4 @@
-// One rigidity estimation (METHOD.md §2, S = 20 steps) on the armadillo at
+// One rigidity estimation (docs/method.md §2, S = 20 steps) on the armadillo at
 // 26K and 104K vertices and the default cell width (diag / 48). Issue 3's
 // target: under 50 ms for the 104K armadillo on one core.
 //

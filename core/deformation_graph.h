@@ -1,4 +1,4 @@
-// Deformation graphs at several scales (paper §3.2; METHOD.md §3).
+// Deformation graphs at several scales (paper §3.2; docs/method.md §3).
 //
 // DG1 has one node per surface cell of the lattice, on a vertex of that cell
 // chosen at random (seeded): DG1 node i is surface particle i. The coarser
@@ -91,7 +91,7 @@ bool BuildMultiScaleGraphs(const Mesh& mesh, const Lattice& lattice, const Graph
 
 // The same for an explicit list of node counts: DG1, then one graph per entry
 // of `node_counts` (non-increasing, each in [1, D1]) by the same edge-collapse
-// pass. Used for the static-graph ablation (e.g. 220 nodes, METHOD.md §6).
+// pass. Used for the static-graph ablation (e.g. 220 nodes, docs/method.md §7).
 // Element 0 of *graphs is DG1, element i + 1 has node_counts[i] nodes.
 bool BuildCollapsedGraphs(const Mesh& mesh, const Lattice& lattice, const GraphOptions& options,
                           const std::vector<int>& node_counts,

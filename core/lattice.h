@@ -1,4 +1,4 @@
-// The lattice over a mesh (paper §3.1, Eq. 1; METHOD.md §1).
+// The lattice over a mesh (paper §3.1, Eq. 1; docs/method.md §1).
 //
 // Cells have width w. Vertex i lies in cell (a, b, c) with
 //   a = floor((x_i - x_min + w/2) / w)   (likewise b from y, c from z),
@@ -33,7 +33,7 @@ namespace msdeform {
 struct LatticeOptions {
   // Cell width w in mesh units; 0 means diag / cells_per_diagonal.
   double cell_width = 0.0;
-  // Used when cell_width is 0: w = bounding-box diagonal / this (METHOD.md: 48).
+  // Used when cell_width is 0: w = bounding-box diagonal / this (docs/method.md: 48).
   double cells_per_diagonal = 48.0;
   // Upper bound on the number of cells of the padded grid (memory guard).
   long long max_grid_cells = 1LL << 28;

@@ -1,5 +1,5 @@
 // Nearest deformation-graph nodes of each mesh vertex, their skinning weights
-// (paper §5.1, Eq. 11) and the graph edges they imply (METHOD.md §3).
+// (paper §5.1, Eq. 11) and the graph edges they imply (docs/method.md §3).
 //
 // Candidates come through the surface-cell neighbourhood only, never from a
 // global Euclidean search: starting from the vertex's cell, whole rings of

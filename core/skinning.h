@@ -1,5 +1,5 @@
 // Skinning of mesh vertices and normals by deformation-graph node transforms
-// (paper §5.1, Eq. 9-10; METHOD.md §5).
+// (paper §5.1, Eq. 9-10; docs/method.md §5).
 //
 // Positions (Eq. 9): v' = sum_j w_j(v) [R_j (v - g_j) + g_j + t_j] over the k
 // nearest nodes of v. Evaluated as v' = v + (sum_j w_j M_j) v + sum_j w_j c_j
@@ -8,7 +8,7 @@
 // vertex, and gives back the rest positions bit for bit under identity
 // transforms.
 //
-// Normals (Eq. 10 with METHOD.md's Decision): n' = normalise(sum_j w_j R_j^{-T} n).
+// Normals (Eq. 10 as in docs/method.md §5): n' = normalise(sum_j w_j R_j^{-T} n).
 // The paper blends R_j n, which is right only for rotations; the inverse
 // transpose is the normal transform of a general linear map. Where
 // |det R_j| < 1e-12 its cofactor matrix (det R_j * R_j^{-T}, finite) is used.

@@ -365,7 +365,7 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
                 "gauss_newton_frame_ms", "precompute_ms", "rigidity_ms"},
                {},
                {}};
-  Table ablations{"Ablations (METHOD.md §6; paper Fig. 5 and 7)",
+  Table ablations{"Ablations (docs/method.md §7; paper Fig. 5 and 7)",
                   {"scenario", "variant", "selected_scale", "nodes_optimized", "variables",
                    "frame_ms", "iterations", "handle_rms_rel", "fixed_max_rel", "arap_energy",
                    "arap_energy_joint", "strain", "leakage_rel", "orthogonality",

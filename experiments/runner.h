@@ -1,6 +1,6 @@
 // The experiment runner behind msdeform_experiments: every scenario under a
 // folder with the multi-scale method, both static baselines and CGAL's ARAP,
-// then the ablations (METHOD.md §6) and the solver variants, written as
+// then the ablations (docs/method.md §7) and the solver variants, written as
 // tables (experiments/results/README.md explains them):
 //   table1      per model: lattice, graphs, scale, optimised nodes, times
 //   table2      per scenario x method: size, time, accuracy, distortion, leakage

@@ -307,7 +307,7 @@ def main():
     have_solvers = os.path.exists(os.path.join(ROOT, "experiments", "results", "solvers.csv"))
     figures = [
         ("fig2_lattice.png", "Fig. 2 analogue: models in their lattice",
-         "The lattice of cell width w = diag / 48 (METHOD.md §1) over the armadillo, the camel "
+         "The lattice of cell width w = diag / 48 (docs/method.md §1) over the armadillo, the camel "
          "(standing in for the paper's Horse) and the hand. Orange boxes are surface cells (a cell "
          "holding a vertex: one particle and one DG1 node each), blue points interior cells "
          "(enclosed by surface cells). The armadillo and the camel are cut away in front of a "

@@ -348,7 +348,7 @@ void Deformer::BuildEnergy() {
   // Residuals with a length unit are divided by the length unit.
   const double length_scale =
       1.0 / (options_.length_unit > 0.0 ? options_.length_unit : diagonal_);
-  // E_coh over the directed edges of E (METHOD.md §5).
+  // E_coh over the directed edges of E (docs/method.md §5).
   const bool multiscale = options_.method == Method::kMultiScale;
   auto in_edge_set = [&](int j, int k) {
     const NodeClass cj = node_classes_[j], ck = node_classes_[k];

@@ -7,11 +7,13 @@
 //   deformer.Drag(deformed_from_rest, &stats, &error);  // one frame, warm-started
 //   deformer.deformed_vertices();
 //
-// Method::kMultiScale follows METHOD.md §2-5: rigidity by lattice shape
-// matching, scale s by Eq. 6-7, node classes as parameter-block fixing
-// (Totally Free: R and t, Half Free: R with t = 0, Fixed: nothing), the
-// coherence edge set without the left-out terms, alpha weights, and position
-// constraints on the moveable handle only.
+// Method::kMultiScale follows docs/method.md §2-5: rigidity (by default the
+// harmonic estimate; the paper's lattice shape matching with
+// RigidityModel::kShapeMatching), scale s by Eq. 6-7, node classes as
+// parameter-block fixing (Totally Free: R and t, Half Free: R with t = 0,
+// Fixed: nothing), the coherence edge set without the left-out terms, alpha
+// weights, position constraints on the moveable handle and on the fixed
+// vertices a non-Fixed node skins (hold_fixed_vertices).
 // Method::kStatic / kStaticDense are embedded deformation as in Sumner et al.
 // 2007 on one graph (about 220 nodes, or DG1): all nodes free, every directed
 // edge, alpha = 1, and the fixed handles held by position constraints to their

@@ -1,6 +1,6 @@
 // A Gauss-Newton solver (Levenberg damping as a fallback) for the deformation
-// energy of paper Eq. 17, the second backend beside Ceres (METHOD.md §5:
-// "Gauss-Newton with sparse Cholesky").
+// energy of paper Eq. 17, the second backend beside Ceres (the paper solves with
+// Gauss-Newton and sparse Cholesky; docs/method.md §6).
 //
 // The energy, with x the variables of the Totally Free (R_j, t_j: 12) and
 // Half Free (R_j: 9) nodes and tau the 12 numbers of the handle transform

@@ -1,4 +1,4 @@
-// The rotational part of a 3x3 matrix, for shape matching (METHOD.md §2).
+// The rotational part of a 3x3 matrix, for shape matching (docs/method.md §2).
 //
 // Both functions return the rotation R in SO(3) that maximises tr(R^T A):
 // the rotation of the polar decomposition A = R S when det A > 0, and the

@@ -1,5 +1,5 @@
 // Rigidity estimation by lattice shape matching (paper §4.1-4.2, Eq. 2-5;
-// METHOD.md §2).
+// docs/method.md §2).
 //
 // The lattice particles (unit mass) are simulated for S steps with FastLSM
 // shape matching (Rivers & James 2007). Region R_i is particle i with its
@@ -77,7 +77,7 @@ struct RigidityOptions {
   // The fields below up to `seed` and the rotation settings apply to
   // kShapeMatching only.
   RigidityModel model = RigidityModel::kHarmonic;
-  // S: number of shape-matching steps (METHOD.md: 20).
+  // S: number of shape-matching steps (docs/method.md: 20).
   int num_steps = 20;
   // h: time step, in lattice-time units. With positions in mesh units the
   // trajectory depends only on k_ext h^2 and |v0| h, so h just fixes the
@@ -90,12 +90,12 @@ struct RigidityOptions {
   // k_ext h^2 <= 1 (a conservative stability bound).
   double external_stiffness = 0.01;  // docs/decisions.md: "Rigidity defaults for scale selection"
   // |v0| of the moveable-handle particles, in cell widths w per time step h
-  // (METHOD.md: 0.5 w / h). Set before the first step, so damping applies.
+  // (docs/method.md: 0.5 w / h). Set before the first step, so damping applies.
   double initial_speed = 0.5;
   // Fraction of each particle's velocity removed per step, in [0, 1).
   double damping = 0.0;
   // r: a region is a particle and its r-ring in the particle adjacency.
-  int region_half_width = 2;  // METHOD.md said 1; see docs/decisions.md
+  int region_half_width = 2;  // the paper suggests 1; see docs/decisions.md
   // Seed of the direction of v0 (std::mt19937_64).
   std::uint64_t seed = 1;
   // How region sums are formed (kBox measured slightly faster; see

@@ -1,5 +1,5 @@
-// Scale selection and node classes (paper §4.2, Eq. 6-7; METHOD.md §4) and
-// the coherence weights alpha_jk (Eq. 15; METHOD.md §5).
+// Scale selection and node classes (paper §4.2, Eq. 6-7; docs/method.md §4) and
+// the coherence weights alpha_jk (Eq. 15; docs/method.md §5).
 //
 // From the normalised deforming extent e' of each DG1 node (= surface
 // particle), the threshold is
@@ -72,11 +72,11 @@ struct ScaleSelectionOptions {
   double threshold_floor = 0.1;
   // Fixed-handle nodes with e' below this count towards T (Eq. 7: 0.5).
   double fixed_extent_cutoff = 0.5;
-  // Coarse node e' from members (METHOD.md Decision: max; mean is an ablation).
+  // Coarse node e' from members (docs/method.md §4: max; mean is an ablation).
   MemberExtent member_extent = MemberExtent::kMax;
   // A DG1 edit is "local detail" (alpha all 1) when a fixed-handle node lies
   // within this geodesic distance, along DG1 edges, of the moveable handle;
-  // as a fraction of the bounding-box diagonal (METHOD.md: 0.1).
+  // as a fraction of the bounding-box diagonal (docs/method.md: 0.1).
   double local_detail_distance = 0.1;
   // Totally Free nodes map e linearly from [e_l, e_f] to omega in [1, omega_max].
   double omega_max = 4.0;

@@ -113,7 +113,7 @@ TEST(DeformerTest, ClassesAreParameterBlockFixing) {
 }
 
 // Directed edges (j, k) of the active graph with j Half Free and k Half Free
-// or Fixed: the terms METHOD.md §5 leaves out.
+// or Fixed: the terms docs/method.md §5 leaves out.
 int LeftOutTerms(const Deformer& deformer) {
   int count = 0;
   const auto& classes = deformer.node_classes();
