@@ -8,6 +8,20 @@
 #include <glog/logging.h>
 
 namespace msdeform {
+namespace {
+
+// A mesh from lists of vertex positions and triangles.
+Mesh MeshFromLists(const std::vector<Eigen::Vector3d>& points,
+                   const std::vector<Eigen::Vector3i>& triangles) {
+  Mesh mesh;
+  mesh.vertices.resize(3, points.size());
+  for (size_t p = 0; p < points.size(); ++p) mesh.vertices.col(p) = points[p];
+  mesh.faces.resize(3, triangles.size());
+  for (size_t f = 0; f < triangles.size(); ++f) mesh.faces.col(f) = triangles[f];
+  return mesh;
+}
+
+}  // namespace
 
 VoxelShape::VoxelShape(int nx, int ny, int nz)
     : nx(nx), ny(ny), nz(nz), occupied(static_cast<size_t>(nx) * ny * nz, 0) {}
@@ -79,12 +93,7 @@ Mesh MakeVoxelMesh(const VoxelShape& shape, double voxel_size, int subdivisions)
       }
     }
   }
-  Mesh mesh;
-  mesh.vertices.resize(3, points.size());
-  for (size_t p = 0; p < points.size(); ++p) mesh.vertices.col(p) = points[p];
-  mesh.faces.resize(3, triangles.size());
-  for (size_t f = 0; f < triangles.size(); ++f) mesh.faces.col(f) = triangles[f];
-  return mesh;
+  return MeshFromLists(points, triangles);
 }
 
 Mesh MakeBar(int length, double voxel_size, int subdivisions) {
@@ -211,12 +220,7 @@ Mesh MakeCylinder(double radius, double height, int segments, int rings) {
       add_face(top, centre, outer + s, outer + (s + 1) % outer_count);
     }
   }
-  Mesh mesh;
-  mesh.vertices.resize(3, points.size());
-  for (size_t p = 0; p < points.size(); ++p) mesh.vertices.col(p) = points[p];
-  mesh.faces.resize(3, faces.size());
-  for (size_t f = 0; f < faces.size(); ++f) mesh.faces.col(f) = faces[f];
-  return mesh;
+  return MeshFromLists(points, faces);
 }
 
 Mesh MakeOctahedron() {
