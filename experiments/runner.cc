@@ -207,16 +207,8 @@ struct Variant {
 std::vector<Variant> Ablations() {
   return {
       {"multiscale", [](DeformerOptions*) {}, "", "", ""},
-      // The paper's procedure as written: shape-matching rigidity, every
-      // fixed-handle node Half Free, the border Fixed, no terms on fixed vertices.
-      {"paper",
-       [](DeformerOptions* o) {
-         o->rigidity.model = RigidityModel::kShapeMatching;
-         o->selection.half_free = HalfFreeRule::kEveryFixedHandleNode;
-         o->selection.border = BorderRule::kFixed;
-         o->hold_fixed_vertices = false;
-       },
-       "", "", ""},
+      // The paper's procedure as written (PaperProcedure).
+      {"paper", [](DeformerOptions* o) { *o = PaperProcedure(*o); }, "", "", ""},
       // One change of the default each.
       {"rigidity_paper",
        [](DeformerOptions* o) { o->rigidity.model = RigidityModel::kShapeMatching; }, "", "", ""},

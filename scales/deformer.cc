@@ -143,6 +143,14 @@ bool ParseMethodVariant(const std::string& rigidity, const std::string& half_fre
   return true;
 }
 
+DeformerOptions PaperProcedure(DeformerOptions options) {
+  options.rigidity.model = RigidityModel::kShapeMatching;
+  options.selection.half_free = HalfFreeRule::kEveryFixedHandleNode;
+  options.selection.border = BorderRule::kFixed;
+  options.hold_fixed_vertices = false;
+  return options;
+}
+
 DeformerOptions::DeformerOptions() {
   solver.minimizer_type = ceres::TRUST_REGION;
   solver.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;

@@ -116,6 +116,13 @@ struct DeformerOptions {
   bool Check(std::string* error) const;
 };
 
+// `options` with the multi-scale method as the paper writes it: lattice
+// shape-matching rigidity, every fixed-handle node Half Free, the Fixed nodes
+// at the border kept Fixed, no Position terms on fixed vertices
+// (docs/method.md §7; the CLI's --rigidity=paper
+// --half_free=every_fixed_handle_node --border=fixed --hold_fixed_vertices=false).
+DeformerOptions PaperProcedure(DeformerOptions options);
+
 // Per-frame numbers.
 struct DragStats {
   double solve_ms = 0.0;

@@ -171,16 +171,6 @@ TEST(DeformerTest, StaticBaselinesFreeEveryNodeOfTheirGraph) {
 
 std::string DataPath(const std::string& name) { return std::string(MSDEFORM_DATA_DIR) + "/" + name; }
 
-// The paper's procedure, every switch: shape-matching rigidity, every
-// fixed-handle node Half Free, the border Fixed, no terms on fixed vertices.
-DeformerOptions PaperMode(DeformerOptions options) {
-  options.rigidity.model = RigidityModel::kShapeMatching;
-  options.selection.half_free = HalfFreeRule::kEveryFixedHandleNode;
-  options.selection.border = BorderRule::kFixed;
-  options.hold_fixed_vertices = false;
-  return options;
-}
-
 // Handle rms and the largest fixed-vertex displacement, both relative to the
 // diagonal, after dragging the Botsch-Sorkine cactus to its .def over 30 frames.
 std::pair<double, double> CactusErrors(Method method, Solver backend,
@@ -228,7 +218,7 @@ TEST(DeformerTest, BotschSorkineCactusReachesItsTarget) {
       CactusErrors(Method::kMultiScale, Solver::kCeres);
   EXPECT_LT(multiscale_rms, 0.015);
   const auto [paper_rms, paper_fixed] =
-      CactusErrors(Method::kMultiScale, Solver::kCeres, PaperMode(DeformerOptions()));
+      CactusErrors(Method::kMultiScale, Solver::kCeres, PaperProcedure(DeformerOptions()));
   EXPECT_LT(paper_rms, 0.015);
   EXPECT_LT(paper_fixed, 3e-3);
   EXPECT_LT(multiscale_rms, paper_rms);
@@ -349,7 +339,7 @@ TEST(DeformerTest, LargeFixedRegionGetsHalfFreeNodesOnlyAtItsBorder) {
   EXPECT_GT(half_free, 0);
   // The paper's rule makes every node of the fixed part Half Free.
   Deformer paper;
-  InitOrDie(&paper, bend.mesh, PaperMode(options), bend.layout);
+  InitOrDie(&paper, bend.mesh, PaperProcedure(options), bend.layout);
   EXPECT_GT(paper.selection().num_half_free, 3 * half_free);
   EXPECT_LT(deformer.num_variables(), paper.num_variables());
 }
