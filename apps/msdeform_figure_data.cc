@@ -34,36 +34,17 @@
 #include "core/scenario.h"
 #include "core/timing.h"
 #include "scales/deformer.h"
+#include "scales/deformer_flags.h"
 #include "scales/rigidity.h"
 #include "scales/scale_selection.h"
 
-DEFINE_string(mode, "edit", "graphs, edit or nodes_vs_p.");
-DEFINE_string(mesh, "", "Mesh (graphs mode; overrides the scenario's mesh otherwise).");
-DEFINE_string(scenario, "", "JSON scenario (edit and nodes_vs_p modes).");
-DEFINE_string(out, "", "Output JSON (edit mode also writes the deformed mesh as .off).");
-DEFINE_string(method, "multiscale", "multiscale, static or static_dense.");
-DEFINE_int32(static_nodes, 220, "Nodes of the static baseline graph.");
-DEFINE_bool(keep_left_out_terms, false, "Ablation: keep E(j,k) for Half Free j.");
-DEFINE_bool(fix_fixed_handle_nodes, false, "Ablation: fixed-handle nodes get no rotation.");
-DEFINE_string(rigidity, msdeform::RigidityModelName(msdeform::RigidityOptions().model),
-              "Rigidity estimate: harmonic (the driven lattice's rest state) or paper "
-              "(S steps of lattice shape matching after a kick).");
-DEFINE_string(half_free,
-              msdeform::HalfFreeRuleName(msdeform::ScaleSelectionOptions().half_free),
-              "Which fixed-handle nodes are Half Free: next_to_totally_free, "
-              "every_fixed_handle_node (the paper) or none.");
-DEFINE_bool(hold_fixed_vertices, msdeform::DeformerOptions().hold_fixed_vertices,
-            "Multi-scale: hold the fixed vertices skinned by a non-Fixed node at rest with "
-            "Position terms (the paper: false).");
-DEFINE_string(border, msdeform::BorderRuleName(msdeform::ScaleSelectionOptions().border),
-              "What a Fixed node next to a Totally Free one becomes: fixed (the paper), "
-              "half_free or totally_free.");
-DEFINE_int32(nodes_per_scale, 100, "P: nodes per scale step (graph and Eq. 6).");
-DEFINE_string(scales, "1,mid,N", "graphs mode: scales to export (1-based, 'mid' or 'N').");
-DEFINE_string(p_values, "25,50,100,200,400", "nodes_vs_p mode: the P values.");
-DEFINE_int32(frames, 0, "Drag frames (0: the scenario's; nodes_vs_p uses min(this or 5)).");
-DEFINE_uint64(seed, 1, "Seed of every random choice.");
-DEFINE_int32(threads, 2, "Threads for the solve and the skinning.");
+DEFINE_string(mode, "edit", "[input] graphs, edit or nodes_vs_p.");
+DEFINE_string(mesh, "", "[input] Mesh (graphs mode; overrides the scenario's mesh otherwise).");
+DEFINE_string(scenario, "", "[input] JSON scenario (edit and nodes_vs_p modes).");
+DEFINE_string(out, "", "[output] Output JSON (edit mode also writes the deformed mesh as .off).");
+DEFINE_string(scales, "1,mid,N", "[input] graphs mode: scales to export (1-based, 'mid' or 'N').");
+DEFINE_string(p_values, "25,50,100,200,400", "[input] nodes_vs_p mode: the P values.");
+DEFINE_int32(frames, 0, "[input] Drag frames (0: the scenario's; nodes_vs_p uses min(this or 5)).");
 
 namespace msdeform {
 namespace {
@@ -108,23 +89,7 @@ bool WriteJson(const std::string& path, const Json& json, std::string* error) {
 }
 
 bool FillOptions(DeformerOptions* options, std::string* error) {
-  if (!ParseMethod(FLAGS_method, &options->method)) {
-    *error = "--method=" + FLAGS_method + ": expected multiscale, static or static_dense";
-    return false;
-  }
-  options->static_nodes = FLAGS_static_nodes;
-  options->graph.seed = FLAGS_seed;
-  options->rigidity.seed = FLAGS_seed;
-  if (!ParseMethodVariant(FLAGS_rigidity, FLAGS_half_free, FLAGS_border, options, error)) {
-    return false;
-  }
-  options->graph.nodes_per_scale = FLAGS_nodes_per_scale;
-  options->selection.nodes_per_scale = FLAGS_nodes_per_scale;
-  options->keep_left_out_terms = FLAGS_keep_left_out_terms;
-  options->fix_fixed_handle_nodes = FLAGS_fix_fixed_handle_nodes;
-  options->hold_fixed_vertices = FLAGS_hold_fixed_vertices;
-  options->num_threads = FLAGS_threads;
-  return options->Check(error);
+  return DeformerOptionsFromFlags(options, error);
 }
 
 // Loads a scenario: mesh, layout and drag path.
@@ -196,11 +161,9 @@ bool InitAndDrag(const Mesh& mesh, const DeformerOptions& options, const HandleL
                  std::vector<double>* frame_ms, std::string* error) {
   if (!deformer->Init(mesh, options, error)) return false;
   if (!deformer->SetHandles(layout, error)) return false;
-  for (const Eigen::Affine3d& transform : path) {
-    const auto start = Clock::now();
-    if (!deformer->Drag(transform, nullptr, error)) return false;
-    frame_ms->push_back(MillisecondsSince(start));
-  }
+  DragLog log;
+  if (!DragAlong(deformer, path, DragAlongOptions(), &log, error)) return false;
+  for (const DragStats& stats : log.frames) frame_ms->push_back(stats.frame_ms);
   return true;
 }
 
@@ -226,13 +189,13 @@ bool RunEdit(std::string* error) {
   Json out;
   out["name"] = scenario.name;
   out["mesh"] = scenario.mesh_path;
-  out["method"] = FLAGS_method;
-  out["keep_left_out_terms"] = FLAGS_keep_left_out_terms;
-  out["fix_fixed_handle_nodes"] = FLAGS_fix_fixed_handle_nodes;
-  out["rigidity"] = FLAGS_rigidity;
-  out["half_free"] = FLAGS_half_free;
-  out["border"] = FLAGS_border;
-  out["hold_fixed_vertices"] = FLAGS_hold_fixed_vertices;
+  out["method"] = MethodName(options.method);
+  out["keep_left_out_terms"] = options.keep_left_out_terms;
+  out["fix_fixed_handle_nodes"] = options.fix_fixed_handle_nodes;
+  out["rigidity"] = RigidityModelName(options.rigidity.model);
+  out["half_free"] = HalfFreeRuleName(options.selection.half_free);
+  out["border"] = BorderRuleName(options.selection.border);
+  out["hold_fixed_vertices"] = options.hold_fixed_vertices;
   out["deformed_mesh"] = mesh_out.filename().string();
   out["vertices"] = mesh.num_vertices();
   out["diag"] = deformer.diagonal();
@@ -287,15 +250,15 @@ bool RunNodesVsP(std::string* error) {
   std::stringstream list(FLAGS_p_values);
   std::string token;
   while (std::getline(list, token, ',')) {
-    FLAGS_nodes_per_scale = std::atoi(token.c_str());
     DeformerOptions options;
     if (!FillOptions(&options, error)) return false;
     options.method = Method::kMultiScale;
+    options.graph.nodes_per_scale = std::atoi(token.c_str());
     Deformer deformer;
     std::vector<double> frame_ms;
     if (!InitAndDrag(mesh, options, layout, path, &deformer, &frame_ms, error)) return false;
     const ScaleSelection& s = deformer.selection();
-    rows.push_back({{"P", FLAGS_nodes_per_scale},
+    rows.push_back({{"P", options.graph.nodes_per_scale},
                     {"num_scales", static_cast<int>(deformer.graphs().size())},
                     {"dg1_nodes", deformer.graphs()[0].num_nodes()},
                     {"group1", s.group1_size},
@@ -306,16 +269,18 @@ bool RunNodesVsP(std::string* error) {
                     {"optimised_nodes", s.num_totally_free + s.num_half_free},
                     {"variables", deformer.num_variables()},
                     {"frame_ms_median", Median(frame_ms)}});
-    std::cerr << "P=" << FLAGS_nodes_per_scale << " " << rows.back().dump() << "\n";
+    std::cerr << "P=" << options.graph.nodes_per_scale << " " << rows.back().dump() << "\n";
   }
+  DeformerOptions options;
+  if (!FillOptions(&options, error)) return false;
   Json out;
   out["name"] = scenario.name;
   out["vertices"] = mesh.num_vertices();
   out["frames"] = frames;
-  out["rigidity"] = FLAGS_rigidity;
-  out["half_free"] = FLAGS_half_free;
-  out["border"] = FLAGS_border;
-  out["hold_fixed_vertices"] = FLAGS_hold_fixed_vertices;
+  out["rigidity"] = RigidityModelName(options.rigidity.model);
+  out["half_free"] = HalfFreeRuleName(options.selection.half_free);
+  out["border"] = BorderRuleName(options.selection.border);
+  out["hold_fixed_vertices"] = options.hold_fixed_vertices;
   out["rows"] = rows;
   return WriteJson(FLAGS_out, out, error);
 }
@@ -347,9 +312,11 @@ int Run() {
 }  // namespace msdeform
 
 int main(int argc, char** argv) {
-  gflags::SetUsageMessage(
+  const std::string usage =
       "msdeform_figure_data --mode=graphs|edit|nodes_vs_p --out=F.json "
-      "[--mesh=M] [--scenario=S] [--method=...] (paper_figures/README.md)");
+      "[--mesh=M] [--scenario=S] [--method=...] (paper_figures/README.md)";
+  if (msdeform::HandleHelpRequest(argc, argv, usage, std::cout)) return 0;
+  gflags::SetUsageMessage(usage);
   gflags::ParseCommandLineFlags(&argc, &argv, true);
   google::InitGoogleLogging(argv[0]);
   FLAGS_logtostderr = true;

@@ -26,59 +26,21 @@
 #include "core/scenario.h"
 #include "core/timing.h"
 #include "scales/deformer.h"
+#include "scales/deformer_flags.h"
 
-DEFINE_string(mesh, "", "Input mesh (OFF, OBJ, PLY, STL). Default: the scenario's mesh.");
-DEFINE_string(sel, "", "Botsch-Sorkine .sel handle file (needs --def).");
-DEFINE_string(def, "", "Botsch-Sorkine .def 4x4 handle transform (needs --sel).");
-DEFINE_string(scenario, "", "JSON scenario (docs/scenarios.md). Default when neither --sel "
-                            "nor --scenario is given: data/scenarios/armadillo_claw.json.");
-DEFINE_string(method, "multiscale", "multiscale, static or static_dense.");
-DEFINE_string(solver, "ceres", "Solver backend: ceres or gauss_newton (docs/performance.md).");
-DEFINE_int32(static_nodes, 220, "Nodes of the static baseline graph.");
-DEFINE_int32(frames, 0, "Drag frames from rest to the target (0: the scenario's, or 1).");
-DEFINE_string(out, "", "Deformed mesh (OFF, OBJ or PLY by extension). Default: "
+DEFINE_string(mesh, "", "[input] Input mesh (OFF, OBJ, PLY, STL). Default: the scenario's mesh.");
+DEFINE_string(sel, "", "[input] Botsch-Sorkine .sel handle file (needs --def).");
+DEFINE_string(def, "", "[input] Botsch-Sorkine .def 4x4 handle transform (needs --sel).");
+DEFINE_string(scenario, "", "[input] JSON scenario (docs/scenarios.md). Default when neither "
+                            "--sel nor --scenario is given: data/scenarios/armadillo_claw.json.");
+DEFINE_int32(frames, 0, "[input] Drag frames from rest to the target (0: the scenario's, or 1).");
+DEFINE_string(out, "", "[output] Deformed mesh (OFF, OBJ or PLY by extension). Default: "
                        "msdeform_out/<name>_<method>.off.");
-DEFINE_string(report, "", "JSON report. Default: next to --out with extension .json.");
-DEFINE_string(dump_nodes, "", "CSV of the DG1 nodes: node,x,y,z,e_prime,class.");
-DEFINE_uint64(seed, 1, "Seed of every random choice (DG1 node vertices, handle kick).");
-DEFINE_double(cell_width, 0.0, "Lattice cell width in mesh units (0: diagonal / 48).");
-DEFINE_int32(threads, 2, "Threads for the solve and the skinning.");
-DEFINE_int32(max_iterations, 20, "Solver iteration cap per frame.");
-DEFINE_double(function_tolerance, msdeform::DeformerOptions().solver.function_tolerance,
-              "Stop a frame's solve when |cost change| / cost falls below this.");
-DEFINE_string(ceres_sparse, "eigen_sparse",
-              "Ceres's sparse Cholesky library: eigen_sparse or suite_sparse.");
-DEFINE_double(w_rot, msdeform::DeformerOptions().w_rot, "Weight of E_rot (Eq. 17).");
-DEFINE_double(w_coh, msdeform::DeformerOptions().w_coh, "Weight of E_coh (Eq. 17).");
-DEFINE_double(w_con, msdeform::DeformerOptions().w_con, "Weight of E_con (Eq. 17).");
-DEFINE_bool(keep_left_out_terms, false, "Ablation: keep E(j,k) for Half Free j.");
-DEFINE_bool(fix_fixed_handle_nodes, false, "Ablation: fixed-handle nodes get no rotation.");
-DEFINE_bool(alpha_all_one, false, "Ablation: every coherence weight alpha = 1.");
-DEFINE_string(rigidity, msdeform::RigidityModelName(msdeform::RigidityOptions().model),
-              "Rigidity estimate: harmonic (the driven lattice's rest state) or paper "
-              "(S steps of lattice shape matching after a kick).");
-DEFINE_string(half_free,
-              msdeform::HalfFreeRuleName(msdeform::ScaleSelectionOptions().half_free),
-              "Which fixed-handle nodes are Half Free: next_to_totally_free, "
-              "every_fixed_handle_node (the paper) or none.");
-DEFINE_bool(hold_fixed_vertices, msdeform::DeformerOptions().hold_fixed_vertices,
-            "Multi-scale: hold the fixed vertices skinned by a non-Fixed node at rest with "
-            "Position terms (the paper: false).");
-DEFINE_string(border, msdeform::BorderRuleName(msdeform::ScaleSelectionOptions().border),
-              "What a Fixed node next to a Totally Free one becomes: fixed (the paper), "
-              "half_free or totally_free.");
-DEFINE_double(rigidity_stiffness, msdeform::RigidityOptions().external_stiffness,
-              "k_ext h^2 of the rigidity estimation (docs/method.md §2).");
-DEFINE_double(rigidity_damping, msdeform::RigidityOptions().damping,
-              "Velocity damping per shape-matching step, in [0, 1).");
-DEFINE_int32(rigidity_steps, msdeform::RigidityOptions().num_steps,
-             "S: shape-matching steps of the rigidity estimation.");
-DEFINE_int32(rigidity_region, msdeform::RigidityOptions().region_half_width,
-             "Region half-width r of the shape matching (the paper: 1).");
-DEFINE_double(threshold_floor, msdeform::ScaleSelectionOptions().threshold_floor,
-              "Lower bound of the rigidity threshold T (Eq. 7: 0.1).");
-DEFINE_bool(quiet, false, "Print nothing but errors.");
-DEFINE_bool(verbose, false, "Also print the solver's own log (Ceres warnings and errors).");
+DEFINE_string(report, "", "[output] JSON report. Default: next to --out with extension .json.");
+DEFINE_string(dump_nodes, "", "[output] CSV of the DG1 nodes: node,x,y,z,e_prime,class.");
+DEFINE_bool(quiet, false, "[diagnostics] Print nothing but errors.");
+DEFINE_bool(verbose, false,
+            "[diagnostics] Also print the solver's own log (Ceres warnings and errors).");
 
 namespace msdeform {
 namespace {
@@ -99,47 +61,13 @@ struct Job {
 };
 
 bool FillOptions(DeformerOptions* options, std::string* error) {
-  if (!ParseMethod(FLAGS_method, &options->method)) {
-    *error = "--method=" + FLAGS_method + ": expected multiscale, static or static_dense";
-    return false;
-  }
-  if (!ParseSolver(FLAGS_solver, &options->backend)) {
-    *error = "--solver=" + FLAGS_solver + ": expected ceres or gauss_newton";
-    return false;
-  }
-  options->static_nodes = FLAGS_static_nodes;
-  options->lattice.cell_width = FLAGS_cell_width;
-  options->graph.seed = FLAGS_seed;
-  options->rigidity.seed = FLAGS_seed;
-  if (!ParseMethodVariant(FLAGS_rigidity, FLAGS_half_free, FLAGS_border, options, error)) {
-    return false;
-  }
-  options->rigidity.external_stiffness = FLAGS_rigidity_stiffness;
-  options->rigidity.damping = FLAGS_rigidity_damping;
-  options->rigidity.num_steps = FLAGS_rigidity_steps;
-  options->rigidity.region_half_width = FLAGS_rigidity_region;
-  options->num_threads = FLAGS_threads;
-  options->solver.max_num_iterations = FLAGS_max_iterations;
-  options->solver.function_tolerance = FLAGS_function_tolerance;
-  if (FLAGS_ceres_sparse == "suite_sparse") {
-    options->solver.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
-  } else if (FLAGS_ceres_sparse != "eigen_sparse") {
-    *error = "--ceres_sparse=" + FLAGS_ceres_sparse + ": expected eigen_sparse or suite_sparse";
-    return false;
-  }
-  options->w_rot = FLAGS_w_rot;
-  options->w_coh = FLAGS_w_coh;
-  options->w_con = FLAGS_w_con;
-  options->keep_left_out_terms = FLAGS_keep_left_out_terms;
-  options->fix_fixed_handle_nodes = FLAGS_fix_fixed_handle_nodes;
-  options->selection.alpha_all_one = FLAGS_alpha_all_one;
-  options->selection.threshold_floor = FLAGS_threshold_floor;
-  options->hold_fixed_vertices = FLAGS_hold_fixed_vertices;
+  if (!DeformerOptionsFromFlags(options, error)) return false;
   if (FLAGS_frames < 0 || FLAGS_frames > kMaxScenarioFrames) {
-    *error = "--frames must be in 0.." + std::to_string(kMaxScenarioFrames);
+    *error = "--frames=" + std::to_string(FLAGS_frames) + ": expected 0.." +
+             std::to_string(kMaxScenarioFrames);
     return false;
   }
-  return options->Check(error);
+  return true;
 }
 
 bool PrepareJob(Job* job, std::string* error) {
@@ -180,7 +108,7 @@ bool PrepareJob(Job* job, std::string* error) {
   job->load_ms = MillisecondsSince(load_start);
 
   job->out_path = FLAGS_out.empty()
-                      ? "msdeform_out/" + job->name + "_" + FLAGS_method + ".off"
+                      ? "msdeform_out/" + job->name + "_" + MethodName(job->options.method) + ".off"
                       : FLAGS_out;
   job->report_path = FLAGS_report.empty()
                          ? fs::path(job->out_path).replace_extension(".json").string()
@@ -309,29 +237,26 @@ int Run() {
     std::cerr << "msdeform: handles: " << error << "\n";
     return 1;
   }
+  // A frame whose solve fails keeps the last good node transforms and the
+  // drag goes on from there; only the last frame is the result the user asked
+  // for, so only its failure is an error.
+  DragAlongOptions drag_options;
+  drag_options.continue_after_failure = true;
+  DragLog log;
+  if (!DragAlong(&deformer, job.path, drag_options, &log, &error)) {
+    std::cerr << "msdeform: " << job.mesh_path << ": " << error << "; "
+              << log.failed_frames.size() << " failed frame(s); no output written\n";
+    return 1;
+  }
   std::vector<double> frame_ms, solve_ms, skin_ms, iterations;
-  double final_cost = 0.0;
-  // A frame whose solve fails keeps the last good node transforms (Drag
-  // restores them) and the drag goes on from there; only the last frame is
-  // the result the user asked for, so only its failure is an error.
-  std::vector<int> failed_frames;
-  for (size_t f = 0; f < job.path.size(); ++f) {
-    DragStats stats;
-    const auto frame_start = Clock::now();
-    if (!deformer.Drag(job.path[f], &stats, &error)) {
-      failed_frames.push_back(static_cast<int>(f) + 1);
-      if (f + 1 < job.path.size()) continue;
-      std::cerr << "msdeform: " << job.mesh_path << ": frame " << f + 1 << " of "
-                << job.path.size() << " (the result): " << error << "; "
-                << failed_frames.size() << " failed frame(s); no output written\n";
-      return 1;
-    }
-    frame_ms.push_back(MillisecondsSince(frame_start));
+  for (const DragStats& stats : log.frames) {
+    frame_ms.push_back(stats.frame_ms);
     solve_ms.push_back(stats.solve_ms);
     skin_ms.push_back(stats.skin_ms);
     iterations.push_back(stats.iterations);
-    final_cost = stats.final_cost;
   }
+  const double final_cost = log.frames.back().final_cost;
+  const std::vector<int>& failed_frames = log.failed_frames;
 
   double handle_sq = 0.0;
   for (int v : job.layout.moveable) {
@@ -365,8 +290,9 @@ int Run() {
   nlohmann::ordered_json report;
   report["name"] = job.name;
   report["mesh"] = job.mesh_path;
-  report["method"] = FLAGS_method;
-  report["seed"] = FLAGS_seed;
+  report["method"] = MethodName(job.options.method);
+  report["solver"] = SolverName(job.options.backend);
+  report["seed"] = job.options.graph.seed;
   report["vertices"] = job.mesh.num_vertices();
   report["faces"] = job.mesh.num_faces();
   report["diag"] = deformer.diagonal();
@@ -406,7 +332,7 @@ int Run() {
                           {"skin_median", Median(skin_ms)},
                           {"total", MillisecondsSince(total_start)}};
   report["handle_rms"] = handle_rms;
-  report["solver"] = {{"iterations_median", Median(iterations)}, {"final_cost", final_cost}};
+  report["solve"] = {{"iterations_median", Median(iterations)}, {"final_cost", final_cost}};
   report["failed_frames"] = failed_frames;
   report["output"] = job.out_path;
   if (!staged.Stage(job.report_path, &staged_path, &error) ||
@@ -417,7 +343,7 @@ int Run() {
 
   if (!FLAGS_quiet) {
     std::printf("msdeform: %s (%d vertices) %s, scale %d of %zu, %d+%d free nodes, %d variables\n",
-                job.name.c_str(), job.mesh.num_vertices(), FLAGS_method.c_str(),
+                job.name.c_str(), job.mesh.num_vertices(), MethodName(job.options.method),
                 deformer.active_graph() + 1, deformer.graphs().size(), totally_free, half_free,
                 deformer.num_variables());
     std::printf("  %zu frames: median frame %.2f ms (solve %.2f, skin %.2f), handle rms %.3g "
@@ -438,11 +364,12 @@ int Run() {
 }  // namespace msdeform
 
 int main(int argc, char** argv) {
-  gflags::SetUsageMessage(
-      "msdeform --mesh=PATH (--sel=PATH --def=PATH | --scenario=PATH) "
-      "[--method=multiscale|static|static_dense] [--static_nodes=220] [--frames=N] "
-      "[--out=PATH] [--report=PATH] [--dump_nodes=PATH] [--seed=N] [--cell_width=W] "
-      "[--threads=N]\nWith no arguments: the default armadillo edit.");
+  const std::string usage =
+      "msdeform: edit a mesh with the multi-scale method of Liu & Su 2008.\n"
+      "  msdeform [--scenario=PATH | --mesh=PATH --sel=PATH --def=PATH] [flags]\n"
+      "With no arguments: the default armadillo edit (data/scenarios/armadillo_claw.json).";
+  if (msdeform::HandleHelpRequest(argc, argv, usage, std::cout)) return 0;
+  gflags::SetUsageMessage(usage);
   gflags::ParseCommandLineFlags(&argc, &argv, true);
   google::InitGoogleLogging(argv[0]);
   FLAGS_logtostderr = true;

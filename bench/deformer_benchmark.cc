@@ -50,20 +50,16 @@ DeformerOptions Options(Backend backend, int threads = 2) {
                             backend == Backend::kCeresSuiteSparse
                         ? Solver::kCeres
                         : Solver::kGaussNewton;
-  if (backend == Backend::kCeresSuiteSparse) {
-    options.solver.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
-  }
-  options.group_position_terms = backend != Backend::kCeresPerVertex;
-  options.gauss_newton_hessian_reuse = backend == Backend::kGaussNewtonPerIteration
-                                           ? GaussNewtonOptions::HessianReuse::kEveryIteration
-                                           : GaussNewtonOptions::HessianReuse::kLagged;
-  options.gauss_newton_linear_solver =
-      backend == Backend::kGaussNewtonLDLT      ? GaussNewtonOptions::LinearSolver::kEigenLDLT
-      : backend == Backend::kGaussNewtonCholmod ? GaussNewtonOptions::LinearSolver::kCholmod
-                                                : GaussNewtonOptions::LinearSolver::kEigenLLT;
+  if (backend == Backend::kCeresSuiteSparse) options.ceres.sparse_library = ceres::SUITE_SPARSE;
+  options.ceres.group_position_terms = backend != Backend::kCeresPerVertex;
+  options.gauss_newton.factorization = backend == Backend::kGaussNewtonPerIteration
+                                           ? GaussNewtonOptions::Factorization::kEveryIteration
+                                           : GaussNewtonOptions::Factorization::kLagged;
+  options.gauss_newton.cholesky =
+      backend == Backend::kGaussNewtonLDLT      ? GaussNewtonOptions::Cholesky::kEigenLDLT
+      : backend == Backend::kGaussNewtonCholmod ? GaussNewtonOptions::Cholesky::kCholmod
+                                                : GaussNewtonOptions::Cholesky::kEigenLLT;
   options.num_threads = threads;
-  options.graph.seed = 1;  // as msdeform --seed=1 (its default)
-  options.rigidity.seed = 1;
   return options;
 }
 
@@ -108,9 +104,9 @@ void BM_ClawDrag(benchmark::State& state, const std::string& name, Backend backe
   for (auto _ : state) {
     CHECK(deformer.SetHandles(edit.layout, &error)) << error;
     std::vector<double> frame_ms;
-    for (const Eigen::Affine3d& target : edit.path) {
-      DragStats stats;
-      CHECK(deformer.Drag(target, &stats, &error)) << error;
+    DragLog log;
+    CHECK(DragAlong(&deformer, edit.path, DragAlongOptions(), &log, &error)) << error;
+    for (const DragStats& stats : log.frames) {
       frame_ms.push_back(stats.solve_ms + stats.skin_ms);
       solve.push_back(stats.solve_ms);
       skin.push_back(stats.skin_ms);

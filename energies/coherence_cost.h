@@ -11,7 +11,8 @@
 #define MSDEFORM_ENERGIES_COHERENCE_COST_H_
 
 #include <Eigen/Core>
-#include <ceres/ceres.h>
+#include <ceres/autodiff_cost_function.h>
+#include <ceres/sized_cost_function.h>
 
 namespace msdeform {
 

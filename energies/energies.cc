@@ -6,6 +6,8 @@
 
 #include <algorithm>
 
+#include <ceres/dynamic_autodiff_cost_function.h>
+
 #include "energies/coherence_cost.h"
 #include "energies/gauge_cost.h"
 #include "energies/position_cost.h"

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include <Eigen/Core>
-#include <ceres/ceres.h>
+#include <ceres/cost_function.h>
 
 namespace msdeform {
 

@@ -23,7 +23,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <ceres/ceres.h>
+#include <ceres/cost_function.h>
 
 #include "energies/position_cost.h"
 

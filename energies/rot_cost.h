@@ -10,7 +10,8 @@
 #ifndef MSDEFORM_ENERGIES_ROT_COST_H_
 #define MSDEFORM_ENERGIES_ROT_COST_H_
 
-#include <ceres/ceres.h>
+#include <ceres/autodiff_cost_function.h>
+#include <ceres/sized_cost_function.h>
 
 namespace msdeform {
 

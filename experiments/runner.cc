@@ -67,15 +67,14 @@ bool RunDeformer(const ExperimentScenario& scenario, const DeformerOptions& opti
     *error = scenario.name + " / " + label + ": " + *error;
     return false;
   }
+  DragLog log;
+  if (!DragAlong(&deformer, scenario.path, DragAlongOptions(), &log, error)) {
+    *error = scenario.name + " / " + label + ": " + *error;
+    return false;
+  }
   std::vector<double> frame_ms, solve_ms, skin_ms, iterations;
-  for (size_t f = 0; f < scenario.path.size(); ++f) {
-    DragStats stats;
-    const auto frame_start = Clock::now();
-    if (!deformer.Drag(scenario.path[f], &stats, error)) {
-      *error = scenario.name + " / " + label + ": frame " + std::to_string(f + 1) + ": " + *error;
-      return false;
-    }
-    frame_ms.push_back(MillisecondsSince(frame_start));
+  for (const DragStats& stats : log.frames) {
+    frame_ms.push_back(stats.frame_ms);
     solve_ms.push_back(stats.solve_ms);
     skin_ms.push_back(stats.skin_ms);
     iterations.push_back(stats.iterations);
@@ -165,7 +164,7 @@ bool RunCgalArap(const ExperimentScenario& scenario, const CgalArapOptions& opti
   MeasureQuality(scenario, arap.deformed_vertices(), result);
   result->orthogonality = kNaN;
   result->arap_distance_rel = 0.0;
-  result->gauss_newton_frame_ms = kNaN;
+  result->other_backend_frame_ms = kNaN;
   if (deformed != nullptr) *deformed = arap.deformed_vertices();
   result->wall_ms = MillisecondsSince(wall_start);
   return true;
@@ -197,93 +196,37 @@ bool RunnerOptions::Check(std::string* error) const {
 
 namespace {
 
-// A named change of the base options: an ablation or a solver variant.
+// A named change of the base options: an ablation.
 struct Variant {
   std::string name;
   std::function<void(DeformerOptions*)> apply;
-  std::string trust_region, linear_solver, backend;  // solver table only
 };
 
 std::vector<Variant> Ablations() {
   return {
-      {"multiscale", [](DeformerOptions*) {}, "", "", ""},
+      {"multiscale", [](DeformerOptions*) {}},
       // The paper's procedure as written (PaperProcedure).
-      {"paper", [](DeformerOptions* o) { *o = PaperProcedure(*o); }, "", "", ""},
+      {"paper", [](DeformerOptions* o) { *o = PaperProcedure(*o); }},
       // One change of the default each.
       {"rigidity_paper",
-       [](DeformerOptions* o) { o->rigidity.model = RigidityModel::kShapeMatching; }, "", "", ""},
+       [](DeformerOptions* o) { o->rigidity.model = RigidityModel::kShapeMatching; }},
       {"half_free_every_fixed_node",
-       [](DeformerOptions* o) { o->selection.half_free = HalfFreeRule::kEveryFixedHandleNode; },
-       "", "", ""},
-      {"border_fixed", [](DeformerOptions* o) { o->selection.border = BorderRule::kFixed; }, "", "",
-       ""},
-      {"border_half_free", [](DeformerOptions* o) { o->selection.border = BorderRule::kHalfFree; },
-       "", "", ""},
-      {"no_fixed_vertex_terms", [](DeformerOptions* o) { o->hold_fixed_vertices = false; }, "", "",
-       ""},
+       [](DeformerOptions* o) { o->selection.half_free = HalfFreeRule::kEveryFixedHandleNode; }},
+      {"border_fixed", [](DeformerOptions* o) { o->selection.border = BorderRule::kFixed; }},
+      {"border_half_free", [](DeformerOptions* o) { o->selection.border = BorderRule::kHalfFree; }},
+      {"no_fixed_vertex_terms", [](DeformerOptions* o) { o->hold_fixed_vertices = false; }},
       // The paper's Fig. 5 and 7 ablations.
-      {"keep_left_out_terms", [](DeformerOptions* o) { o->keep_left_out_terms = true; }, "", "", ""},
-      {"fix_fixed_handle_nodes", [](DeformerOptions* o) { o->fix_fixed_handle_nodes = true; }, "", "", ""},
-      {"alpha_all_one", [](DeformerOptions* o) { o->selection.alpha_all_one = true; }, "", "", ""},
+      {"keep_left_out_terms", [](DeformerOptions* o) { o->keep_left_out_terms = true; }},
+      {"fix_fixed_handle_nodes", [](DeformerOptions* o) { o->fix_fixed_handle_nodes = true; }},
+      {"alpha_all_one", [](DeformerOptions* o) { o->selection.alpha_all_one = true; }},
       {"member_extent_mean",
-       [](DeformerOptions* o) { o->selection.member_extent = MemberExtent::kMean; }, "", "", ""},
+       [](DeformerOptions* o) { o->selection.member_extent = MemberExtent::kMean; }},
       // A stiffer handle (Eq. 17's w_con, default 100): the handle error
       // against the distortion it costs, for comparing with static_dense at
       // equal handle error.
-      {"w_con_1e3", [](DeformerOptions* o) { o->w_con = 1e3; }, "", "", ""},
-      {"w_con_1e4", [](DeformerOptions* o) { o->w_con = 1e4; }, "", "", ""},
+      {"w_con_1e3", [](DeformerOptions* o) { o->w_con = 1e3; }},
+      {"w_con_1e4", [](DeformerOptions* o) { o->w_con = 1e4; }},
   };
-}
-
-std::vector<Variant> SolverVariants(std::vector<std::string>* skipped) {
-  std::vector<Variant> variants = {
-      {"lm_default", [](DeformerOptions*) {}, "LM", "SPARSE_NORMAL_CHOLESKY", "default"},
-      {"lm_gauss_newton",
-       [](DeformerOptions* o) {
-         // A trust region so large that LM's regulariser D / radius vanishes:
-         // each step is the Gauss-Newton step, still with step acceptance.
-         o->solver.initial_trust_region_radius = 1e12;
-         o->solver.max_trust_region_radius = 1e16;
-         o->solver.min_lm_diagonal = 1e-12;
-       },
-       "LM (radius 1e12)", "SPARSE_NORMAL_CHOLESKY", "default"},
-      {"dogleg_traditional",
-       [](DeformerOptions* o) {
-         o->solver.trust_region_strategy_type = ceres::DOGLEG;
-         o->solver.dogleg_type = ceres::TRADITIONAL_DOGLEG;
-       },
-       "DOGLEG traditional", "SPARSE_NORMAL_CHOLESKY", "default"},
-      {"dogleg_subspace",
-       [](DeformerOptions* o) {
-         o->solver.trust_region_strategy_type = ceres::DOGLEG;
-         o->solver.dogleg_type = ceres::SUBSPACE_DOGLEG;
-       },
-       "DOGLEG subspace", "SPARSE_NORMAL_CHOLESKY", "default"},
-  };
-  for (const auto& [name, type] :
-       {std::make_pair("suite_sparse", ceres::SUITE_SPARSE),
-        std::make_pair("cx_sparse", ceres::CX_SPARSE),
-        std::make_pair("eigen_sparse", ceres::EIGEN_SPARSE)}) {
-    if (!ceres::IsSparseLinearAlgebraLibraryTypeAvailable(type)) {
-      skipped->push_back(std::string("snc_") + name);
-      continue;
-    }
-    const ceres::SparseLinearAlgebraLibraryType backend = type;
-    variants.push_back({std::string("snc_") + name,
-                        [backend](DeformerOptions* o) {
-                          o->solver.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-                          o->solver.sparse_linear_algebra_library_type = backend;
-                        },
-                        "LM", "SPARSE_NORMAL_CHOLESKY",
-                        ceres::SparseLinearAlgebraLibraryTypeToString(backend)});
-  }
-  variants.push_back({"cgnr",
-                      [](DeformerOptions* o) {
-                        o->solver.linear_solver_type = ceres::CGNR;
-                        o->solver.preconditioner_type = ceres::JACOBI;
-                      },
-                      "LM", "CGNR (Jacobi)", ""});
-  return variants;
 }
 
 std::string Describe(const RunResult& r) {
@@ -317,12 +260,10 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
   std::vector<std::string> methods = options.methods;
   if (methods.empty()) methods = {"multiscale", "static", "static_dense", "cgal_arap"};
   std::vector<std::string> ablation_names = options.ablation_scenarios;
-  std::vector<std::string> solver_names = options.solver_scenarios;
   int frames = options.frames;
   if (options.quick) {
     if (only.empty()) only = {"cactus", "hand_finger"};
     ablation_names = {"cactus"};
-    solver_names = {"cactus"};
     if (frames == 0) frames = 5;
   }
   std::vector<std::string> selected;
@@ -354,7 +295,7 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
                 "solve_ms", "skin_ms", "setup_ms", "iterations", "unconverged_frames",
                 "handle_rms_rel", "fixed_max_rel", "arap_energy", "arap_energy_joint", "strain",
                 "leakage_rel", "leakage_max_rel", "orthogonality", "arap_distance_rel",
-                "gauss_newton_frame_ms", "precompute_ms", "rigidity_ms"},
+                "other_backend_frame_ms", "precompute_ms", "rigidity_ms"},
                {},
                {}};
   Table ablations{"Ablations (docs/method.md §7; paper Fig. 5 and 7)",
@@ -364,13 +305,6 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
                    "arap_distance_rel"},
                   {},
                   {}};
-  Table solvers{"Solver variants on the multi-scale problem",
-                {"scenario", "variant", "trust_region", "linear_solver", "sparse_backend",
-                 "iterations_total", "iterations_median", "unconverged_frames", "solve_ms",
-                 "solve_total_ms", "final_cost", "handle_rms_rel", "arap_energy"},
-                {},
-                {}};
-
   auto add_table2 = [&](const RunResult& r) {
     table2.AddRow({r.scenario, r.method, Int(r.vertices), Int(r.nodes_optimized),
                    Int(r.variables), FormatNumber(r.frame_ms), FormatNumber(r.solve_ms),
@@ -380,12 +314,10 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
                    FormatNumber(r.arap_energy), FormatNumber(r.arap_energy_joint),
                    FormatNumber(r.strain), FormatNumber(r.leakage_rel),
                    FormatNumber(r.leakage_max_rel), FormatNumber(r.orthogonality),
-                   FormatNumber(r.arap_distance_rel), FormatNumber(r.gauss_newton_frame_ms),
+                   FormatNumber(r.arap_distance_rel), FormatNumber(r.other_backend_frame_ms),
                    FormatNumber(r.precompute_ms), FormatNumber(r.rigidity_ms)});
   };
 
-  std::vector<std::string> skipped_solvers;
-  const std::vector<Variant> solver_variants = SolverVariants(&skipped_solvers);
   int index = 0;
   for (const std::string& file : selected) {
     ++index;
@@ -413,14 +345,15 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
       if (!RunDeformer(scenario, run_options, MethodName(method), reference, &r, error)) {
         return false;
       }
-      r.gauss_newton_frame_ms = kNaN;
-      if (options.time_gauss_newton && method != Method::kStaticDense) {
-        run_options.backend = Solver::kGaussNewton;
-        RunResult gn;
-        if (!RunDeformer(scenario, run_options, MethodName(method), nullptr, &gn, error)) {
+      r.other_backend_frame_ms = kNaN;
+      if (options.time_other_backend && method != Method::kStaticDense) {
+        run_options.backend =
+            run_options.backend == Solver::kCeres ? Solver::kGaussNewton : Solver::kCeres;
+        RunResult other;
+        if (!RunDeformer(scenario, run_options, MethodName(method), nullptr, &other, error)) {
           return false;
         }
-        r.gauss_newton_frame_ms = gn.frame_ms;
+        r.other_backend_frame_ms = other.frame_ms;
       }
       add_table2(r);
       line << " " << Describe(r) << ";";
@@ -458,22 +391,6 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
       }
       line << " ablations;";
     }
-    if (Contains(solver_names, scenario.name)) {
-      for (const Variant& variant : solver_variants) {
-        DeformerOptions run_options = base;
-        run_options.method = Method::kMultiScale;
-        variant.apply(&run_options);
-        RunResult r;
-        if (!RunDeformer(scenario, run_options, variant.name, reference, &r, error)) return false;
-        solvers.AddRow({r.scenario, r.method, variant.trust_region, variant.linear_solver,
-                        variant.backend, Int(r.iterations_total),
-                        FormatNumber(r.iterations_median), Int(r.unconverged_frames),
-                        FormatNumber(r.solve_ms), FormatNumber(r.solve_total_ms),
-                        FormatNumber(r.final_cost, 6), FormatNumber(r.handle_rms_rel),
-                        FormatNumber(r.arap_energy)});
-      }
-      line << " solvers;";
-    }
     line << " " << FormatFixed(MillisecondsSince(scenario_start) / 1000.0, 1) << " s";
     progress(line.str());
   }
@@ -482,8 +399,8 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
   settings << "settings: " << (options.quick ? "quick subset, " : "full run, ")
            << (frames > 0 ? std::to_string(frames) + " frames per drag"
                           : std::string("each scenario's frames"))
-           << ", " << options.threads << " thread(s), Ceres max "
-           << base.solver.max_num_iterations << " iterations per frame, CGAL "
+           << ", " << options.threads << " thread(s), " << SolverName(base.backend)
+           << " backend, max " << base.stopping.max_iterations << " iterations per frame, CGAL "
            << options.cgal.iterations << " iterations per frame, seed " << base.graph.seed;
   std::vector<std::string> header = ProvenanceLines(options.source_dir);
   header.push_back(settings.str());
@@ -502,20 +419,12 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
                          "the shape-matching estimate in SetHandles (multiscale only); setup_ms = "
                          "the rest of SetHandles (scale selection, classes, problem).");
   ablations.notes.push_back(units);
-  solvers.notes.push_back(units);
-  solvers.notes.push_back("final_cost: Ceres cost after the last frame's solve (0.5 x sum of "
-                          "squared residuals).");
-  if (!skipped_solvers.empty()) {
-    std::string note = "Not available in this Ceres build (IsSparseLinearAlgebraLibraryTypeAvailable):";
-    for (const std::string& name : skipped_solvers) note += " " + name;
-    solvers.notes.push_back(note);
-  }
   for (const auto& [stem, table] :
        {std::make_pair("table1", &table1), std::make_pair("table2", &table2),
-        std::make_pair("ablations", &ablations), std::make_pair("solvers", &solvers)}) {
+        std::make_pair("ablations", &ablations)}) {
     if (!WriteTable(options.out_dir, stem, *table, header, error)) return false;
   }
-  progress("wrote table1, table2, ablations and solvers (.csv, .md) to " + options.out_dir +
+  progress("wrote table1, table2 and ablations (.csv, .md) to " + options.out_dir +
            " in " + FormatFixed(MillisecondsSince(start) / 1000.0, 1) + " s");
   return true;
 }

@@ -1,11 +1,11 @@
 // The experiment runner behind msdeform_experiments: every scenario under a
 // folder with the multi-scale method, both static baselines and CGAL's ARAP,
-// then the ablations (docs/method.md §7) and the solver variants, written as
-// tables (experiments/results/README.md explains them):
+// then the ablations (docs/method.md §7), written as tables
+// (experiments/results/README.md explains them):
 //   table1      per model: lattice, graphs, scale, optimised nodes, times
 //   table2      per scenario x method: size, time, accuracy, distortion, leakage
 //   ablations   per ablation scenario x variant
-//   solvers     per solver scenario x Ceres variant
+// The solver variants have their own lab (experiments/solver_lab.h).
 //
 //   RunnerOptions options;  // defaults: the full run
 //   options.out_dir = "experiments/results";
@@ -71,9 +71,9 @@ struct RunResult {
   // Mean distance of the final vertices to CGAL ARAP's on the same drag, over
   // the diagonal (NaN when CGAL's was not run).
   double arap_distance_rel = 0.0;
-  // Median frame time with the Gauss-Newton backend (multiscale and static;
-  // NaN when not run).
-  double gauss_newton_frame_ms = 0.0;
+  // Median frame time with the other backend (Ceres when the run's backend
+  // is Gauss-Newton and the reverse; multiscale and static; NaN when not run).
+  double other_backend_frame_ms = 0.0;
   double wall_ms = 0.0;
 };
 
@@ -96,26 +96,25 @@ struct RunnerOptions {
   std::string out_dir;
   // Repository the commit is read from.
   std::string source_dir;
-  // The CI subset: cactus and hand_finger with 5 frames, ablations and solver
-  // variants on the cactus only.
+  // The CI subset: cactus and hand_finger with 5 frames, ablations on the
+  // cactus only.
   bool quick = false;
   // Drag frames per scenario; 0 = the scenario's (quick: 5).
   int frames = 0;
-  // Threads for the Ceres solve and the skinning (CGAL is single-threaded).
+  // Threads for Ceres and the skinning (CGAL is single-threaded).
   int threads = 1;
   // Only these scenario names (empty: all).
   std::vector<std::string> only;
   // Methods of table 2, any of multiscale, static, static_dense, cgal_arap
   // (empty: all four).
   std::vector<std::string> methods;
-  // Also time multiscale and static with the Gauss-Newton backend
-  // (gauss_newton_frame_ms).
-  bool time_gauss_newton = true;
-  // Scenarios of the ablation and solver tables (full run).
+  // Also time multiscale and static with the other backend
+  // (other_backend_frame_ms).
+  bool time_other_backend = true;
+  // Scenarios of the ablation table (full run).
   std::vector<std::string> ablation_scenarios = {"man_knee_bend", "armadillo_arm_raise",
                                                 "man_leg_lift", "cactus", "cylinder_bend",
                                                 "armadillo_hand_drag", "camel_hoof_drag"};
-  std::vector<std::string> solver_scenarios = {"cactus", "hand_finger", "armadillo_arm_raise"};
   // Base deformer settings (seed, lattice, ...); method and ablation switches
   // are set per run.
   DeformerOptions deformer;
@@ -126,8 +125,8 @@ struct RunnerOptions {
   bool Check(std::string* error) const;
 };
 
-// Runs everything and writes table1, table2, ablations and solvers (.csv and
-// .md) into out_dir. False with a message on a scenario that does not load
+// Runs everything and writes table1, table2 and ablations (.csv and .md)
+// into out_dir. False with a message on a scenario that does not load
 // or a run that fails.
 bool RunExperiments(const RunnerOptions& options, std::string* error);
 

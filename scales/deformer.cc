@@ -3,18 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <map>
 #include <sstream>
 
 #include <glog/logging.h>
 
 #include "core/skinning.h"
 #include "core/timing.h"
-#include "energies/coherence_cost.h"
-#include "energies/gauge_cost.h"
-#include "energies/position_cost.h"
-#include "energies/position_group_cost.h"
-#include "energies/rot_cost.h"
 
 namespace msdeform {
 namespace {
@@ -124,6 +118,28 @@ bool ParseSolver(const std::string& name, Solver* solver) {
   return false;
 }
 
+const char* InitialGuessName(InitialGuess guess) {
+  switch (guess) {
+    case InitialGuess::kRest:
+      return "rest";
+    case InitialGuess::kPrevious:
+      return "previous";
+    case InitialGuess::kExtrapolated:
+      return "extrapolated";
+  }
+  return "unknown";
+}
+
+bool ParseInitialGuess(const std::string& name, InitialGuess* guess) {
+  for (InitialGuess g : {InitialGuess::kRest, InitialGuess::kPrevious, InitialGuess::kExtrapolated}) {
+    if (name == InitialGuessName(g)) {
+      *guess = g;
+      return true;
+    }
+  }
+  return false;
+}
+
 bool ParseMethodVariant(const std::string& rigidity, const std::string& half_free,
                         const std::string& border, DeformerOptions* options,
                         std::string* error) {
@@ -151,19 +167,6 @@ DeformerOptions PaperProcedure(DeformerOptions options) {
   return options;
 }
 
-DeformerOptions::DeformerOptions() {
-  solver.minimizer_type = ceres::TRUST_REGION;
-  solver.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  solver.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-  solver.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
-  solver.max_num_iterations = 20;
-  solver.function_tolerance = 1e-8;
-  solver.gradient_tolerance = 1e-10;
-  solver.parameter_tolerance = 1e-10;
-  solver.logging_type = ceres::SILENT;
-  solver.minimizer_progress_to_stdout = false;
-}
-
 bool DeformerOptions::Check(std::string* error) const {
   if (!lattice.Check(error) || !graph.Check(error) || !rigidity.Check(error) ||
       !selection.Check(error)) {
@@ -177,13 +180,6 @@ bool DeformerOptions::Check(std::string* error) const {
     *error = "length_unit must be a finite number >= 0 (0: the bounding-box diagonal)";
     return false;
   }
-  for (double tolerance : {solver.function_tolerance, solver.gradient_tolerance,
-                           solver.parameter_tolerance}) {
-    if (!std::isfinite(tolerance)) {
-      *error = "solver tolerances must be finite";
-      return false;
-    }
-  }
   for (double weight : {w_rot, w_coh, w_con}) {
     if (!(weight >= 0.0) || !std::isfinite(weight)) {
       *error = "energy weights must be finite and >= 0";
@@ -194,12 +190,7 @@ bool DeformerOptions::Check(std::string* error) const {
     *error = "num_threads must be >= 1";
     return false;
   }
-  std::string solver_error;
-  if (!solver.IsValid(&solver_error)) {
-    *error = "invalid Ceres solver options: " + solver_error;
-    return false;
-  }
-  return true;
+  return stopping.Check(error) && gauss_newton.Check(error) && ceres.Check(error);
 }
 
 Deformer::Deformer() = default;
@@ -270,8 +261,8 @@ bool Deformer::SetHandles(const HandleLayout& layout, std::string* error) {
         rigidity_.relative_extent.data() + lattice_.num_surface_cells());
     ScaleSelectionOptions selection_options = options_.selection;
     if (options_.fix_fixed_handle_nodes) selection_options.half_free = HalfFreeRule::kNone;
-    if (!SelectScale(graphs_, dg1_extent, handles, diagonal_, selection_options, &selection_,
-                     error)) {
+    if (!SelectScale(graphs_, dg1_extent, handles, options_.graph.nodes_per_scale, diagonal_,
+                     selection_options, &selection_, error)) {
       return false;
     }
     active_graph_ = selection_.scale - 1;
@@ -320,24 +311,16 @@ void Deformer::BuildProblem() {
   skin_all_ = static_cast<int>(skinned_vertices_.size()) == weights.num_vertices();
   if (skin_all_) std::vector<int>().swap(skinned_vertices_);
 
-  problem_.reset();
-  gauss_newton_.reset();
-  position_costs_.clear();
-  position_groups_.clear();
   if (options_.backend == Solver::kGaussNewton) {
-    GaussNewtonOptions gauss_newton;
-    gauss_newton.linear_solver = options_.gauss_newton_linear_solver;
-    gauss_newton.hessian_reuse = options_.gauss_newton_hessian_reuse;
-    gauss_newton.max_iterations = options_.solver.max_num_iterations;
-    gauss_newton.function_tolerance = options_.solver.function_tolerance;
-    gauss_newton.gradient_tolerance = options_.solver.gradient_tolerance;
-    gauss_newton.parameter_tolerance = options_.solver.parameter_tolerance;
-    gauss_newton_ = std::make_unique<GaussNewtonSolver>();
-    std::string error;
-    CHECK(gauss_newton_->Setup(energy_, transforms_, gauss_newton, &error)) << error;
+    solver_ = std::make_unique<GaussNewtonSolver>(options_.gauss_newton, options_.stopping);
   } else {
-    BuildCeresProblem();
+    solver_ = std::make_unique<CeresSolver>(options_.ceres, options_.stopping,
+                                            options_.num_threads);
   }
+  std::string error;
+  CHECK(solver_->Setup(energy_, transforms_, &error)) << error;  // options were checked in Init
+  previous_transforms_ = transforms_;
+  frames_since_layout_ = 0;
 }
 
 void Deformer::BuildEnergy() {
@@ -412,150 +395,51 @@ void Deformer::BuildEnergy() {
   energy_.gauge = GaugeTerms(energy_);
 }
 
-void Deformer::BuildCeresProblem() {
-  const DeformationGraph& graph = graphs_[active_graph_];
-  const int n = graph.num_nodes();
-  ceres::Problem::Options problem_options;
-  problem_ = std::make_unique<ceres::Problem>(problem_options);
-  ceres::Problem& problem = *problem_;
-  auto rotation = [&](int j) { return transforms_.rotations.col(j).data(); };
-  auto translation = [&](int j) { return transforms_.translations.col(j).data(); };
-
-  // Parameter blocks: the class of a node decides which of its blocks vary.
-  std::vector<char> added(n, 0);
-  auto ensure_blocks = [&](int j) {
-    if (added[j]) return;
-    added[j] = 1;
-    problem.AddParameterBlock(rotation(j), 9);
-    problem.AddParameterBlock(translation(j), 3);
-    if (node_classes_[j] != NodeClass::kTotallyFree) problem.SetParameterBlockConstant(translation(j));
-    if (node_classes_[j] == NodeClass::kFixed) problem.SetParameterBlockConstant(rotation(j));
-  };
-
-  for (int j : energy_.rot_nodes) {
-    ensure_blocks(j);
-    problem.AddResidualBlock(new RotCostAnalytic(energy_.sqrt_rot), nullptr, rotation(j));
-  }
-  for (const DeformationEnergy::Gauge& term : energy_.gauge) {
-    ensure_blocks(term.node);
-    problem.AddResidualBlock(new GaugeCostAnalytic(term.axis, term.sqrt_weight), nullptr,
-                             rotation(term.node));
-  }
-  for (const DeformationEnergy::Coherence& term : energy_.coherence) {
-    ensure_blocks(term.j);
-    ensure_blocks(term.k);
-    problem.AddResidualBlock(
-        new CoherenceCostAnalytic(graph.positions.col(term.j), graph.positions.col(term.k),
-                                  term.sqrt_weight),
-        nullptr, rotation(term.j), translation(term.j), translation(term.k));
-  }
-
-  if (!options_.group_position_terms) {
-    for (const DeformationEnergy::Position& term : energy_.positions) {
-      std::vector<double*> blocks;
-      for (int j : term.nodes) {
-        ensure_blocks(j);
-        blocks.push_back(rotation(j));
-        blocks.push_back(translation(j));
-      }
-      auto* cost = new PositionCostAnalytic(term.terms, term.rest, term.sqrt_weight);
-      problem.AddResidualBlock(cost, nullptr, blocks);
-      if (term.follows_handle) position_costs_.push_back({cost, term.rest});
-    }
-    return;
-  }
-  // Handle vertices with the same nodes (and the same kind of target) become
-  // one PositionGroupCost; a vertex's terms are put in node-id order.
-  std::map<std::vector<int>, int> group_of_key;
-  struct Group {
-    std::vector<int> nodes;
-    bool follows_handle;
-    double sqrt_weight;
-    std::vector<std::vector<SkinningTerm>> terms;
-    std::vector<Eigen::Vector3d> rest;
-  };
-  std::vector<Group> groups;
-  for (const DeformationEnergy::Position& term : energy_.positions) {
-    std::vector<int> order(term.nodes.size());
-    for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
-    std::sort(order.begin(), order.end(),
-              [&](int a, int b) { return term.nodes[a] < term.nodes[b]; });
-    std::vector<int> key = {term.follows_handle ? 1 : 0};
-    std::vector<SkinningTerm> terms;
-    for (int i : order) {
-      key.push_back(term.nodes[i]);
-      terms.push_back(term.terms[i]);
-    }
-    auto [it, inserted] = group_of_key.emplace(key, static_cast<int>(groups.size()));
-    if (inserted) {
-      groups.push_back({std::vector<int>(key.begin() + 1, key.end()), term.follows_handle,
-                        term.sqrt_weight, {}, {}});
-    }
-    CHECK_EQ(groups[it->second].sqrt_weight, term.sqrt_weight);
-    groups[it->second].terms.push_back(std::move(terms));
-    groups[it->second].rest.push_back(term.rest);
-  }
-  for (const Group& group : groups) {
-    std::vector<double*> blocks;
-    for (int j : group.nodes) {
-      ensure_blocks(j);
-      blocks.push_back(rotation(j));
-      blocks.push_back(translation(j));
-    }
-    auto* cost =
-        new PositionGroupCost(group.terms, group.rest, group.follows_handle, group.sqrt_weight);
-    problem.AddResidualBlock(cost, nullptr, blocks);
-    position_groups_.push_back(cost);
-  }
-}
-
 bool Deformer::Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats,
                     std::string* error) {
-  CHECK(problem_ != nullptr || gauss_newton_ != nullptr) << "SetHandles first";
+  CHECK(solver_ != nullptr) << "SetHandles first";
+  const auto frame_start = std::chrono::steady_clock::now();
   if (!deformed_from_rest.matrix().allFinite()) {
     *error = "the handle transform is not finite";
     return false;
   }
   DragStats local_stats;
   DragStats& frame = stats != nullptr ? *stats : local_stats;
+  frame = DragStats();
 
   const NodeTransforms last_good = transforms_;
-  const auto solve_start = std::chrono::steady_clock::now();
-  std::string failure;
-  if (gauss_newton_ != nullptr) {
-    const GaussNewtonSummary summary = gauss_newton_->Solve(deformed_from_rest, &transforms_);
-    frame.solve_ms = MillisecondsSince(solve_start);
-    frame.iterations = summary.iterations;
-    frame.factorizations = summary.factorizations;
-    frame.initial_cost = summary.initial_cost;
-    frame.final_cost = summary.final_cost;
-    frame.converged = summary.converged;
-    if (!std::isfinite(summary.final_cost)) failure = summary.message;
-  } else {
-    for (PositionTerm& term : position_costs_) term.cost->set_target(deformed_from_rest * term.rest);
-    double constant_cost = 0.0;  // what the grouped position blocks leave out
-    for (PositionGroupCost* group : position_groups_) {
-      group->SetHandle(deformed_from_rest);
-      constant_cost += group->ConstantCost();
-    }
-    ceres::Solver::Options solver_options = options_.solver;
-    solver_options.num_threads = options_.num_threads;
-    ceres::Solver::Summary summary;
-    ceres::Solve(solver_options, problem_.get(), &summary);
-    VLOG(1) << summary.FullReport();  // msdeform --verbose --v=1
-    frame.solve_ms = MillisecondsSince(solve_start);
-    frame.iterations = static_cast<int>(summary.iterations.size()) - 1;
-    frame.initial_cost = summary.initial_cost + constant_cost;
-    frame.final_cost = summary.final_cost + constant_cost;
-    frame.converged = summary.termination_type == ceres::CONVERGENCE;
-    if (summary.termination_type == ceres::FAILURE) failure = summary.message;
+  // The initial guess; only the free blocks matter (the solver keeps the
+  // others), and the Fixed nodes are the identity in every guess.
+  switch (options_.initial_guess) {
+    case InitialGuess::kRest:
+      transforms_ = NodeTransforms::Identity(transforms_.num_nodes());
+      break;
+    case InitialGuess::kPrevious:
+      break;
+    case InitialGuess::kExtrapolated:
+      if (frames_since_layout_ >= 2) {
+        transforms_.rotations = 2.0 * last_good.rotations - previous_transforms_.rotations;
+        transforms_.translations = 2.0 * last_good.translations - previous_transforms_.translations;
+      }
+      break;
   }
-  if (!failure.empty() || !transforms_.rotations.allFinite() ||
+  const auto solve_start = std::chrono::steady_clock::now();
+  const SolveSummary summary = solver_->Solve(deformed_from_rest, &transforms_);
+  frame.solve_ms = MillisecondsSince(solve_start);
+  frame.iterations = summary.iterations;
+  frame.factorizations = summary.factorizations;
+  frame.initial_cost = summary.initial_cost;
+  frame.final_cost = summary.final_cost;
+  frame.converged = summary.converged;
+  frame.trace = summary.trace;
+  if (summary.failed || !std::isfinite(summary.final_cost) || !transforms_.rotations.allFinite() ||
       !transforms_.translations.allFinite()) {
     transforms_ = last_good;
-    *error = "the solve failed (" + failure + "); kept the last good frame";
+    *error = "the solve failed (" + summary.message + "); kept the last good frame";
     return false;
   }
+  previous_transforms_ = last_good;
+  ++frames_since_layout_;
 
   const auto skin_start = std::chrono::steady_clock::now();
   SkinningOptions skinning;
@@ -564,6 +448,27 @@ bool Deformer::Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats,
                           skin_all_ ? nullptr : &skinned_vertices_, &deformed_vertices_,
                           &deformed_normals_, skinning);
   frame.skin_ms = MillisecondsSince(skin_start);
+  frame.frame_ms = MillisecondsSince(frame_start);
+  return true;
+}
+
+bool DragAlong(Deformer* deformer, const std::vector<Eigen::Affine3d>& path,
+               const DragAlongOptions& options, DragLog* log, std::string* error) {
+  *log = DragLog();
+  const int num_frames = static_cast<int>(path.size());
+  for (int f = 0; f < num_frames; ++f) {
+    DragStats stats;
+    std::string frame_error;
+    if (!deformer->Drag(path[f], &stats, &frame_error)) {
+      log->failed_frames.push_back(f + 1);
+      if (options.continue_after_failure && f + 1 < num_frames) continue;
+      *error = "frame " + std::to_string(f + 1) + " of " + std::to_string(num_frames) +
+               (options.continue_after_failure ? " (the result)" : "") + ": " + frame_error;
+      return false;
+    }
+    if (options.on_frame) options.on_frame(f + 1, stats);
+    log->frames.push_back(std::move(stats));
+  }
   return true;
 }
 

@@ -27,18 +27,20 @@
 #ifndef MSDEFORM_SCALES_DEFORMER_H_
 #define MSDEFORM_SCALES_DEFORMER_H_
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <ceres/ceres.h>
-
 #include "core/deformation_graph.h"
 #include "core/handles.h"
 #include "core/lattice.h"
 #include "core/mesh.h"
+#include "scales/ceres_solver.h"
+#include "scales/deformation_energy.h"
+#include "scales/frame_solver.h"
 #include "scales/gauss_newton_solver.h"
 #include "scales/rigidity.h"
 #include "scales/scale_selection.h"
@@ -47,9 +49,16 @@ namespace msdeform {
 
 enum class Method { kMultiScale, kStatic, kStaticDense };
 
-// The backend that minimises Eq. 17 each frame: Ceres (the reference) or the
-// Gauss-Newton solver of scales/gauss_newton_solver.h.
+// The backend that minimises Eq. 17 each frame (scales/frame_solver.h): the
+// Gauss-Newton solver of scales/gauss_newton_solver.h, or Ceres
+// (scales/ceres_solver.h), the reference.
 enum class Solver { kCeres, kGaussNewton };
+
+// Where a frame's solve starts: the rest pose (R = I, t = 0: no warm start),
+// the previous frame's solution (warm start), or its linear extrapolation
+// from the last two frames, x_f + (x_f - x_{f-1}) (the previous solution on
+// the first two frames of a layout).
+enum class InitialGuess { kRest, kPrevious, kExtrapolated };
 
 // "multiscale", "static", "static_dense".
 const char* MethodName(Method method);
@@ -57,6 +66,9 @@ bool ParseMethod(const std::string& name, Method* method);
 // "ceres", "gauss_newton".
 const char* SolverName(Solver solver);
 bool ParseSolver(const std::string& name, Solver* solver);
+// "rest", "previous", "extrapolated".
+const char* InitialGuessName(InitialGuess guess);
+bool ParseInitialGuess(const std::string& name, InitialGuess* guess);
 
 struct DeformerOptions;
 // Sets the multi-scale method's variant switches (rigidity.model,
@@ -95,24 +107,20 @@ struct DeformerOptions {
   bool fix_fixed_handle_nodes = false;
   // Threads for skinning and the Ceres solve.
   int num_threads = 2;
-  // Ceres settings. Defaults (set by the constructor; docs/decisions.md):
-  // Levenberg-Marquardt, SPARSE_NORMAL_CHOLESKY on Eigen's sparse Cholesky
-  // (EIGEN_SPARSE: 1.45-1.6x faster than SuiteSparse here), at most 20 iterations,
-  // function tolerance 1e-8, gradient 1e-10, parameter 1e-10.
-  ceres::Solver::Options solver;
-  // Backend. The Gauss-Newton backend uses solver.max_num_iterations and the
-  // three tolerances above, and this sparse Cholesky (docs/performance.md).
-  Solver backend = Solver::kCeres;
-  GaussNewtonOptions::LinearSolver gauss_newton_linear_solver =
-      GaussNewtonOptions::LinearSolver::kEigenLLT;
-  GaussNewtonOptions::HessianReuse gauss_newton_hessian_reuse =
-      GaussNewtonOptions::HessianReuse::kLagged;
-  // Ceres only: handle vertices that share the same nodes become one exact
-  // least-squares block (energies/position_group_cost.h) instead of one
-  // residual block each. Same minimiser; false gives the per-vertex blocks.
-  bool group_position_terms = true;
 
-  DeformerOptions();
+  // The per-frame solve. Both backends minimise the same energy and stop on
+  // the same rule (scales/frame_solver.h): at most 20 iterations, function
+  // tolerance 1e-8, gradient 1e-10, parameter 1e-10.
+  Solver backend = Solver::kGaussNewton;
+  StoppingRule stopping;
+  InitialGuess initial_guess = InitialGuess::kPrevious;
+  // Gauss-Newton: sparse Cholesky (Eigen's SimplicialLLT), factorisation
+  // lagged across iterations and frames, damping only as a safeguard.
+  GaussNewtonOptions gauss_newton;
+  // Ceres: Levenberg-Marquardt, SPARSE_NORMAL_CHOLESKY on EIGEN_SPARSE,
+  // grouped position terms.
+  CeresOptions ceres;
+
   bool Check(std::string* error) const;
 };
 
@@ -125,13 +133,16 @@ DeformerOptions PaperProcedure(DeformerOptions options);
 
 // Per-frame numbers.
 struct DragStats {
+  double frame_ms = 0.0;  // the whole Drag
   double solve_ms = 0.0;
   double skin_ms = 0.0;
   int iterations = 0;
-  int factorizations = 0;  // Gauss-Newton backend: numeric Cholesky factorisations
-  double initial_cost = 0.0;
+  int factorizations = 0;
+  double initial_cost = 0.0;  // at the initial guess
   double final_cost = 0.0;
   bool converged = false;
+  // The solve's convergence trace (scales/frame_solver.h).
+  std::vector<TracePoint> trace;
 };
 
 class Deformer {
@@ -191,7 +202,6 @@ class Deformer {
  private:
   void BuildProblem();
   void BuildEnergy();
-  void BuildCeresProblem();
 
   DeformerOptions options_;
   Mesh mesh_;
@@ -210,15 +220,10 @@ class Deformer {
   int active_graph_ = 0;
   std::vector<NodeClass> node_classes_;
   NodeTransforms transforms_;
-  std::unique_ptr<ceres::Problem> problem_;
-  struct PositionTerm {
-    class PositionCostAnalytic* cost;  // owned by problem_
-    Eigen::Vector3d rest;
-  };
-  std::vector<PositionTerm> position_costs_;             // ungrouped (Ceres)
-  std::vector<class PositionGroupCost*> position_groups_;  // grouped (Ceres), owned by problem_
   DeformationEnergy energy_;
-  std::unique_ptr<GaussNewtonSolver> gauss_newton_;
+  std::unique_ptr<FrameSolver> solver_;
+  NodeTransforms previous_transforms_;  // the frame before, for kExtrapolated
+  int frames_since_layout_ = 0;
   std::vector<int> skinned_vertices_;
   bool skin_all_ = true;
   int num_position_terms_ = 0;
@@ -229,6 +234,29 @@ class Deformer {
   double rigidity_ms_ = 0.0;
   double setup_ms_ = 0.0;
 };
+
+// A drag along a path of handle transforms: the per-frame loop of msdeform,
+// the experiment runner, the figure data and the benchmarks.
+struct DragAlongOptions {
+  // A frame whose solve fails keeps the last good node transforms (Drag
+  // restores them). false: stop at the first failure. true: go on from the
+  // last good frame; only a failure of the last frame, the result, is an
+  // error.
+  bool continue_after_failure = false;
+  // Called after each successful frame (1-based frame number), e.g. for
+  // progress lines or to write the frame's mesh.
+  std::function<void(int frame, const DragStats& stats)> on_frame;
+};
+
+struct DragLog {
+  std::vector<DragStats> frames;   // successful frames, in order
+  std::vector<int> failed_frames;  // 1-based
+};
+
+// Drags `deformer` (SetHandles done) through `path`; false with
+// "frame F of N: <what failed>" in *error.
+bool DragAlong(Deformer* deformer, const std::vector<Eigen::Affine3d>& path,
+               const DragAlongOptions& options, DragLog* log, std::string* error);
 
 }  // namespace msdeform
 

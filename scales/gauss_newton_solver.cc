@@ -1,9 +1,10 @@
 #include "scales/gauss_newton_solver.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
-#include <Eigen/Eigenvalues>
+#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 #include <glog/logging.h>
 #ifdef MSDEFORM_HAVE_CHOLMOD
@@ -28,28 +29,6 @@ Vector12d HandleParameters(const Eigen::Affine3d& handle) {
   return tau;
 }
 
-// Rot residuals (Eq. 12) of R (9 doubles, column-major) scaled by s; with
-// jacobian != nullptr also the 6x9 Jacobian.
-void RotResiduals(const double* R, double s, double* residuals,
-                  Eigen::Matrix<double, 6, 9>* jacobian) {
-  static constexpr int kFirst[6] = {0, 0, 1, 0, 1, 2};
-  static constexpr int kSecond[6] = {1, 2, 2, 0, 1, 2};
-  for (int r = 0; r < 6; ++r) {
-    const double* a = R + 3 * kFirst[r];
-    const double* b = R + 3 * kSecond[r];
-    residuals[r] = s * (a[0] * b[0] + a[1] * b[1] + a[2] * b[2] - (r >= 3 ? 1.0 : 0.0));
-  }
-  if (jacobian == nullptr) return;
-  jacobian->setZero();
-  for (int r = 0; r < 6; ++r) {
-    const int a = kFirst[r], b = kSecond[r];
-    for (int i = 0; i < 3; ++i) {
-      (*jacobian)(r, a * 3 + i) += s * R[b * 3 + i];
-      (*jacobian)(r, b * 3 + i) += s * R[a * 3 + i];
-    }
-  }
-}
-
 // Position of `index` in the column `col` of a compressed matrix.
 int ValueIndex(const SparseMatrix& matrix, int row, int col) {
   const int* begin = matrix.innerIndexPtr() + matrix.outerIndexPtr()[col];
@@ -61,93 +40,114 @@ int ValueIndex(const SparseMatrix& matrix, int row, int col) {
 
 }  // namespace
 
-int DeformationEnergy::num_variables() const {
-  int variables = 0;
-  for (NodeClass c : node_class)
-    variables += c == NodeClass::kTotallyFree ? 12 : c == NodeClass::kHalfFree ? 9 : 0;
-  return variables;
-}
-
-std::vector<DeformationEnergy::Gauge> GaugeTerms(const DeformationEnergy& energy) {
-  std::vector<DeformationEnergy::Gauge> gauge;
-  if (!(energy.sqrt_rot > 0.0)) return gauge;
-  const int num_nodes = static_cast<int>(energy.node_class.size());
-  std::vector<Eigen::Matrix3d> scatter(num_nodes, Eigen::Matrix3d::Zero());
-  for (const DeformationEnergy::Coherence& term : energy.coherence) {
-    const Eigen::Vector3d u = term.sqrt_weight * term.edge;
-    scatter[term.j] += u * u.transpose();
-  }
-  for (const DeformationEnergy::Position& term : energy.positions) {
-    for (size_t i = 0; i < term.nodes.size(); ++i) {
-      const Eigen::Vector3d u = term.sqrt_weight * term.terms[i].weight * term.terms[i].offset;
-      scatter[term.nodes[i]] += u * u.transpose();
-    }
-  }
-  for (int j : energy.rot_nodes) {
-    if (energy.node_class[j] == NodeClass::kFixed) continue;
-    const Eigen::Matrix3d& S = scatter[j];
-    if (S.trace() == 0.0) {
-      for (int axis = 0; axis < 3; ++axis)
-        gauge.push_back({j, Eigen::Vector3d::Unit(axis), energy.sqrt_rot});
-      continue;
-    }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(S);
-    const Eigen::Vector3d lambda = eigen.eigenvalues();  // ascending
-    if (lambda[1] <= 1e-12 * lambda[2])
-      gauge.push_back({j, eigen.eigenvectors().col(2).normalized(), energy.sqrt_rot});
-  }
-  return gauge;
-}
-
-double EvaluateEnergy(const DeformationEnergy& energy, const NodeTransforms& transforms,
-                      const Eigen::Affine3d& handle) {
-  double sum = 0.0;
-  for (int j : energy.rot_nodes) {
-    double r[6];
-    RotResiduals(transforms.rotations.col(j).data(), energy.sqrt_rot, r, nullptr);
-    for (double value : r) sum += value * value;
-  }
-  for (const DeformationEnergy::Coherence& term : energy.coherence) {
-    const Eigen::Vector3d r =
-        term.sqrt_weight * (transforms.rotation(term.j) * term.edge - term.edge +
-                            transforms.translations.col(term.j) -
-                            transforms.translations.col(term.k));
-    sum += r.squaredNorm();
-  }
-  for (const DeformationEnergy::Position& term : energy.positions) {
-    Eigen::Vector3d skinned = term.follows_handle ? Eigen::Vector3d(-(handle * term.rest))
-                                                  : Eigen::Vector3d(-term.rest);
-    for (size_t i = 0; i < term.nodes.size(); ++i) {
-      const int j = term.nodes[i];
-      skinned += term.terms[i].weight * (transforms.rotation(j) * term.terms[i].offset +
-                                         term.terms[i].position + transforms.translations.col(j));
-    }
-    sum += (term.sqrt_weight * skinned).squaredNorm();
-  }
-  for (const DeformationEnergy::Gauge& term : energy.gauge) {
-    const double r = GaugeCostAnalytic::Jacobian(term.axis, term.sqrt_weight)
-                         .dot(transforms.rotations.col(term.node));
-    sum += r * r;
-  }
-  return 0.5 * sum;
-}
-
 bool GaussNewtonOptions::Check(std::string* error) const {
-  if (max_iterations < 0) {
-    *error = "Gauss-Newton max_iterations must be >= 0";
+  if (!(min_damping > 0.0) || !std::isfinite(min_damping)) {
+    *error = "Gauss-Newton min_damping must be a finite number > 0";
     return false;
   }
-  for (double tolerance : {function_tolerance, gradient_tolerance, parameter_tolerance}) {
-    if (!(tolerance >= 0.0)) {
-      *error = "Gauss-Newton tolerances must be >= 0";
-      return false;
-    }
+  if (!(initial_damping > 0.0) || !std::isfinite(initial_damping)) {
+    *error = "Gauss-Newton initial_damping must be a finite number > 0";
+    return false;
   }
-  if (!(min_damping > 0.0)) {
-    *error = "Gauss-Newton min_damping must be > 0";
+  if (!(forcing_term > 0.0 && forcing_term < 1.0)) {
+    *error = "Gauss-Newton forcing_term must be in (0, 1)";
+    return false;
+  }
+  if (max_cg_iterations < 1) {
+    *error = "Gauss-Newton max_cg_iterations must be >= 1";
     return false;
   }
   return true;
+}
+
+namespace {
+
+template <typename Enum, size_t N>
+bool ParseByName(const std::string& name, const Enum (&values)[N], const char* (*to_name)(Enum),
+                 Enum* value) {
+  for (Enum candidate : values) {
+    if (name == to_name(candidate)) {
+      *value = candidate;
+      return true;
+    }
+  }
+  return false;
+}
+
+using LinearSolver = GaussNewtonOptions::LinearSolver;
+using Cholesky = GaussNewtonOptions::Cholesky;
+using Factorization = GaussNewtonOptions::Factorization;
+using Damping = GaussNewtonOptions::Damping;
+
+}  // namespace
+
+const char* LinearSolverName(LinearSolver solver) {
+  switch (solver) {
+    case LinearSolver::kCholesky:
+      return "cholesky";
+    case LinearSolver::kPcgJacobi:
+      return "pcg_jacobi";
+    case LinearSolver::kPcgIncompleteCholesky:
+      return "pcg_incomplete_cholesky";
+  }
+  return "unknown";
+}
+
+bool ParseLinearSolver(const std::string& name, LinearSolver* solver) {
+  static constexpr LinearSolver kAll[] = {LinearSolver::kCholesky, LinearSolver::kPcgJacobi,
+                                          LinearSolver::kPcgIncompleteCholesky};
+  return ParseByName(name, kAll, LinearSolverName, solver);
+}
+
+const char* CholeskyName(Cholesky cholesky) {
+  switch (cholesky) {
+    case Cholesky::kEigenLLT:
+      return "eigen_llt";
+    case Cholesky::kEigenLDLT:
+      return "eigen_ldlt";
+    case Cholesky::kCholmod:
+      return "cholmod";
+  }
+  return "unknown";
+}
+
+bool ParseCholesky(const std::string& name, Cholesky* cholesky) {
+  static constexpr Cholesky kAll[] = {Cholesky::kEigenLLT, Cholesky::kEigenLDLT,
+                                      Cholesky::kCholmod};
+  return ParseByName(name, kAll, CholeskyName, cholesky);
+}
+
+const char* FactorizationName(Factorization factorization) {
+  switch (factorization) {
+    case Factorization::kEveryIteration:
+      return "every_iteration";
+    case Factorization::kPerFrame:
+      return "per_frame";
+    case Factorization::kLagged:
+      return "lagged";
+  }
+  return "unknown";
+}
+
+bool ParseFactorization(const std::string& name, Factorization* factorization) {
+  static constexpr Factorization kAll[] = {Factorization::kEveryIteration,
+                                           Factorization::kPerFrame, Factorization::kLagged};
+  return ParseByName(name, kAll, FactorizationName, factorization);
+}
+
+const char* DampingName(Damping damping) {
+  switch (damping) {
+    case Damping::kGaussNewton:
+      return "gauss_newton";
+    case Damping::kLevenbergMarquardt:
+      return "levenberg_marquardt";
+  }
+  return "unknown";
+}
+
+bool ParseDamping(const std::string& name, Damping* damping) {
+  static constexpr Damping kAll[] = {Damping::kGaussNewton, Damping::kLevenbergMarquardt};
+  return ParseByName(name, kAll, DampingName, damping);
 }
 
 bool GaussNewtonHasCholmod() {
@@ -178,26 +178,31 @@ struct GaussNewtonSolver::Impl {
 #ifdef MSDEFORM_HAVE_CHOLMOD
   Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> cholmod;
 #endif
+  // PCG: the preconditioner (inverse diagonal, or an incomplete Cholesky).
+  Eigen::VectorXd inverse_diagonal;
+  Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> incomplete;
+  double forcing_reference = 0.0;  // max |g_0| of the frame
 
-  GaussNewtonOptions::LinearSolver Backend() const {
+  bool UsesCholesky() const { return options.linear_solver == LinearSolver::kCholesky; }
+
+  Cholesky Backend() const {
 #ifdef MSDEFORM_HAVE_CHOLMOD
-    return options.linear_solver;
+    return options.cholesky;
 #else
-    return options.linear_solver == GaussNewtonOptions::LinearSolver::kCholmod
-               ? GaussNewtonOptions::LinearSolver::kEigenLLT
-               : options.linear_solver;
+    return options.cholesky == Cholesky::kCholmod ? Cholesky::kEigenLLT : options.cholesky;
 #endif
   }
 
   void Analyze() {
+    if (!UsesCholesky()) return;
     switch (Backend()) {
-      case GaussNewtonOptions::LinearSolver::kEigenLLT:
+      case Cholesky::kEigenLLT:
         llt.analyzePattern(system);
         break;
-      case GaussNewtonOptions::LinearSolver::kEigenLDLT:
+      case Cholesky::kEigenLDLT:
         ldlt.analyzePattern(system);
         break;
-      case GaussNewtonOptions::LinearSolver::kCholmod:
+      case Cholesky::kCholmod:
 #ifdef MSDEFORM_HAVE_CHOLMOD
         cholmod.analyzePattern(system);
 #endif
@@ -205,17 +210,45 @@ struct GaussNewtonSolver::Impl {
     }
   }
 
-  // Numeric factorisation of `system`; false when it is not (numerically)
-  // positive definite.
+  // Writes J^T J + mu D at the rotation blocks `blocks` into `system`.
+  void Assemble(const std::vector<Matrix9d>& blocks, double mu) {
+    double* values = system.valuePtr();
+    std::copy(base_values.begin(), base_values.end(), values);
+    const int* index = rot_value_index.data();
+    for (const Matrix9d& block : blocks) {
+      for (int k = 0; k < 81; ++k) values[index[k]] += block.data()[k];
+      index += 81;
+    }
+    for (int index : diagonal_index) {
+      double& diagonal = values[index];
+      diagonal += mu * std::min(std::max(diagonal, 1e-6), 1e32);
+    }
+  }
+
+  // Numeric factorisation of `system` (Cholesky), or the preconditioner
+  // (PCG); false when it is not (numerically) positive definite.
   bool Factorize() {
+    switch (options.linear_solver) {
+      case LinearSolver::kPcgJacobi: {
+        inverse_diagonal.resize(system.rows());
+        for (int i = 0; i < system.rows(); ++i)
+          inverse_diagonal[i] = 1.0 / system.valuePtr()[diagonal_index[i]];
+        return inverse_diagonal.allFinite() && (inverse_diagonal.array() > 0.0).all();
+      }
+      case LinearSolver::kPcgIncompleteCholesky:
+        incomplete.compute(system);
+        return incomplete.info() == Eigen::Success;
+      case LinearSolver::kCholesky:
+        break;
+    }
     switch (Backend()) {
-      case GaussNewtonOptions::LinearSolver::kEigenLLT:
+      case Cholesky::kEigenLLT:
         llt.factorize(system);
         return llt.info() == Eigen::Success;
-      case GaussNewtonOptions::LinearSolver::kEigenLDLT:
+      case Cholesky::kEigenLDLT:
         ldlt.factorize(system);
         return ldlt.info() == Eigen::Success && (ldlt.vectorD().array() > 0.0).all();
-      case GaussNewtonOptions::LinearSolver::kCholmod:
+      case Cholesky::kCholmod:
 #ifdef MSDEFORM_HAVE_CHOLMOD
         cholmod.factorize(system);
         return cholmod.info() == Eigen::Success;
@@ -225,16 +258,42 @@ struct GaussNewtonSolver::Impl {
     return false;
   }
 
-  // Solves with the last factorisation.
-  bool SolveFactored(const Eigen::VectorXd& rhs, Eigen::VectorXd* delta) {
+  Eigen::VectorXd Precondition(const Eigen::VectorXd& r) const {
+    if (options.linear_solver == LinearSolver::kPcgJacobi)
+      return inverse_diagonal.cwiseProduct(r);
+    return incomplete.solve(r);
+  }
+
+  // Solves system * delta = rhs: by the last Cholesky factor, or by PCG on
+  // the current `system` values to the relative residual `eta`.
+  bool SolveSystem(const Eigen::VectorXd& rhs, double eta, Eigen::VectorXd* delta) {
+    if (!UsesCholesky()) {
+      delta->setZero(rhs.size());
+      Eigen::VectorXd r = rhs, z = Precondition(r), p = z, q;
+      double rz = r.dot(z);
+      const double target = eta * rhs.norm();
+      for (int it = 0; it < options.max_cg_iterations && r.norm() > target; ++it) {
+        q.noalias() = system * p;
+        const double pq = p.dot(q);
+        if (!(pq > 0.0)) break;
+        const double step = rz / pq;
+        *delta += step * p;
+        r -= step * q;
+        z = Precondition(r);
+        const double rz_new = r.dot(z);
+        p = z + (rz_new / rz) * p;
+        rz = rz_new;
+      }
+      return delta->allFinite();
+    }
     switch (Backend()) {
-      case GaussNewtonOptions::LinearSolver::kEigenLLT:
+      case Cholesky::kEigenLLT:
         *delta = llt.solve(rhs);
         break;
-      case GaussNewtonOptions::LinearSolver::kEigenLDLT:
+      case Cholesky::kEigenLDLT:
         *delta = ldlt.solve(rhs);
         break;
-      case GaussNewtonOptions::LinearSolver::kCholmod:
+      case Cholesky::kCholmod:
 #ifdef MSDEFORM_HAVE_CHOLMOD
         *delta = cholmod.solve(rhs);
 #endif
@@ -263,16 +322,18 @@ struct GaussNewtonSolver::Impl {
   }
 };
 
-GaussNewtonSolver::GaussNewtonSolver() = default;
+GaussNewtonSolver::GaussNewtonSolver(const GaussNewtonOptions& options,
+                                     const StoppingRule& stopping)
+    : options_(options), stopping_(stopping) {}
 GaussNewtonSolver::~GaussNewtonSolver() = default;
 
 bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransforms& transforms,
-                              const GaussNewtonOptions& options, std::string* error) {
-  if (!options.Check(error)) return false;
+                              std::string* error) {
+  if (!options_.Check(error) || !stopping_.Check(error)) return false;
   CHECK_EQ(static_cast<int>(energy.node_class.size()), transforms.num_nodes());
   impl_ = std::make_unique<Impl>();
   Impl& impl = *impl_;
-  impl.options = options;
+  impl.options = options_;
   const int num_nodes = transforms.num_nodes();
   impl.offset.assign(num_nodes, -1);
   impl.totally_free.assign(num_nodes, 0);
@@ -395,11 +456,16 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
   return true;
 }
 
-GaussNewtonSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
-                                            NodeTransforms* transforms) {
+SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
+                                      NodeTransforms* transforms) {
   CHECK(impl_ != nullptr) << "Setup first";
+  const auto start = std::chrono::steady_clock::now();
+  auto elapsed_ms = [&start] {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+        .count();
+  };
   Impl& impl = *impl_;
-  GaussNewtonSummary summary;
+  SolveSummary summary;
   const int n = num_variables_;
   const int num_nodes = transforms->num_nodes();
   CHECK_EQ(static_cast<int>(impl.offset.size()), num_nodes);
@@ -425,38 +491,40 @@ GaussNewtonSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
   Eigen::VectorXd gradient = hx + g0;
   double cost = linear_cost + impl.RotCost(x, &gradient, &blocks);
   summary.initial_cost = cost;
+  summary.trace.push_back({0.0, cost});
 
-  double mu = impl.options.min_damping;
-  Eigen::VectorXd delta, x_new, h_delta;
-  double* values = impl.system.valuePtr();
+  const bool levenberg_marquardt = options_.damping == Damping::kLevenbergMarquardt;
+  double mu = levenberg_marquardt ? options_.initial_damping : options_.min_damping;
+  double nu = 2.0;  // Levenberg-Marquardt's growth after a rejected step
+  Eigen::VectorXd delta, x_new, h_delta, damped_delta;
   bool done = n == 0;
   double gradient_norm = gradient.lpNorm<Eigen::Infinity>();
-  if (!done && gradient_norm <= impl.options.gradient_tolerance) {
+  impl.forcing_reference = gradient_norm;
+  if (!done && gradient_norm <= stopping_.gradient_tolerance) {
     summary.converged = true;
     summary.message = "gradient tolerance";
     done = true;
   }
-  using Reuse = GaussNewtonOptions::HessianReuse;
-  bool need_factor = !impl.factor_valid || impl.options.hessian_reuse != Reuse::kLagged;
+  // PCG multiplies by the current J^T J, so it reassembles every iteration
+  // and only its preconditioner follows the factorisation rule.
+  const bool cholesky = impl.UsesCholesky();
+  bool need_factor = !impl.factor_valid || options_.factorization != Factorization::kLagged ||
+                     levenberg_marquardt;
   bool fresh = false;  // the factorisation is of J^T J at the current x and mu
-  while (!done && summary.iterations < impl.options.max_iterations) {
+  bool assembled = false;  // `system` holds J^T J + mu D at the current x and mu
+  while (!done && summary.iterations < stopping_.max_iterations) {
+    if (need_factor || !cholesky) {
+      impl.Assemble(blocks, mu);
+      assembled = true;
+    }
     if (need_factor) {
-      std::copy(impl.base_values.begin(), impl.base_values.end(), values);
-      const int* index = impl.rot_value_index.data();
-      for (const Matrix9d& block : blocks) {
-        for (int k = 0; k < 81; ++k) values[index[k]] += block.data()[k];
-        index += 81;
-      }
-      for (int i = 0; i < n; ++i) {
-        double& diagonal = values[impl.diagonal_index[i]];
-        diagonal += mu * std::min(std::max(diagonal, 1e-6), 1e32);
-      }
       ++summary.factorizations;
       need_factor = false;
       impl.factor_valid = impl.Factorize();
       fresh = true;
       if (!impl.factor_valid) {
         ++summary.iterations;
+        summary.trace.push_back({elapsed_ms(), cost});
         mu *= 10.0;
         need_factor = true;
         if (mu > 1e32) {
@@ -467,14 +535,19 @@ GaussNewtonSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
       }
     }
     ++summary.iterations;
-    if (!impl.SolveFactored(-gradient, &delta)) {
+    const double eta = std::min(
+        options_.forcing_term,
+        std::sqrt(gradient_norm / std::max(impl.forcing_reference, 1e-300)));
+    if (!impl.SolveSystem(-gradient, eta, &delta)) {
+      summary.trace.push_back({elapsed_ms(), cost});
       impl.factor_valid = false;
       need_factor = true;
       if (fresh) mu *= 10.0;
       continue;
     }
-    if (delta.norm() <= impl.options.parameter_tolerance *
-                            (x.norm() + impl.options.parameter_tolerance)) {
+    if (delta.norm() <=
+        stopping_.parameter_tolerance * (x.norm() + stopping_.parameter_tolerance)) {
+      summary.trace.push_back({elapsed_ms(), cost});
       summary.converged = true;
       summary.message = "parameter tolerance";
       break;
@@ -483,6 +556,18 @@ GaussNewtonSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
     h_delta = impl.hessian * delta;
     const double new_linear_cost = linear_cost + delta.dot(hx + g0) + 0.5 * delta.dot(h_delta);
     const double new_cost = new_linear_cost + impl.RotCost(x_new, nullptr, nullptr);
+    double rho = 1.0;  // gain ratio, Levenberg-Marquardt only
+    if (levenberg_marquardt && assembled) {
+      // Predicted decrease of the model: 1/2 delta^T (mu D delta - g).
+      double damped = 0.0;
+      const double* values = impl.system.valuePtr();
+      for (int i = 0; i < n; ++i) {
+        const double d = values[impl.diagonal_index[i]];
+        damped += delta[i] * delta[i] * (d - d / (1.0 + mu));  // mu D_ii, D from J^T J
+      }
+      const double predicted = 0.5 * (damped - delta.dot(gradient));
+      rho = predicted > 0.0 ? (cost - new_cost) / predicted : -1.0;
+    }
     if (new_cost < cost) {
       const double decrease = cost - new_cost;
       x.swap(x_new);
@@ -490,32 +575,50 @@ GaussNewtonSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
       linear_cost = new_linear_cost;
       gradient = hx + g0;
       cost = linear_cost + impl.RotCost(x, &gradient, &blocks);
-      mu = std::max(mu / 10.0, impl.options.min_damping);
+      summary.trace.push_back({elapsed_ms(), cost});
+      if (levenberg_marquardt) {
+        mu = std::max(mu * std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3)),
+                      options_.min_damping);
+        nu = 2.0;
+      } else {
+        mu = std::max(mu / 10.0, options_.min_damping);
+      }
       const double new_gradient_norm = gradient.lpNorm<Eigen::Infinity>();
-      if (decrease <= impl.options.function_tolerance * (cost + decrease)) {
+      if (decrease <= stopping_.function_tolerance * (cost + decrease)) {
         summary.converged = true;
         summary.message = "function tolerance";
         break;
       }
-      if (new_gradient_norm <= impl.options.gradient_tolerance) {
+      if (new_gradient_norm <= stopping_.gradient_tolerance) {
         summary.converged = true;
         summary.message = "gradient tolerance";
         break;
       }
       fresh = false;
-      // Pure Gauss-Newton refactorises every iteration; the lagged variants
-      // keep the factorisation while the gradient shrinks at least 4x a step.
-      need_factor = impl.options.hessian_reuse == Reuse::kEveryIteration ||
+      // Pure Gauss-Newton and Levenberg-Marquardt refactorise every
+      // iteration; the lagged variants keep the factorisation while the
+      // gradient shrinks at least 4x a step.
+      need_factor = levenberg_marquardt ||
+                    options_.factorization == Factorization::kEveryIteration ||
                     new_gradient_norm > 0.25 * gradient_norm;
       gradient_norm = new_gradient_norm;
     } else {
-      // A stale factorisation is refreshed first; a fresh one is damped more.
-      if (fresh) mu *= 10.0;
+      summary.trace.push_back({elapsed_ms(), cost});
+      if (levenberg_marquardt) {
+        mu *= nu;
+        nu *= 2.0;
+      } else if (fresh) {
+        // A stale factorisation is refreshed first; a fresh one is damped more.
+        mu *= 10.0;
+      }
       need_factor = true;
     }
+    assembled = false;
   }
   if (!done && summary.message.empty()) summary.message = "iteration cap";
   summary.final_cost = cost;
+  summary.failed = !std::isfinite(cost);
+  if (summary.failed) summary.message = "the cost is not finite";
 
   // Scatter x.
   for (int j = 0; j < num_nodes; ++j) {

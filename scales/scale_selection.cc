@@ -69,10 +69,6 @@ bool ParseBorderRule(const std::string& name, BorderRule* rule) {
 }
 
 bool ScaleSelectionOptions::Check(std::string* error) const {
-  if (nodes_per_scale < 1) {
-    *error = "nodes_per_scale (P) must be >= 1";
-    return false;
-  }
   if (!(threshold_floor >= 0.0 && threshold_floor < 1.0)) {
     *error = "threshold_floor must be in [0, 1)";
     return false;
@@ -134,10 +130,14 @@ double GeodesicHandleDistance(const DeformationGraph& dg1, const HandleNodes& ha
 
 bool SelectScale(const std::vector<DeformationGraph>& graphs,
                  const std::vector<double>& dg1_extent, const HandleNodes& handles,
-                 double diagonal, const ScaleSelectionOptions& options,
+                 int nodes_per_scale, double diagonal, const ScaleSelectionOptions& options,
                  ScaleSelection* selection, std::string* error) {
   CHECK(!graphs.empty());
   if (!options.Check(error)) return false;
+  if (nodes_per_scale < 1) {
+    *error = "nodes_per_scale (P) must be >= 1";
+    return false;
+  }
   const DeformationGraph& dg1 = graphs[0];
   const int d1 = dg1.num_nodes();
   CHECK_EQ(static_cast<int>(dg1_extent.size()), d1);
@@ -160,7 +160,7 @@ bool SelectScale(const std::vector<DeformationGraph>& graphs,
   for (int i = 0; i < d1; ++i) result.group1_size += dg1_extent[i] > result.threshold;
   const int num_scales = static_cast<int>(graphs.size());
   int scale = 1;
-  while (scale < num_scales && !(result.group1_size < scale * options.nodes_per_scale)) ++scale;
+  while (scale < num_scales && !(result.group1_size < scale * nodes_per_scale)) ++scale;
   result.eq6_scale = scale;
 
   // Classes, moving finer while a node would hold both kinds of handle.

@@ -66,8 +66,6 @@ const char* BorderRuleName(BorderRule rule);
 bool ParseBorderRule(const std::string& name, BorderRule* rule);
 
 struct ScaleSelectionOptions {
-  // P: nodes per scale step in Eq. 6 (paper: 100).
-  int nodes_per_scale = 100;
   // Lower bound of the threshold T (Eq. 7: 0.1).
   double threshold_floor = 0.1;
   // Fixed-handle nodes with e' below this count towards T (Eq. 7: 0.5).
@@ -116,12 +114,14 @@ struct ScaleSelection {
   double Alpha(int j, int k) const;
 };
 
-// `graphs[i]` is DG_{i+1}; `dg1_extent` is e' per DG1 node; `diagonal` the
-// mesh's bounding-box diagonal. Returns false (with a message) when even DG1
+// `graphs[i]` is DG_{i+1}, built with P = `nodes_per_scale` nodes per scale
+// step (GraphOptions::nodes_per_scale, the one place P is stated; Eq. 6 uses
+// the same P); `dg1_extent` is e' per DG1 node; `diagonal` the mesh's
+// bounding-box diagonal. Returns false (with a message) when even DG1
 // has a node holding both fixed and moveable vertices.
 bool SelectScale(const std::vector<DeformationGraph>& graphs,
                  const std::vector<double>& dg1_extent, const HandleNodes& handles,
-                 double diagonal, const ScaleSelectionOptions& options,
+                 int nodes_per_scale, double diagonal, const ScaleSelectionOptions& options,
                  ScaleSelection* selection, std::string* error);
 
 }  // namespace msdeform

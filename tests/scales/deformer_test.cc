@@ -359,10 +359,10 @@ TEST(DeformerTest, LargeArmadilloEditKeepsOptimisedNodesNearP) {
   Deformer deformer;
   InitOrDie(&deformer, mesh, options, layout);
   const ScaleSelection& selection = deformer.selection();
-  EXPECT_GT(selection.group1_size, options.selection.nodes_per_scale);
+  EXPECT_GT(selection.group1_size, options.graph.nodes_per_scale);
   EXPECT_GT(selection.scale, 1);
-  EXPECT_LE(selection.num_totally_free, 2 * options.selection.nodes_per_scale);
-  EXPECT_GE(selection.num_totally_free, options.selection.nodes_per_scale / 2);
+  EXPECT_LE(selection.num_totally_free, 2 * options.graph.nodes_per_scale);
+  EXPECT_GE(selection.num_totally_free, options.graph.nodes_per_scale / 2);
   EXPECT_LT(deformer.num_variables(), 12 * deformer.graphs()[0].num_nodes() / 5);
 }
 

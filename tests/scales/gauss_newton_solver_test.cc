@@ -61,6 +61,15 @@ Edit CactusEdit(int frames) {
   return edit;
 }
 
+StoppingRule TightStopping() {
+  StoppingRule stopping;
+  stopping.max_iterations = 1000;
+  stopping.function_tolerance = 1e-15;
+  stopping.gradient_tolerance = 1e-13;
+  stopping.parameter_tolerance = 1e-15;
+  return stopping;
+}
+
 // Tight stopping rules so that both backends run to the minimum itself. The
 // cap is not meant to bind: with the Totally Free border ring
 // (BorderRule::kTotallyFree) Gauss-Newton needs 475 iterations in the bar's
@@ -71,10 +80,7 @@ DeformerOptions TightOptions(Method method, Solver backend) {
   options.backend = backend;
   options.num_threads = 1;
   options.static_nodes = 40;
-  options.solver.max_num_iterations = 1000;
-  options.solver.function_tolerance = 1e-15;
-  options.solver.gradient_tolerance = 1e-13;
-  options.solver.parameter_tolerance = 1e-15;
+  options.stopping = TightStopping();
   return options;
 }
 
@@ -241,16 +247,14 @@ TEST(GaussNewtonSolverTest, GaugeTermsLeaveTheMinimumUnchanged) {
   without_gauge.gauge.clear();
 
   GaussNewtonOptions gn;
-  gn.max_iterations = 500;
-  gn.function_tolerance = 1e-15;
-  gn.gradient_tolerance = 1e-13;
-  gn.parameter_tolerance = 1e-15;
+  StoppingRule stopping = TightStopping();
+  stopping.max_iterations = 500;
   // Without the gauge terms J^T J is singular and only the damping floor
   // lets the factorisation through; the energy still reaches its minimum.
   auto minimise = [&](const DeformationEnergy& energy) {
     NodeTransforms transforms = NodeTransforms::Identity(deformer.active().num_nodes());
-    GaussNewtonSolver solver;
-    EXPECT_TRUE(solver.Setup(energy, transforms, gn, &error)) << error;
+    GaussNewtonSolver solver(gn, stopping);
+    EXPECT_TRUE(solver.Setup(energy, transforms, &error)) << error;
     for (const Eigen::Affine3d& frame : edit.path) solver.Solve(frame, &transforms);
     return transforms;
   };
@@ -338,14 +342,15 @@ TEST(GaussNewtonSolverTest, GroupedPositionBlocksChangeNothing) {
     DeformerOptions grouped = TightOptions(method, Solver::kCeres);
     grouped.graph.nodes_per_scale = 20;
     DeformerOptions per_vertex = grouped;
-    per_vertex.group_position_terms = false;
+    per_vertex.ceres.group_position_terms = false;
     ExpectSameMinimum(RunEdit(edit, grouped), RunEdit(edit, per_vertex), MethodName(method));
   }
 }
 
-// Every linear solver and Hessian-reuse policy reaches the same minimum,
-// straight on the solver with the bar's energy.
-TEST(GaussNewtonSolverTest, LinearSolversAndReusePoliciesAgree) {
+// Every Gauss-Newton variant (each sparse Cholesky, both PCG preconditioners,
+// each factorisation policy, both dampings) reaches the same minimum, straight
+// on the solver with the bar's energy, through the FrameSolver interface.
+TEST(GaussNewtonSolverTest, EveryGaussNewtonVariantReachesTheSameMinimum) {
   const Edit edit = BarEdit(3);
   DeformerOptions options = TightOptions(Method::kMultiScale, Solver::kCeres);
   options.graph.nodes_per_scale = 20;
@@ -357,30 +362,89 @@ TEST(GaussNewtonSolverTest, LinearSolversAndReusePoliciesAgree) {
   ASSERT_GT(energy.num_variables(), 0);
   double reference = -1.0;
   using LinearSolver = GaussNewtonOptions::LinearSolver;
-  using Reuse = GaussNewtonOptions::HessianReuse;
-  for (LinearSolver linear : {LinearSolver::kEigenLLT, LinearSolver::kEigenLDLT,
-                              LinearSolver::kCholmod}) {
-    for (Reuse reuse : {Reuse::kEveryIteration, Reuse::kPerFrame, Reuse::kLagged}) {
-      GaussNewtonOptions gn;
-      gn.linear_solver = linear;
-      gn.hessian_reuse = reuse;
-      gn.max_iterations = 500;
-      gn.function_tolerance = 1e-15;
-      gn.gradient_tolerance = 1e-13;
-      gn.parameter_tolerance = 1e-15;
-      NodeTransforms transforms = NodeTransforms::Identity(deformer.active().num_nodes());
-      GaussNewtonSolver solver;
-      ASSERT_TRUE(solver.Setup(energy, transforms, gn, &error)) << error;
-      EXPECT_EQ(solver.num_variables(), deformer.num_variables());
-      GaussNewtonSummary summary;
-      for (const Eigen::Affine3d& frame : edit.path) summary = solver.Solve(frame, &transforms);
-      EXPECT_TRUE(summary.converged) << summary.message;
-      const double value = EvaluateEnergy(energy, transforms, edit.path.back());
-      EXPECT_NEAR(summary.final_cost, value, 1e-8 * (1.0 + value));
-      if (reference < 0.0) reference = value;
-      EXPECT_NEAR(value, reference, 1e-9 * reference)
-          << static_cast<int>(linear) << " " << static_cast<int>(reuse);
+  using Cholesky = GaussNewtonOptions::Cholesky;
+  using Factorization = GaussNewtonOptions::Factorization;
+  using Damping = GaussNewtonOptions::Damping;
+  std::vector<GaussNewtonOptions> variants;
+  for (Cholesky cholesky : {Cholesky::kEigenLLT, Cholesky::kEigenLDLT, Cholesky::kCholmod}) {
+    GaussNewtonOptions gn;
+    gn.cholesky = cholesky;
+    variants.push_back(gn);
+  }
+  for (LinearSolver linear : {LinearSolver::kPcgJacobi, LinearSolver::kPcgIncompleteCholesky}) {
+    GaussNewtonOptions gn;
+    gn.linear_solver = linear;
+    variants.push_back(gn);
+  }
+  const size_t base_variants = variants.size();
+  for (size_t i = 0; i < base_variants; ++i) {
+    for (Factorization factorization : {Factorization::kEveryIteration, Factorization::kPerFrame}) {
+      GaussNewtonOptions gn = variants[i];
+      gn.factorization = factorization;
+      variants.push_back(gn);
     }
+    GaussNewtonOptions gn = variants[i];
+    gn.damping = Damping::kLevenbergMarquardt;
+    variants.push_back(gn);
+  }
+  for (const GaussNewtonOptions& gn : variants) {
+    const std::string what = std::string(LinearSolverName(gn.linear_solver)) + " " +
+                             CholeskyName(gn.cholesky) + " " +
+                             FactorizationName(gn.factorization) + " " + DampingName(gn.damping);
+    NodeTransforms transforms = NodeTransforms::Identity(deformer.active().num_nodes());
+    std::unique_ptr<FrameSolver> solver =
+        std::make_unique<GaussNewtonSolver>(gn, TightStopping());
+    ASSERT_TRUE(solver->Setup(energy, transforms, &error)) << error;
+    EXPECT_EQ(solver->num_variables(), deformer.num_variables());
+    SolveSummary summary;
+    for (const Eigen::Affine3d& frame : edit.path) summary = solver->Solve(frame, &transforms);
+    EXPECT_TRUE(summary.converged) << what << ": " << summary.message;
+    EXPECT_FALSE(summary.failed) << what;
+    const double value = EvaluateEnergy(energy, transforms, edit.path.back());
+    EXPECT_NEAR(summary.final_cost, value, 1e-8 * (1.0 + value)) << what;
+    // The trace starts at the initial cost and ends at the final one.
+    ASSERT_GE(summary.trace.size(), 2u) << what;
+    EXPECT_EQ(summary.trace.front().cost, summary.initial_cost) << what;
+    EXPECT_EQ(summary.trace.back().cost, summary.final_cost) << what;
+    if (reference < 0.0) reference = value;
+    EXPECT_NEAR(value, reference, 1e-9 * reference) << what;
+  }
+}
+
+// Ceres's variants (Levenberg-Marquardt and dogleg, each sparse library this
+// Ceres has, CGNR) and the three initial guesses reach the Gauss-Newton
+// backend's minimum through the Deformer.
+TEST(GaussNewtonSolverTest, CeresVariantsAndInitialGuessesReachTheSameMinimum) {
+  const Edit edit = BarEdit(3);
+  DeformerOptions reference_options = TightOptions(Method::kMultiScale, Solver::kGaussNewton);
+  reference_options.graph.nodes_per_scale = 20;
+  const Result reference = RunEdit(edit, reference_options);
+  std::vector<std::pair<std::string, DeformerOptions>> variants;
+  for (auto library : CeresSparseLibraries()) {
+    for (auto trust_region : {ceres::LEVENBERG_MARQUARDT, ceres::DOGLEG}) {
+      DeformerOptions o = reference_options;
+      o.backend = Solver::kCeres;
+      o.ceres.sparse_library = library;
+      o.ceres.trust_region = trust_region;
+      variants.push_back({TrustRegionName(trust_region) + " " + SparseLibraryName(library), o});
+    }
+  }
+  EXPECT_GE(variants.size(), 2u);
+  DeformerOptions cgnr = reference_options;
+  cgnr.backend = Solver::kCeres;
+  cgnr.ceres.linear_solver = ceres::CGNR;
+  variants.push_back({"cgnr", cgnr});
+  for (InitialGuess guess : {InitialGuess::kRest, InitialGuess::kExtrapolated}) {
+    DeformerOptions o = reference_options;
+    o.initial_guess = guess;
+    variants.push_back({InitialGuessName(guess), o});
+  }
+  for (const auto& [what, options] : variants) {
+    const Result result = RunEdit(edit, options);
+    // CGNR's inexact steps stop on the function tolerance a little earlier.
+    const double tolerance = what == "cgnr" ? 1e-4 : 1e-6;
+    EXPECT_NEAR(result.energy, reference.energy, tolerance * reference.energy) << what;
+    EXPECT_LT(MaxDistance(result, reference), tolerance * reference.diagonal) << what;
   }
 }
 
@@ -390,6 +454,22 @@ TEST(GaussNewtonSolverTest, OptionsCheckAndSolverNames) {
   EXPECT_TRUE(options.Check(&error));
   options.min_damping = 0.0;
   EXPECT_FALSE(options.Check(&error));
+  StoppingRule stopping;
+  EXPECT_TRUE(stopping.Check(&error));
+  stopping.max_iterations = 0;
+  EXPECT_FALSE(stopping.Check(&error));
+  EXPECT_NE(error.find("max_iterations"), std::string::npos) << error;
+  for (GaussNewtonOptions::LinearSolver linear :
+       {GaussNewtonOptions::LinearSolver::kCholesky, GaussNewtonOptions::LinearSolver::kPcgJacobi,
+        GaussNewtonOptions::LinearSolver::kPcgIncompleteCholesky}) {
+    GaussNewtonOptions::LinearSolver parsed;
+    EXPECT_TRUE(ParseLinearSolver(LinearSolverName(linear), &parsed));
+    EXPECT_EQ(parsed, linear);
+  }
+  ceres::SparseLinearAlgebraLibraryType library;
+  EXPECT_TRUE(ParseSparseLibrary("eigen_sparse", &library));
+  EXPECT_EQ(library, ceres::EIGEN_SPARSE);
+  EXPECT_FALSE(ParseSparseLibrary("accelerate_sparse", &library));
   Solver solver;
   EXPECT_TRUE(ParseSolver("gauss_newton", &solver));
   EXPECT_EQ(solver, Solver::kGaussNewton);

@@ -43,10 +43,12 @@ HandleNodes NoHandles(int d1) {
 
 ScaleSelection Select(const std::vector<DeformationGraph>& graphs, const std::vector<double>& e,
                       const HandleNodes& handles, ScaleSelectionOptions options = {},
-                      double diagonal = 1e9) {
+                      double diagonal = 1e9, int nodes_per_scale = 100) {
   ScaleSelection selection;
   std::string error;
-  EXPECT_TRUE(SelectScale(graphs, e, handles, diagonal, options, &selection, &error)) << error;
+  EXPECT_TRUE(SelectScale(graphs, e, handles, nodes_per_scale, diagonal, options, &selection,
+                          &error))
+      << error;
   return selection;
 }
 
@@ -91,9 +93,8 @@ TEST(ScaleSelectionTest, ClassesAndVariableCount) {
   HandleNodes handles = NoHandles(8);
   handles.holds_moveable[0] = 1;
   handles.holds_fixed[7] = 1;
-  ScaleSelectionOptions options;
-  options.nodes_per_scale = 2;  // P1 = 4 -> s = 3, clamped to N = 2
-  const ScaleSelection selection = Select(graphs, e, handles, options);
+  // P = 2: P1 = 4 -> s = 3, clamped to N = 2.
+  const ScaleSelection selection = Select(graphs, e, handles, {}, 1e9, /*nodes_per_scale=*/2);
   EXPECT_DOUBLE_EQ(selection.threshold, 0.1);
   EXPECT_EQ(selection.group1_size, 4);  // 1.0, 0.8, 0.6, 0.3
   ASSERT_EQ(selection.scale, 2);
@@ -106,8 +107,9 @@ TEST(ScaleSelectionTest, ClassesAndVariableCount) {
   EXPECT_EQ(selection.num_half_free, 1);
   EXPECT_EQ(selection.num_variables(), 12 * 3 + 9 * 1);
 
+  ScaleSelectionOptions options;
   options.member_extent = MemberExtent::kMean;
-  const ScaleSelection mean = Select(graphs, e, handles, options);
+  const ScaleSelection mean = Select(graphs, e, handles, options, 1e9, /*nodes_per_scale=*/2);
   EXPECT_NEAR(mean.node_extent[2], 0.16, 1e-12);
   EXPECT_EQ(mean.node_class[2], NodeClass::kTotallyFree);
   EXPECT_NEAR(mean.node_extent[1], 0.325, 1e-12);
@@ -184,7 +186,7 @@ TEST(ScaleSelectionTest, NodeHoldingBothHandlesMovesToFinerScale) {
   handles.holds_fixed[0] = 1;
   ScaleSelection failed;
   std::string error;
-  EXPECT_FALSE(SelectScale(graphs, e, handles, 1e9, {}, &failed, &error));
+  EXPECT_FALSE(SelectScale(graphs, e, handles, 100, 1e9, {}, &failed, &error));
   EXPECT_NE(error.find("cell"), std::string::npos) << error;
 }
 

@@ -1,0 +1,70 @@
+// The Ceres backend (scales/frame_solver.h): Eq. 17 as a ceres::Problem of the
+// cost functors in energies/, node classes as parameter-block fixing (Totally
+// Free: R and t vary, Half Free: R only, Fixed: none). The reference the
+// Gauss-Newton backend (scales/gauss_newton_solver.h) is tested against.
+
+#ifndef MSDEFORM_SCALES_CERES_SOLVER_H_
+#define MSDEFORM_SCALES_CERES_SOLVER_H_
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <ceres/types.h>
+
+#include "scales/frame_solver.h"
+
+namespace msdeform {
+
+struct CeresOptions {
+  // Trust-region strategy: LEVENBERG_MARQUARDT or DOGLEG (TRADITIONAL_DOGLEG).
+  ceres::TrustRegionStrategyType trust_region = ceres::LEVENBERG_MARQUARDT;
+  // SPARSE_NORMAL_CHOLESKY (exact) or CGNR (conjugate gradients on the
+  // normal equations, JACOBI preconditioner).
+  ceres::LinearSolverType linear_solver = ceres::SPARSE_NORMAL_CHOLESKY;
+  // The sparse Cholesky library of SPARSE_NORMAL_CHOLESKY. EIGEN_SPARSE is
+  // 1.45-1.6x faster than SUITE_SPARSE here (docs/decisions.md); the others
+  // this Ceres has: SUITE_SPARSE, CX_SPARSE (CeresSparseLibraries()).
+  ceres::SparseLinearAlgebraLibraryType sparse_library = ceres::EIGEN_SPARSE;
+  // Handle vertices that share the same nodes become one exact
+  // least-squares block (energies/position_group_cost.h) instead of one
+  // residual block each. Same minimiser; false gives the per-vertex blocks.
+  bool group_position_terms = true;
+
+  bool Check(std::string* error) const;
+};
+
+// "levenberg_marquardt", "dogleg"; "sparse_normal_cholesky", "cgnr";
+// "eigen_sparse", "suite_sparse", "cx_sparse" (Ceres's names, lower case).
+std::string TrustRegionName(ceres::TrustRegionStrategyType type);
+bool ParseTrustRegion(const std::string& name, ceres::TrustRegionStrategyType* type);
+std::string CeresLinearSolverName(ceres::LinearSolverType type);
+bool ParseCeresLinearSolver(const std::string& name, ceres::LinearSolverType* type);
+std::string SparseLibraryName(ceres::SparseLinearAlgebraLibraryType type);
+bool ParseSparseLibrary(const std::string& name, ceres::SparseLinearAlgebraLibraryType* type);
+// The sparse libraries this build of Ceres has, among those three.
+std::vector<ceres::SparseLinearAlgebraLibraryType> CeresSparseLibraries();
+
+class CeresSolver : public FrameSolver {
+ public:
+  // `num_threads`: Ceres's threads (Jacobian evaluation, linear algebra).
+  CeresSolver(const CeresOptions& options, const StoppingRule& stopping, int num_threads);
+  ~CeresSolver() override;
+
+  bool Setup(const DeformationEnergy& energy, const NodeTransforms& transforms,
+             std::string* error) override;
+  SolveSummary Solve(const Eigen::Affine3d& handle, NodeTransforms* transforms) override;
+  int num_variables() const override { return num_variables_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  CeresOptions options_;
+  StoppingRule stopping_;
+  int num_threads_ = 1;
+  int num_variables_ = 0;
+};
+
+}  // namespace msdeform
+
+#endif  // MSDEFORM_SCALES_CERES_SOLVER_H_

@@ -1,0 +1,241 @@
+#include "scales/deformer_flags.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <utility>
+#include <map>
+#include <ostream>
+#include <vector>
+
+#include <gflags/gflags.h>
+
+namespace {
+const msdeform::DeformerOptions kDefaults;
+}  // namespace
+
+// Method.
+DEFINE_string(method, msdeform::MethodName(kDefaults.method),
+              "[method] multiscale (the paper), static (one graph of --static_nodes nodes) or "
+              "static_dense (every DG1 node).");
+DEFINE_int32(static_nodes, kDefaults.static_nodes,
+             "[method] Nodes of the static baseline graph (Sumner et al. 2007: about 220).");
+DEFINE_int32(nodes_per_scale, kDefaults.graph.nodes_per_scale,
+             "[method] P: nodes per scale step, of the graph stack and of Eq. 6.");
+DEFINE_double(cell_width, kDefaults.lattice.cell_width,
+              "[method] Lattice cell width in mesh units (0: bounding-box diagonal / 48).");
+DEFINE_uint64(seed, kDefaults.graph.seed,
+              "[method] Seed of every random choice (DG1 node vertices, the paper's handle kick).");
+DEFINE_int32(threads, kDefaults.num_threads, "[method] Threads for the skinning and Ceres.");
+
+// Solver.
+DEFINE_string(solver, msdeform::SolverName(kDefaults.backend),
+              "[solver] Backend: gauss_newton or ceres (docs/performance.md).");
+DEFINE_int32(max_iterations, kDefaults.stopping.max_iterations,
+             "[solver] Iteration budget per frame (linear solves), >= 1.");
+DEFINE_double(function_tolerance, kDefaults.stopping.function_tolerance,
+              "[solver] Stop when |cost change| / cost falls to this.");
+DEFINE_double(gradient_tolerance, kDefaults.stopping.gradient_tolerance,
+              "[solver] Stop when the gradient's max norm falls to this.");
+DEFINE_double(parameter_tolerance, kDefaults.stopping.parameter_tolerance,
+              "[solver] Stop when |step| <= this * (|x| + this).");
+DEFINE_string(initial_guess, msdeform::InitialGuessName(kDefaults.initial_guess),
+              "[solver] Start of each frame's solve: previous (warm start), extrapolated (from "
+              "the last two frames) or rest (no warm start).");
+DEFINE_string(gn_linear_solver, msdeform::LinearSolverName(kDefaults.gauss_newton.linear_solver),
+              "[solver] Gauss-Newton step: cholesky (exact), pcg_jacobi or "
+              "pcg_incomplete_cholesky (inexact, forcing-term stop).");
+DEFINE_string(gn_cholesky, msdeform::CholeskyName(kDefaults.gauss_newton.cholesky),
+              "[solver] Gauss-Newton sparse Cholesky: eigen_llt, eigen_ldlt or cholmod.");
+DEFINE_string(gn_factorization,
+              msdeform::FactorizationName(kDefaults.gauss_newton.factorization),
+              "[solver] When Gauss-Newton refactorises J^T J: every_iteration, per_frame or "
+              "lagged (kept while the gradient falls 4x a step, also across frames).");
+DEFINE_string(gn_damping, msdeform::DampingName(kDefaults.gauss_newton.damping),
+              "[solver] Gauss-Newton damping: gauss_newton (a 1e-9 floor, raised only after a "
+              "rejected step) or levenberg_marquardt (adapted every step).");
+DEFINE_string(ceres_trust_region, msdeform::TrustRegionName(kDefaults.ceres.trust_region),
+              "[solver] Ceres: levenberg_marquardt or dogleg.");
+DEFINE_string(ceres_linear_solver, msdeform::CeresLinearSolverName(kDefaults.ceres.linear_solver),
+              "[solver] Ceres: sparse_normal_cholesky or cgnr.");
+DEFINE_string(ceres_sparse, msdeform::SparseLibraryName(kDefaults.ceres.sparse_library),
+              "[solver] Ceres's sparse Cholesky library: eigen_sparse, suite_sparse or cx_sparse.");
+
+// Weights.
+DEFINE_double(w_rot, kDefaults.w_rot, "[weights] w_rot of Eq. 17, >= 0.");
+DEFINE_double(w_coh, kDefaults.w_coh, "[weights] w_coh of Eq. 17, >= 0.");
+DEFINE_double(w_con, kDefaults.w_con, "[weights] w_con of Eq. 17, >= 0.");
+
+// Rigidity and scale selection.
+DEFINE_string(rigidity, msdeform::RigidityModelName(kDefaults.rigidity.model),
+              "[rigidity] Estimate: harmonic (the driven lattice's rest state) or paper "
+              "(S steps of lattice shape matching after a kick).");
+DEFINE_double(rigidity_stiffness, kDefaults.rigidity.external_stiffness,
+              "[rigidity] k_ext h^2 of the rigidity estimation (docs/method.md §2).");
+DEFINE_double(rigidity_damping, kDefaults.rigidity.damping,
+              "[rigidity] Velocity damping per shape-matching step, in [0, 1).");
+DEFINE_int32(rigidity_steps, kDefaults.rigidity.num_steps,
+             "[rigidity] S: shape-matching steps of --rigidity=paper.");
+DEFINE_int32(rigidity_region, kDefaults.rigidity.region_half_width,
+             "[rigidity] Region half-width r of the shape matching (the paper: 1).");
+DEFINE_double(threshold_floor, kDefaults.selection.threshold_floor,
+              "[rigidity] Lower bound of the rigidity threshold T (Eq. 7: 0.1).");
+
+// Ablations and the paper's procedure.
+DEFINE_string(half_free, msdeform::HalfFreeRuleName(kDefaults.selection.half_free),
+              "[ablations] Which fixed-handle nodes are Half Free: next_to_totally_free, "
+              "every_fixed_handle_node (the paper) or none.");
+DEFINE_string(border, msdeform::BorderRuleName(kDefaults.selection.border),
+              "[ablations] What a Fixed node next to a Totally Free one becomes: fixed (the "
+              "paper), half_free or totally_free.");
+DEFINE_bool(hold_fixed_vertices, kDefaults.hold_fixed_vertices,
+            "[ablations] Multi-scale: hold the fixed vertices skinned by a non-Fixed node at rest "
+            "with Position terms (the paper: false).");
+DEFINE_bool(keep_left_out_terms, kDefaults.keep_left_out_terms,
+            "[ablations] Keep E(j,k) for Half Free j (paper Fig. 5, Deformed 2).");
+DEFINE_bool(fix_fixed_handle_nodes, kDefaults.fix_fixed_handle_nodes,
+            "[ablations] Fixed-handle nodes get no rotation (paper Fig. 5, Deformed 3).");
+DEFINE_bool(alpha_all_one, kDefaults.selection.alpha_all_one,
+            "[ablations] Every coherence weight alpha = 1.");
+
+namespace msdeform {
+namespace {
+
+template <typename Enum>
+bool ParseFlag(const char* flag, const std::string& value, bool (*parse)(const std::string&, Enum*),
+               const char* expected, Enum* out, std::string* error) {
+  if (parse(value, out)) return true;
+  *error = std::string("--") + flag + "=" + value + ": expected " + expected;
+  return false;
+}
+
+bool ParseSolverFlags(DeformerOptions* options, std::string* error) {
+  if (!ParseFlag("solver", FLAGS_solver, ParseSolver, "gauss_newton or ceres", &options->backend,
+                 error) ||
+      !ParseFlag("initial_guess", FLAGS_initial_guess, ParseInitialGuess,
+                 "previous, extrapolated or rest", &options->initial_guess, error) ||
+      !ParseFlag("gn_linear_solver", FLAGS_gn_linear_solver, ParseLinearSolver,
+                 "cholesky, pcg_jacobi or pcg_incomplete_cholesky",
+                 &options->gauss_newton.linear_solver, error) ||
+      !ParseFlag("gn_cholesky", FLAGS_gn_cholesky, ParseCholesky,
+                 "eigen_llt, eigen_ldlt or cholmod", &options->gauss_newton.cholesky, error) ||
+      !ParseFlag("gn_factorization", FLAGS_gn_factorization, ParseFactorization,
+                 "every_iteration, per_frame or lagged", &options->gauss_newton.factorization,
+                 error) ||
+      !ParseFlag("gn_damping", FLAGS_gn_damping, ParseDamping,
+                 "gauss_newton or levenberg_marquardt", &options->gauss_newton.damping, error) ||
+      !ParseFlag("ceres_trust_region", FLAGS_ceres_trust_region, ParseTrustRegion,
+                 "levenberg_marquardt or dogleg", &options->ceres.trust_region, error) ||
+      !ParseFlag("ceres_linear_solver", FLAGS_ceres_linear_solver, ParseCeresLinearSolver,
+                 "sparse_normal_cholesky or cgnr", &options->ceres.linear_solver, error)) {
+    return false;
+  }
+  if (!ParseSparseLibrary(FLAGS_ceres_sparse, &options->ceres.sparse_library)) {
+    std::string names;
+    for (auto library : CeresSparseLibraries())
+      names += (names.empty() ? "" : ", ") + SparseLibraryName(library);
+    *error = "--ceres_sparse=" + FLAGS_ceres_sparse + ": expected one this Ceres has: " + names;
+    return false;
+  }
+  const std::pair<const char*, double> tolerances[] = {
+      {"function_tolerance", FLAGS_function_tolerance},
+      {"gradient_tolerance", FLAGS_gradient_tolerance},
+      {"parameter_tolerance", FLAGS_parameter_tolerance}};
+  for (const auto& [name, value] : tolerances) {
+    if (!(value >= 0.0) || !std::isfinite(value)) {
+      std::ostringstream text;
+      text << "--" << name << "=" << value << ": expected a finite number >= 0";
+      *error = text.str();
+      return false;
+    }
+  }
+  options->stopping.max_iterations = FLAGS_max_iterations;
+  options->stopping.function_tolerance = FLAGS_function_tolerance;
+  options->stopping.gradient_tolerance = FLAGS_gradient_tolerance;
+  options->stopping.parameter_tolerance = FLAGS_parameter_tolerance;
+  if (FLAGS_max_iterations < 1) {
+    *error = "--max_iterations=" + std::to_string(FLAGS_max_iterations) +
+             ": expected >= 1 (a frame with no iteration leaves the handle behind)";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool DeformerOptionsFromFlags(DeformerOptions* options, std::string* error) {
+  if (!ParseFlag("method", FLAGS_method, ParseMethod, "multiscale, static or static_dense",
+                 &options->method, error)) {
+    return false;
+  }
+  options->static_nodes = FLAGS_static_nodes;
+  options->graph.nodes_per_scale = FLAGS_nodes_per_scale;
+  options->lattice.cell_width = FLAGS_cell_width;
+  options->graph.seed = FLAGS_seed;
+  options->rigidity.seed = FLAGS_seed;
+  options->num_threads = FLAGS_threads;
+  if (!ParseSolverFlags(options, error)) return false;
+  options->w_rot = FLAGS_w_rot;
+  options->w_coh = FLAGS_w_coh;
+  options->w_con = FLAGS_w_con;
+  if (!ParseMethodVariant(FLAGS_rigidity, FLAGS_half_free, FLAGS_border, options, error)) {
+    return false;
+  }
+  options->rigidity.external_stiffness = FLAGS_rigidity_stiffness;
+  options->rigidity.damping = FLAGS_rigidity_damping;
+  options->rigidity.num_steps = FLAGS_rigidity_steps;
+  options->rigidity.region_half_width = FLAGS_rigidity_region;
+  options->selection.threshold_floor = FLAGS_threshold_floor;
+  options->hold_fixed_vertices = FLAGS_hold_fixed_vertices;
+  options->keep_left_out_terms = FLAGS_keep_left_out_terms;
+  options->fix_fixed_handle_nodes = FLAGS_fix_fixed_handle_nodes;
+  options->selection.alpha_all_one = FLAGS_alpha_all_one;
+  std::string check;
+  if (!options->Check(&check)) {
+    *error = "invalid options: " + check;
+    return false;
+  }
+  return true;
+}
+
+bool HandleHelpRequest(int argc, char** argv, const std::string& usage, std::ostream& out) {
+  bool asked = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    asked |= arg == "-h" || arg == "--help" || arg == "-help" || arg == "--helpshort" ||
+             arg == "-helpshort";
+  }
+  if (!asked) return false;
+  // The program's own flags: those whose description starts with
+  // "[topic] ", in the order of kTopics; glog's and gflags's are left out
+  // (--helpfull lists them).
+  static const char* kTopics[] = {"input",   "output",  "method",    "solver",
+                                  "weights", "rigidity", "ablations", "diagnostics"};
+  std::map<std::string, std::vector<gflags::CommandLineFlagInfo>> by_topic;
+  std::vector<gflags::CommandLineFlagInfo> flags;
+  gflags::GetAllFlags(&flags);
+  for (const gflags::CommandLineFlagInfo& flag : flags) {
+    const std::string& text = flag.description;
+    if (text.size() < 3 || text[0] != '[') continue;
+    const size_t close = text.find("] ");
+    if (close == std::string::npos) continue;
+    by_topic[text.substr(1, close - 1)].push_back(flag);
+  }
+  out << usage << "\n";
+  for (const char* topic : kTopics) {
+    auto it = by_topic.find(topic);
+    if (it == by_topic.end()) continue;
+    out << "\n" << topic << ":\n";
+    for (const gflags::CommandLineFlagInfo& flag : it->second) {
+      const std::string text = flag.description.substr(flag.description.find("] ") + 2);
+      std::string value = flag.default_value;
+      if (flag.type == "string") value = "\"" + value + "\"";
+      out << "  --" << flag.name << " (" << flag.type << ", default " << value << ")\n      "
+          << text << "\n";
+    }
+  }
+  out << "\n--helpfull also lists the flags of glog and gflags.\n";
+  return true;
+}
+
+}  // namespace msdeform

@@ -1,0 +1,34 @@
+// The command-line flags of DeformerOptions, shared by every executable that
+// runs the Deformer (msdeform, msdeform_figure_data, msdeform_experiments):
+// each flag's default is the options struct's default, so the two cannot
+// disagree.
+//
+//   DeformerOptions options;
+//   if (!DeformerOptionsFromFlags(&options, &error)) ...  // "--flag=value: expected ..."
+//
+// PrintFlagHelp lists msdeform's own flags (not glog's or gflags's), grouped
+// by topic, for --help, --helpshort and -h.
+
+#ifndef MSDEFORM_SCALES_DEFORMER_FLAGS_H_
+#define MSDEFORM_SCALES_DEFORMER_FLAGS_H_
+
+#include <iosfwd>
+#include <string>
+
+#include "scales/deformer.h"
+
+namespace msdeform {
+
+// Sets every field of *options the flags cover from the flags (the others
+// keep their values) and checks the result; false with a message naming the
+// flag as typed and what it accepts.
+bool DeformerOptionsFromFlags(DeformerOptions* options, std::string* error);
+
+// When argv asks for help (-h, --help, --helpshort, --helpfull is left to
+// gflags), prints `usage` and the program's flags grouped by topic to `out`
+// and returns true; the caller exits 0. Call before gflags parses argv.
+bool HandleHelpRequest(int argc, char** argv, const std::string& usage, std::ostream& out);
+
+}  // namespace msdeform
+
+#endif  // MSDEFORM_SCALES_DEFORMER_FLAGS_H_
