@@ -248,12 +248,13 @@ int Run() {
               << log.failed_frames.size() << " failed frame(s); no output written\n";
     return 1;
   }
-  std::vector<double> frame_ms, solve_ms, skin_ms, iterations;
+  std::vector<double> frame_ms, solve_ms, skin_ms, iterations, factorizations;
   for (const DragStats& stats : log.frames) {
     frame_ms.push_back(stats.frame_ms);
     solve_ms.push_back(stats.solve_ms);
     skin_ms.push_back(stats.skin_ms);
     iterations.push_back(stats.iterations);
+    factorizations.push_back(stats.factorizations);
   }
   const double final_cost = log.frames.back().final_cost;
   const std::vector<int>& failed_frames = log.failed_frames;
@@ -332,7 +333,13 @@ int Run() {
                           {"skin_median", Median(skin_ms)},
                           {"total", MillisecondsSince(total_start)}};
   report["handle_rms"] = handle_rms;
-  report["solve"] = {{"iterations_median", Median(iterations)}, {"final_cost", final_cost}};
+  double iterations_total = 0.0, factorizations_total = 0.0;
+  for (double value : iterations) iterations_total += value;
+  for (double value : factorizations) factorizations_total += value;
+  report["solve"] = {{"iterations_median", Median(iterations)},
+                     {"iterations_total", iterations_total},
+                     {"factorizations_total", factorizations_total},
+                     {"final_cost", final_cost}};
   report["failed_frames"] = failed_frames;
   report["output"] = job.out_path;
   if (!staged.Stage(job.report_path, &staged_path, &error) ||

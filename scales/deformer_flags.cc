@@ -51,6 +51,9 @@ DEFINE_string(gn_factorization,
               msdeform::FactorizationName(kDefaults.gauss_newton.factorization),
               "[solver] When Gauss-Newton refactorises J^T J: every_iteration, per_frame or "
               "lagged (kept while the gradient falls 4x a step, also across frames).");
+DEFINE_double(gn_refactor_ratio, kDefaults.gauss_newton.refactor_ratio,
+              "[solver] Lagged and per-frame factorisation: refactorise after a step that shrank "
+              "the gradient by less than this factor (1: only when it grew).");
 DEFINE_string(gn_damping, msdeform::DampingName(kDefaults.gauss_newton.damping),
               "[solver] Gauss-Newton damping: gauss_newton (a 1e-9 floor, raised only after a "
               "rejected step) or levenberg_marquardt (adapted every step).");
@@ -149,6 +152,7 @@ bool ParseSolverFlags(DeformerOptions* options, std::string* error) {
       return false;
     }
   }
+  options->gauss_newton.refactor_ratio = FLAGS_gn_refactor_ratio;
   options->stopping.max_iterations = FLAGS_max_iterations;
   options->stopping.function_tolerance = FLAGS_function_tolerance;
   options->stopping.gradient_tolerance = FLAGS_gradient_tolerance;

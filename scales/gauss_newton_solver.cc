@@ -53,6 +53,10 @@ bool GaussNewtonOptions::Check(std::string* error) const {
     *error = "Gauss-Newton forcing_term must be in (0, 1)";
     return false;
   }
+  if (!(refactor_ratio > 0.0) || !std::isfinite(refactor_ratio)) {
+    *error = "Gauss-Newton refactor_ratio must be a finite number > 0";
+    return false;
+  }
   if (max_cg_iterations < 1) {
     *error = "Gauss-Newton max_cg_iterations must be >= 1";
     return false;
@@ -597,10 +601,10 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
       fresh = false;
       // Pure Gauss-Newton and Levenberg-Marquardt refactorise every
       // iteration; the lagged variants keep the factorisation while the
-      // gradient shrinks at least 4x a step.
+      // gradient shrinks by refactor_ratio a step.
       need_factor = levenberg_marquardt ||
                     options_.factorization == Factorization::kEveryIteration ||
-                    new_gradient_norm > 0.25 * gradient_norm;
+                    new_gradient_norm > options_.refactor_ratio * gradient_norm;
       gradient_norm = new_gradient_norm;
     } else {
       summary.trace.push_back({elapsed_ms(), cost});

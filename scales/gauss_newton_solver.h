@@ -58,13 +58,20 @@ struct GaussNewtonOptions {
   Cholesky cholesky = Cholesky::kEigenLLT;
   // When J^T J is factorised (the Cholesky factor, or the PCG preconditioner).
   // Every iteration: Gauss-Newton proper. Per frame: at the first iteration of
-  // each Solve, kept while the gradient's max norm shrinks at least 4x per
-  // accepted step. Lagged: the same, but the factorisation also carries over
-  // from the last frame. Any rejected step with a stale factorisation
-  // refactorises before damping grows. A stale Cholesky factor makes the step
-  // inexact, not the minimum: all stop on the same tests.
+  // each Solve, then kept while each accepted step shrinks the gradient's max
+  // norm by at least refactor_ratio. Lagged: the same, but the factorisation
+  // also carries over from the last frame. A rejected step with a stale
+  // factorisation refactorises before damping grows. A stale factor makes the
+  // step inexact (a chord step), not the minimum: all stop on the same tests.
   enum class Factorization { kEveryIteration, kPerFrame, kLagged };
   Factorization factorization = Factorization::kLagged;
+  // 1: refactorise only when a step grew the gradient or was rejected. A
+  // factorisation costs about ten chord steps here, and Gauss-Newton on Eq.
+  // 17 converges linearly even with a fresh one, so refactorising on slow
+  // progress (0.25, the rule before 2026-11-23) bought few iterations for many
+  // factorisations (experiments/results/solvers.md, docs/decisions.md "Solver
+  // defaults").
+  double refactor_ratio = 1.0;
   // kGaussNewton: mu at min_damping, x10 after a rejected step, /10 after an
   // accepted one. kLevenbergMarquardt: mu from initial_damping, updated from
   // the gain ratio rho of each step (Nielsen: mu *= max(1/3, 1 - (2 rho - 1)^3)
