@@ -1,16 +1,21 @@
 // msdeform: edit a mesh with the multi-scale method of Liu & Su 2008 (or one
 // of the single-static-graph baselines) and write the deformed mesh, a JSON
-// report and optionally the DG1 nodes with their rigidity and class.
+// report that can repeat the run (--rerun), and optionally every frame's mesh
+// and the DG1 nodes with their rigidity and class.
 //
 // With no arguments it runs the default edit: the armadillo with its feet
 // fixed and a claw dragged (data/scenarios/armadillo_claw.json).
 
+#include <unistd.h>
+
 #include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <set>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -19,7 +24,8 @@
 #include <glog/logging.h>
 #include <nlohmann/json.hpp>
 
-#include "core/atomic_file.h"
+#include "apps/outputs.h"
+#include "core/build_info.h"
 #include "core/drag_path.h"
 #include "core/handles.h"
 #include "core/mesh_io.h"
@@ -28,16 +34,27 @@
 #include "scales/deformer.h"
 #include "scales/deformer_flags.h"
 
-DEFINE_string(mesh, "", "[input] Input mesh (OFF, OBJ, PLY, STL). Default: the scenario's mesh.");
-DEFINE_string(sel, "", "[input] Botsch-Sorkine .sel handle file (needs --def).");
-DEFINE_string(def, "", "[input] Botsch-Sorkine .def 4x4 handle transform (needs --sel).");
-DEFINE_string(scenario, "", "[input] JSON scenario (docs/scenarios.md). Default when neither "
-                            "--sel nor --scenario is given: data/scenarios/armadillo_claw.json.");
-DEFINE_int32(frames, 0, "[input] Drag frames from rest to the target (0: the scenario's, or 1).");
-DEFINE_string(out, "", "[output] Deformed mesh (OFF, OBJ or PLY by extension). Default: "
-                       "msdeform_out/<name>_<method>.off.");
-DEFINE_string(report, "", "[output] JSON report. Default: next to --out with extension .json.");
+DEFINE_string(mesh, "",
+              "[input] Input mesh (OFF, OBJ, PLY, STL). Default: the scenario's mesh.");
+DEFINE_string(sel, "", "[input] Botsch-Sorkine .sel handle file (with --def and --mesh).");
+DEFINE_string(def, "",
+              "[input] Botsch-Sorkine .def 4x4 handle transform, world coordinates (with --sel).");
+DEFINE_string(scenario, "",
+              "[input] JSON scenario (docs/formats.md). Default when neither --sel nor "
+              "--scenario is given: data/scenarios/armadillo_claw.json.");
+DEFINE_int32(frames, 0,
+             "[input] Drag frames from rest to the target, 0..100000 (0: the scenario's, or 1).");
+DEFINE_string(rerun, "",
+              "[input] Repeat the run a report describes (same inputs, checked by sha256, same "
+              "settings); only output and diagnostic flags may be added.");
+DEFINE_string(out, "",
+              "[output] Deformed mesh (.off, .obj or .ply). Default: "
+              "msdeform_out/<name>_<method>_<solver>.off.");
+DEFINE_string(report, "", "[output] JSON report. Default: --out with extension .json.");
 DEFINE_string(dump_nodes, "", "[output] CSV of the DG1 nodes: node,x,y,z,e_prime,class.");
+DEFINE_string(out_frames, "",
+              "[output] Folder for every frame's mesh, <name>_0001.<ext> ... (ext of --out).");
+DEFINE_bool(overwrite, false, "[output] Replace outputs that exist (otherwise an error).");
 DEFINE_bool(quiet, false, "[diagnostics] Print nothing but errors.");
 DEFINE_bool(verbose, false,
             "[diagnostics] Also print the solver's own log (Ceres warnings and errors).");
@@ -47,161 +64,139 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+using Json = nlohmann::ordered_json;
+
+const std::vector<std::string> kMeshExtensions = {".off", ".obj", ".ply"};
+// Flags a rerun may add: they change where results go or what is printed,
+// never a number.
+const std::set<std::string> kOutputFlags = {"out",       "report", "dump_nodes", "out_frames",
+                                            "overwrite", "quiet",  "verbose",    "rerun"};
 
 // Everything the command line asks for, resolved and checked.
 struct Job {
   std::string name;
-  std::string mesh_path;
+  std::string mesh_path, scenario_path, sel_path, def_path;  // inputs ("" if none)
   Mesh mesh;
   HandleLayout layout;
+  std::vector<int> watch;             // empty without a watch region
   std::vector<Eigen::Affine3d> path;  // one transform per frame
-  std::string out_path, report_path, nodes_path;
+  std::string out_path, report_path, nodes_path, frames_dir;
   DeformerOptions options;
   double load_ms = 0.0;
 };
 
-bool FillOptions(DeformerOptions* options, std::string* error) {
-  if (!DeformerOptionsFromFlags(options, error)) return false;
+// The data folder: $MSDEFORM_DATA_DIR, else data/ of the source tree the
+// executable was built in (<tree>/build/apps/msdeform), else ./data.
+std::string DataDir() {
+  if (const char* env = std::getenv("MSDEFORM_DATA_DIR"); env != nullptr && *env != '\0') {
+    return env;
+  }
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    for (fs::path dir = exe.parent_path(); !dir.empty() && dir != dir.root_path();
+         dir = dir.parent_path()) {
+      if (fs::exists(dir / "data" / "scenarios" / "armadillo_claw.json", ec)) {
+        return (dir / "data").string();
+      }
+    }
+  }
+  return "data";
+}
+
+std::string Absolute(const std::string& path) {
+  return path.empty() ? path : fs::absolute(path).lexically_normal().string();
+}
+
+bool LoadMesh(const std::string& path, Mesh* mesh, std::string* error) {
+  return ReadMesh(path, mesh, error);
+}
+
+bool PrepareJob(Job* job, std::string* error) {
+  if (!DeformerOptionsFromFlags(&job->options, error)) return false;
   if (FLAGS_frames < 0 || FLAGS_frames > kMaxScenarioFrames) {
     *error = "--frames=" + std::to_string(FLAGS_frames) + ": expected 0.." +
              std::to_string(kMaxScenarioFrames);
     return false;
   }
-  return true;
-}
+  const std::string method = MethodName(job->options.method);
+  const std::string solver = SolverName(job->options.backend);
 
-bool PrepareJob(Job* job, std::string* error) {
-  if (!FillOptions(&job->options, error)) return false;
-  const auto load_start = Clock::now();
+  // Inputs: names first, so that the outputs can be checked against them
+  // before anything is read.
+  Scenario scenario;
   if (!FLAGS_sel.empty() || !FLAGS_def.empty()) {
     if (FLAGS_sel.empty() || FLAGS_def.empty() || FLAGS_mesh.empty() || !FLAGS_scenario.empty()) {
       *error = "--sel and --def go together, with --mesh and without --scenario";
       return false;
     }
     job->mesh_path = FLAGS_mesh;
+    job->sel_path = FLAGS_sel;
+    job->def_path = FLAGS_def;
     job->name = fs::path(FLAGS_mesh).stem().string();
-    if (!ReadMesh(job->mesh_path, &job->mesh, error)) return false;
-    if (!ReadSel(FLAGS_sel, job->mesh.num_vertices(), &job->layout, error)) return false;
-    Eigen::Affine3d deformed_from_rest;
-    if (!ReadDef(FLAGS_def, &deformed_from_rest, error)) return false;
-    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    for (int v : job->layout.moveable) centroid += job->mesh.vertices.col(v);
-    centroid /= static_cast<double>(job->layout.moveable.size());
-    job->path = InterpolateDragPath(deformed_from_rest, centroid, std::max(FLAGS_frames, 1));
   } else {
-    const std::string scenario_path =
-        FLAGS_scenario.empty() ? std::string(MSDEFORM_DATA_DIR) + "/scenarios/armadillo_claw.json"
-                               : FLAGS_scenario;
-    Scenario scenario;
-    if (!ReadScenario(scenario_path, &scenario, error)) return false;
+    job->scenario_path = FLAGS_scenario.empty() ? DataDir() + "/scenarios/armadillo_claw.json"
+                                                : FLAGS_scenario;
+    if (!ReadScenario(job->scenario_path, &scenario, error)) return false;
     if (FLAGS_frames > 0) scenario.frames = FLAGS_frames;
     job->name = scenario.name;
     job->mesh_path = FLAGS_mesh.empty() ? scenario.mesh_path : FLAGS_mesh;
-    if (!ReadMesh(job->mesh_path, &job->mesh, error)) return false;
-    std::vector<int> watch;
-    Eigen::Affine3d deformed_from_rest;
-    if (!ResolveScenario(scenario, job->mesh, &job->layout, &watch, &deformed_from_rest, error)) {
-      return false;
-    }
-    job->path = DragPath(scenario, job->mesh, job->layout);
+    job->sel_path = scenario.sel_path;
+    job->def_path = scenario.def_path;
   }
-  job->load_ms = MillisecondsSince(load_start);
 
+  // Outputs, checked before any work.
   job->out_path = FLAGS_out.empty()
-                      ? "msdeform_out/" + job->name + "_" + MethodName(job->options.method) + ".off"
+                      ? "msdeform_out/" + job->name + "_" + method + "_" + solver + ".off"
                       : FLAGS_out;
   job->report_path = FLAGS_report.empty()
                          ? fs::path(job->out_path).replace_extension(".json").string()
                          : FLAGS_report;
   job->nodes_path = FLAGS_dump_nodes;
-  {
-    std::string extension = fs::path(job->out_path).extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    if (extension != ".off" && extension != ".obj" && extension != ".ply") {
-      *error = "--out=" + job->out_path + ": cannot write format '" + extension +
-               "'; use .off, .obj or .ply";
+  job->frames_dir = FLAGS_out_frames;
+  std::vector<OutputCheck> outputs = {{job->out_path, "--out", kMeshExtensions},
+                                      {job->report_path, "--report", {".json"}},
+                                      {job->nodes_path, "--dump_nodes", {".csv"}}};
+  if (!job->frames_dir.empty()) {
+    std::error_code ec;
+    if (fs::exists(job->frames_dir, ec) && !fs::is_directory(job->frames_dir, ec)) {
+      *error = "--out_frames=" + job->frames_dir + ": exists and is not a folder";
       return false;
     }
-  }
-  const std::vector<std::string> outputs = {job->out_path, job->report_path, job->nodes_path};
-  for (size_t i = 0; i < outputs.size(); ++i) {
-    for (size_t j = 0; j < i; ++j) {
-      std::error_code ec_i, ec_j;
-      if (!outputs[i].empty() && fs::weakly_canonical(outputs[i], ec_i) ==
-                                     fs::weakly_canonical(outputs[j], ec_j)) {
-        *error = outputs[i] + ": given as two different outputs (--out, --report, --dump_nodes)";
-        return false;
-      }
+    const int frames = FLAGS_frames > 0 ? FLAGS_frames : std::max(1, scenario.frames);
+    const std::string extension = fs::path(job->out_path).extension().string();
+    for (int f = 1; f <= frames; ++f) {
+      char number[16];
+      std::snprintf(number, sizeof(number), "_%04d", f);
+      outputs.push_back({(fs::path(job->frames_dir) / (job->name + number + extension)).string(),
+                         "--out_frames", kMeshExtensions});
     }
   }
-  for (const std::string& output : outputs) {
-    if (output.empty()) continue;
-    for (const std::string& input : {job->mesh_path, FLAGS_sel, FLAGS_def, FLAGS_scenario}) {
-      if (!input.empty() && SameFile(output, input)) {
-        *error = output + ": refusing to overwrite an input file";
-        return false;
-      }
+  const std::vector<std::string> inputs = {job->mesh_path, job->sel_path, job->def_path,
+                                           job->scenario_path};
+  if (!CheckOutputs(outputs, inputs, FLAGS_overwrite, error)) return false;
+
+  // Read the inputs.
+  const auto load_start = Clock::now();
+  if (!LoadMesh(job->mesh_path, &job->mesh, error)) return false;
+  if (job->scenario_path.empty()) {
+    if (!ReadSel(job->sel_path, job->mesh.num_vertices(), &job->layout, error)) return false;
+    Eigen::Affine3d deformed_from_rest;
+    if (!ReadDef(job->def_path, &deformed_from_rest, error)) return false;
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (int v : job->layout.moveable) centroid += job->mesh.vertices.col(v);
+    centroid /= static_cast<double>(job->layout.moveable.size());
+    job->path = InterpolateDragPath(deformed_from_rest, centroid, std::max(FLAGS_frames, 1));
+  } else {
+    Eigen::Affine3d deformed_from_rest;
+    if (!ResolveScenario(scenario, job->mesh, &job->layout, &job->watch, &deformed_from_rest,
+                         error)) {
+      return false;
     }
+    job->path = DragPath(scenario, job->mesh, job->layout);
   }
+  job->load_ms = MillisecondsSince(load_start);
   return true;
-}
-
-// All outputs of a run appear together or not at all: each is written
-// (atomically) to a hidden sibling of its final path, and only when every one
-// is complete are they renamed into place. Staged files left by a failed run
-// are removed by the destructor.
-class StagedOutputs {
- public:
-  ~StagedOutputs() {
-    std::error_code ignored;
-    for (const auto& [staged, final_path] : files_) fs::remove(staged, ignored);
-  }
-  // Where to write `path` for now: ".<name>.partial<ext>" in its folder,
-  // which is created if needed (and fails there when it cannot be).
-  bool Stage(const std::string& path, std::string* staged, std::string* error) {
-    const fs::path final_path(path);
-    const fs::path parent = final_path.parent_path();
-    std::error_code ec;
-    if (!parent.empty() && !fs::is_directory(parent, ec)) {
-      fs::create_directories(parent, ec);
-      if (ec) {
-        *error = path + ": cannot create its folder (" + ec.message() + ")";
-        return false;
-      }
-    }
-    *staged = (parent / ("." + final_path.stem().string() + ".partial" +
-                         final_path.extension().string()))
-                  .string();
-    files_.emplace_back(*staged, path);
-    return true;
-  }
-  // Renames every staged file to its final path.
-  bool Commit(std::string* error) {
-    for (const auto& [staged, final_path] : files_) {
-      std::error_code ec;
-      fs::rename(staged, final_path, ec);
-      if (ec) {
-        *error = final_path + ": cannot move the finished output into place (" + ec.message() + ")";
-        return false;
-      }
-    }
-    files_.clear();
-    return true;
-  }
-
- private:
-  std::vector<std::pair<std::string, std::string>> files_;  // staged, final
-};
-
-bool WriteText(const std::string& path, const std::string& text, std::string* error) {
-  return WriteFileAtomically(
-      path,
-      [&](std::ostream& out, std::string*) {
-        out << text;
-        return static_cast<bool>(out);
-      },
-      error);
 }
 
 std::string NodesCsv(const Deformer& deformer) {
@@ -220,44 +215,172 @@ std::string NodesCsv(const Deformer& deformer) {
   return csv.str();
 }
 
-int Run() {
+// What the run was made with: enough to repeat it (--rerun) and to know where
+// its numbers come from.
+bool Provenance(const Job& job, const std::vector<std::string>& command_line, Json* report,
+                std::string* error) {
+  (*report)["msdeform"] = {{"version", MsdeformVersion()},
+                           {"commit", MsdeformCommit()},
+                           {"ceres", CeresVersion()},
+                           {"eigen", EigenVersion()},
+                           {"openmesh", OpenMeshVersion()}};
+  (*report)["machine"] = {{"cores", NumCores()}, {"cpu", CpuModel()}};
+  (*report)["date"] = UtcNow();
+  (*report)["command_line"] = command_line;
+  // Every flag that can change a number, as resolved (input paths absolute).
+  Json flags = Json::object();
+  for (const auto& [name, value] : ProgramFlagValues()) {
+    if (kOutputFlags.count(name)) continue;
+    flags[name] = value;
+  }
+  flags["mesh"] = FLAGS_mesh.empty() ? "" : Absolute(job.mesh_path);
+  flags["sel"] = Absolute(FLAGS_sel);
+  flags["def"] = Absolute(FLAGS_def);
+  flags["scenario"] = Absolute(job.scenario_path);
+  (*report)["flags"] = flags;
+  Json inputs = Json::array();
+  const std::pair<const char*, std::string> files[] = {{"scenario", job.scenario_path},
+                                                       {"mesh", job.mesh_path},
+                                                       {"sel", job.sel_path},
+                                                       {"def", job.def_path}};
+  for (const auto& [role, path] : files) {
+    if (path.empty()) continue;
+    std::string digest;
+    if (!Sha256File(path, &digest, error)) return false;
+    inputs.push_back({{"role", role}, {"path", Absolute(path)}, {"sha256", digest}});
+  }
+  (*report)["inputs"] = inputs;
+  Json options = Json::object();
+  for (const auto& [name, value] : DescribeOptions(job.options)) options[name] = value;
+  (*report)["options"] = options;
+  return true;
+}
+
+// --rerun: sets every recorded flag from the report and checks that the
+// inputs are the bytes the report was made from.
+bool ApplyRerun(const std::string& report_path, std::string* error) {
+  for (const auto& [name, value] : ProgramFlagValues()) {
+    gflags::CommandLineFlagInfo info;
+    gflags::GetCommandLineFlagInfo(name.c_str(), &info);
+    if (!info.is_default && !kOutputFlags.count(name)) {
+      *error = "--rerun=" + report_path + ": --" + name +
+               " would change the run; only output and diagnostic flags may be added";
+      return false;
+    }
+  }
+  std::ifstream in(report_path);
+  if (!in) {
+    *error = "--rerun=" + report_path + ": cannot open for reading";
+    return false;
+  }
+  Json report;
+  try {
+    report = Json::parse(in);
+  } catch (const std::exception& e) {
+    *error = "--rerun=" + report_path + ": not a JSON report (" + e.what() + ")";
+    return false;
+  }
+  if (!report.contains("flags") || !report["flags"].is_object() || !report.contains("inputs")) {
+    *error = "--rerun=" + report_path + ": no \"flags\" and \"inputs\" (not an msdeform report)";
+    return false;
+  }
+  for (const auto& [name, value] : report["flags"].items()) {
+    if (!value.is_string() ||
+        gflags::SetCommandLineOption(name.c_str(), value.get<std::string>().c_str()).empty()) {
+      *error = "--rerun=" + report_path + ": flags." + name + ": not a flag of this msdeform";
+      return false;
+    }
+  }
+  for (const Json& input : report["inputs"]) {
+    const std::string path = input.value("path", "");
+    const std::string recorded = input.value("sha256", "");
+    std::string digest;
+    if (!Sha256File(path, &digest, error)) {
+      *error = "--rerun=" + report_path + ": " + *error;
+      return false;
+    }
+    if (digest != recorded) {
+      *error = "--rerun=" + report_path + ": " + path +
+               " changed since the report (sha256 " + digest + ", recorded " + recorded + ")";
+      return false;
+    }
+  }
+  return true;
+}
+
+int Fail(const std::string& message) {
+  std::cerr << "msdeform: " << message << "\n";
+  return 1;
+}
+
+int Run(const std::vector<std::string>& command_line) {
   const auto total_start = Clock::now();
   std::string error;
   Job job;
-  if (!PrepareJob(&job, &error)) {
-    std::cerr << "msdeform: " << error << "\n";
-    return 1;
-  }
+  if (!PrepareJob(&job, &error)) return Fail(error);
   Deformer deformer;
-  if (!deformer.Init(job.mesh, job.options, &error)) {
-    std::cerr << "msdeform: " << job.mesh_path << ": " << error << "\n";
-    return 1;
+  if (!deformer.Init(job.mesh, job.options, &error)) return Fail(job.mesh_path + ": " + error);
+  if (job.options.method == Method::kStatic &&
+      deformer.graphs().back().num_nodes() < job.options.static_nodes && !FLAGS_quiet) {
+    std::cerr << "msdeform: notice: --static_nodes=" << job.options.static_nodes
+              << " is more than the mesh's " << deformer.graphs().back().num_nodes()
+              << " DG1 nodes; the static graph has " << deformer.graphs().back().num_nodes()
+              << "\n";
   }
-  if (!deformer.SetHandles(job.layout, &error)) {
-    std::cerr << "msdeform: handles: " << error << "\n";
-    return 1;
-  }
+  if (!deformer.SetHandles(job.layout, &error)) return Fail("handles: " + error);
+
+  // Every frame's mesh (--out_frames) is staged with the other outputs.
+  StagedOutputs staged;
+  std::string frame_error;
+  Mesh deformed = job.mesh;
+  DragAlongOptions drag_options;
   // A frame whose solve fails keeps the last good node transforms and the
   // drag goes on from there; only the last frame is the result the user asked
   // for, so only its failure is an error.
-  DragAlongOptions drag_options;
   drag_options.continue_after_failure = true;
+  const auto drag_start = Clock::now();
+  auto last_progress = drag_start;
+  const int num_frames = static_cast<int>(job.path.size());
+  drag_options.on_frame = [&](int frame, const DragStats& stats) {
+    if (!job.frames_dir.empty() && frame_error.empty()) {
+      char number[16];
+      std::snprintf(number, sizeof(number), "_%04d", frame);
+      const std::string path =
+          (fs::path(job.frames_dir) /
+           (job.name + number + fs::path(job.out_path).extension().string()))
+              .string();
+      std::string staged_path;
+      deformed.vertices = deformer.deformed_vertices();
+      if (!staged.Stage(path, &staged_path, &frame_error) ||
+          !WriteMesh(staged_path, deformed, &frame_error)) {
+        frame_error = staged.Translate(frame_error);
+      }
+    }
+    // Progress on long drags: a line every 2 seconds.
+    if (!FLAGS_quiet && MillisecondsSince(last_progress) > 2000.0) {
+      last_progress = Clock::now();
+      std::cerr << "msdeform: frame " << frame << " of " << num_frames << ", "
+                << MillisecondsSince(drag_start) / 1000.0 << " s\n";
+    }
+  };
   DragLog log;
   if (!DragAlong(&deformer, job.path, drag_options, &log, &error)) {
-    std::cerr << "msdeform: " << job.mesh_path << ": " << error << "; "
-              << log.failed_frames.size() << " failed frame(s); no output written\n";
-    return 1;
+    return Fail(job.mesh_path + ": " + error + "; " + std::to_string(log.failed_frames.size()) +
+                " failed frame(s); no output written");
   }
-  std::vector<double> frame_ms, solve_ms, skin_ms, iterations, factorizations;
+  if (!frame_error.empty()) return Fail(frame_error);
+  std::vector<double> frame_ms, solve_ms, skin_ms, iterations;
+  double iterations_total = 0.0, factorizations_total = 0.0;
   for (const DragStats& stats : log.frames) {
     frame_ms.push_back(stats.frame_ms);
     solve_ms.push_back(stats.solve_ms);
     skin_ms.push_back(stats.skin_ms);
     iterations.push_back(stats.iterations);
-    factorizations.push_back(stats.factorizations);
+    iterations_total += stats.iterations;
+    factorizations_total += stats.factorizations;
   }
   const double final_cost = log.frames.back().final_cost;
-  const std::vector<int>& failed_frames = log.failed_frames;
+  const double diagonal = deformer.diagonal();
 
   double handle_sq = 0.0;
   for (int v : job.layout.moveable) {
@@ -265,45 +388,46 @@ int Run() {
                      .squaredNorm();
   }
   const double handle_rms = std::sqrt(handle_sq / job.layout.moveable.size());
+  double leakage_sum = 0.0, leakage_max = 0.0;
+  for (int v : job.watch) {
+    const double moved = (deformer.deformed_vertices().col(v) - job.mesh.vertices.col(v)).norm();
+    leakage_sum += moved;
+    leakage_max = std::max(leakage_max, moved);
+  }
 
-  Mesh deformed = job.mesh;
   deformed.vertices = deformer.deformed_vertices();
   if (!deformed.vertices.allFinite()) {
-    std::cerr << "msdeform: " << job.mesh_path
-              << ": the deformed mesh has non-finite coordinates; no output written\n";
-    return 1;
+    return Fail(job.mesh_path + ": the deformed mesh has non-finite coordinates; no output written");
   }
-  StagedOutputs staged;
   std::string staged_path;
   if (!staged.Stage(job.out_path, &staged_path, &error) ||
       !WriteMesh(staged_path, deformed, &error)) {
-    std::cerr << "msdeform: " << error << "\n";
-    return 1;
+    return Fail(staged.Translate(error));
   }
   if (!job.nodes_path.empty() && (!staged.Stage(job.nodes_path, &staged_path, &error) ||
                                   !WriteText(staged_path, NodesCsv(deformer), &error))) {
-    std::cerr << "msdeform: " << error << "\n";
-    return 1;
+    return Fail(staged.Translate(error));
   }
 
   const Lattice& lattice = deformer.lattice();
   const ScaleSelection& selection = deformer.selection();
-  nlohmann::ordered_json report;
+  Json report;
   report["name"] = job.name;
   report["mesh"] = job.mesh_path;
   report["method"] = MethodName(job.options.method);
   report["solver"] = SolverName(job.options.backend);
   report["seed"] = job.options.graph.seed;
+  if (!Provenance(job, command_line, &report, &error)) return Fail(error);
   report["vertices"] = job.mesh.num_vertices();
   report["faces"] = job.mesh.num_faces();
-  report["diag"] = deformer.diagonal();
+  report["diag"] = diagonal;
   report["handle_vertices"] = {{"fixed", job.layout.fixed.size()},
                                {"moveable", job.layout.moveable.size()}};
   report["lattice"] = {{"cell_width", lattice.cell_width()},
                        {"surface_cells", lattice.num_surface_cells()},
                        {"interior_cells", lattice.num_interior_cells()},
                        {"particles", lattice.num_particles()}};
-  report["scales"] = nlohmann::ordered_json::array();
+  report["scales"] = Json::array();
   for (size_t i = 0; i < deformer.graphs().size(); ++i) {
     report["scales"].push_back({{"scale", i + 1},
                                 {"nodes", deformer.graphs()[i].num_nodes()},
@@ -333,35 +457,46 @@ int Run() {
                           {"skin_median", Median(skin_ms)},
                           {"total", MillisecondsSince(total_start)}};
   report["handle_rms"] = handle_rms;
-  double iterations_total = 0.0, factorizations_total = 0.0;
-  for (double value : iterations) iterations_total += value;
-  for (double value : factorizations) factorizations_total += value;
+  report["handle_rms_rel"] = handle_rms / diagonal;
+  if (!job.watch.empty()) {
+    report["watch"] = {{"vertices", job.watch.size()},
+                       {"leakage_rel", leakage_sum / job.watch.size() / diagonal},
+                       {"leakage_max_rel", leakage_max / diagonal}};
+  }
   report["solve"] = {{"iterations_median", Median(iterations)},
                      {"iterations_total", iterations_total},
                      {"factorizations_total", factorizations_total},
                      {"final_cost", final_cost}};
-  report["failed_frames"] = failed_frames;
+  report["failed_frames"] = log.failed_frames;
   report["output"] = job.out_path;
   if (!staged.Stage(job.report_path, &staged_path, &error) ||
-      !WriteText(staged_path, report.dump(2) + "\n", &error) || !staged.Commit(&error)) {
-    std::cerr << "msdeform: " << error << "\n";
-    return 1;
+      !WriteText(staged_path, report.dump(2) + "\n", &error)) {
+    return Fail(staged.Translate(error));
   }
+  if (!staged.Commit(&error)) return Fail(error);
 
   if (!FLAGS_quiet) {
-    std::printf("msdeform: %s (%d vertices) %s, scale %d of %zu, %d+%d free nodes, %d variables\n",
+    std::printf("msdeform: %s (%d vertices), %s method, %s solver: scale %d of %zu; "
+                "%d Totally Free + %d Half Free nodes optimised (%d variables)\n",
                 job.name.c_str(), job.mesh.num_vertices(), MethodName(job.options.method),
-                deformer.active_graph() + 1, deformer.graphs().size(), totally_free, half_free,
-                deformer.num_variables());
-    std::printf("  %zu frames: median frame %.2f ms (solve %.2f, skin %.2f), handle rms %.3g "
-                "(%.2g of diag)\n",
+                SolverName(job.options.backend), deformer.active_graph() + 1,
+                deformer.graphs().size(), totally_free, half_free, deformer.num_variables());
+    std::printf("  %zu frames: median frame %.2f ms (solve %.2f, skin %.2f); handle rms %.3g = "
+                "%.2g of the bbox diagonal (distance of the handle vertices from their targets)\n",
                 job.path.size(), Median(frame_ms), Median(solve_ms), Median(skin_ms), handle_rms,
-                handle_rms / deformer.diagonal());
-    std::printf("  wrote %s and %s\n", job.out_path.c_str(), job.report_path.c_str());
-    if (!failed_frames.empty()) {
+                handle_rms / diagonal);
+    if (!job.watch.empty()) {
+      std::printf("  watch region (%zu vertices) moved %.2g of the diagonal on average, %.2g at "
+                  "most\n",
+                  job.watch.size(), leakage_sum / job.watch.size() / diagonal,
+                  leakage_max / diagonal);
+    }
+    std::printf("  wrote %s and %s%s\n", job.out_path.c_str(), job.report_path.c_str(),
+                job.frames_dir.empty() ? "" : (" and the frames in " + job.frames_dir).c_str());
+    if (!log.failed_frames.empty()) {
       std::printf("  %zu intermediate frame(s) failed to solve and kept the previous pose "
                   "(failed_frames in the report)\n",
-                  failed_frames.size());
+                  log.failed_frames.size());
     }
   }
   return 0;
@@ -374,9 +509,18 @@ int main(int argc, char** argv) {
   const std::string usage =
       "msdeform: edit a mesh with the multi-scale method of Liu & Su 2008.\n"
       "  msdeform [--scenario=PATH | --mesh=PATH --sel=PATH --def=PATH] [flags]\n"
+      "  msdeform --rerun=REPORT.json --out=PATH     (repeat a run from its report)\n"
       "With no arguments: the default armadillo edit (data/scenarios/armadillo_claw.json).";
   if (msdeform::HandleHelpRequest(argc, argv, usage, std::cout)) return 0;
+  const std::vector<std::string> command_line(argv, argv + argc);
+  std::string error;
+  if (!msdeform::CheckFlagNames(argc, argv, &error)) return msdeform::Fail(error);
   gflags::SetUsageMessage(usage);
+  // --version (gflags's own flag) prints "msdeform version <this>" and exits 0.
+  gflags::SetVersionString(std::string(msdeform::MsdeformVersion()) + " (commit " +
+                           msdeform::MsdeformCommit() + "); Ceres " + msdeform::CeresVersion() +
+                           ", Eigen " + msdeform::EigenVersion() + ", OpenMesh " +
+                           msdeform::OpenMeshVersion());
   gflags::ParseCommandLineFlags(&argc, &argv, true);
   google::InitGoogleLogging(argv[0]);
   FLAGS_logtostderr = true;
@@ -384,8 +528,11 @@ int main(int argc, char** argv) {
   // "invalid steps" error on a diverging solve) only with --verbose.
   FLAGS_minloglevel = FLAGS_verbose ? 0 : 3;
   if (argc > 1) {
-    std::cerr << "msdeform: unexpected argument '" << argv[1] << "' (flags are --name=value)\n";
-    return 1;
+    return msdeform::Fail(std::string("unexpected argument '") + argv[1] +
+                          "' (flags are --name=value)");
   }
-  return msdeform::Run();
+  if (!FLAGS_rerun.empty() && !msdeform::ApplyRerun(FLAGS_rerun, &error)) {
+    return msdeform::Fail(error);
+  }
+  return msdeform::Run(command_line);
 }

@@ -11,6 +11,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/drag_path.h"
+#include "core/handles.h"
+
 namespace msdeform {
 namespace {
 
@@ -252,10 +255,19 @@ class ScenarioParser {
     return true;
   }
 
+  // A path in the file, relative to the file's folder unless absolute.
+  static std::string Resolve(const std::string& scenario_path, const std::string& file) {
+    const fs::path file_path(file);
+    return file_path.is_absolute()
+               ? file
+               : (fs::path(scenario_path).parent_path() / file_path).lexically_normal().string();
+  }
+
   bool Parse(const Json& root, const std::string& path, Scenario* scenario) {
     if (!ExpectObject(
             root, "",
-            {"name", "description", "mesh", "fixed", "handle", "watch", "transform", "frames"})) {
+            {"name", "description", "mesh", "fixed", "handle", "watch", "transform", "frames",
+             "sel", "def"})) {
       return false;
     }
     scenario->name = fs::path(path).stem().string();
@@ -268,11 +280,7 @@ class ScenarioParser {
     std::string mesh;
     if (!String(root["mesh"], "mesh", &mesh)) return false;
     if (mesh.empty()) return Fail("mesh", "is empty");
-    const fs::path mesh_path(mesh);
-    scenario->mesh_path =
-        mesh_path.is_absolute()
-            ? mesh
-            : (fs::path(path).parent_path() / mesh_path).lexically_normal().string();
+    scenario->mesh_path = Resolve(path, mesh);
     if (root.contains("fixed")) {
       const Json& fixed = root["fixed"];
       if (!ExpectType(fixed, "fixed", fixed.is_array(), "an array of regions")) return false;
@@ -281,8 +289,31 @@ class ScenarioParser {
         if (!Region(fixed[i], Index("fixed", i), &scenario->fixed[i])) return false;
       }
     }
-    if (!root.contains("handle")) return Fail("handle", "missing (the region to drag)");
-    if (!Region(root["handle"], "handle", &scenario->handle)) return false;
+    if (root.contains("sel") || root.contains("def")) {
+      // A Botsch-Sorkine pair instead of regions and a transform.
+      for (const char* key : {"fixed", "handle", "transform"}) {
+        if (root.contains(key)) {
+          return Fail(key, "not allowed with \"sel\" and \"def\" (they give the handles and "
+                           "the transform)");
+        }
+      }
+      for (const char* key : {"sel", "def"}) {
+        if (!root.contains(key)) {
+          return Fail(key, std::string("missing (\"sel\" and \"def\" go together)"));
+        }
+      }
+      std::string sel, def;
+      if (!String(root["sel"], "sel", &sel) || !String(root["def"], "def", &def)) return false;
+      scenario->sel_path = Resolve(path, sel);
+      scenario->def_path = Resolve(path, def);
+      std::string problem;
+      if (!ReadDef(scenario->def_path, &scenario->def_transform, &problem)) {
+        return Fail("def", problem);
+      }
+    } else {
+      if (!root.contains("handle")) return Fail("handle", "missing (the region to drag)");
+      if (!Region(root["handle"], "handle", &scenario->handle)) return false;
+    }
     if (root.contains("watch")) {
       scenario->has_watch = true;
       if (!Region(root["watch"], "watch", &scenario->watch)) return false;
@@ -492,6 +523,12 @@ bool ResolveScenario(const Scenario& scenario, const Mesh& mesh, HandleLayout* l
 
   HandleLayout result;
   std::string problem;
+  if (scenario.uses_sel_def()) {
+    if (!ReadSel(scenario.sel_path, mesh.num_vertices(), &result, &problem)) {
+      *error = where + ": sel: " + problem;
+      return false;
+    }
+  }
   for (const VertexRegion& region : scenario.fixed) {
     std::vector<int> ids;
     std::vector<int> merged;
@@ -503,7 +540,8 @@ bool ResolveScenario(const Scenario& scenario, const Mesh& mesh, HandleLayout* l
                    std::back_inserter(merged));
     result.fixed.swap(merged);
   }
-  if (!Select(scenario.handle, mesh, frame, &result.moveable, &problem)) {
+  if (!scenario.uses_sel_def() &&
+      !Select(scenario.handle, mesh, frame, &result.moveable, &problem)) {
     *error = where + ": " + problem;
     return false;
   }
@@ -517,7 +555,9 @@ bool ResolveScenario(const Scenario& scenario, const Mesh& mesh, HandleLayout* l
     return false;
   }
   *deformed_from_rest =
-      PartialMotion(scenario.motion, Centroid(mesh, result.moveable), frame.diagonal, 1.0);
+      scenario.uses_sel_def()
+          ? scenario.def_transform
+          : PartialMotion(scenario.motion, Centroid(mesh, result.moveable), frame.diagonal, 1.0);
   *layout = std::move(result);
   *watch = std::move(watched);
   return true;
@@ -528,6 +568,7 @@ std::vector<Eigen::Affine3d> DragPath(const Scenario& scenario, const Mesh& mesh
   const Eigen::Vector3d centroid = Centroid(mesh, layout.moveable);
   const double diagonal = BoundingBoxDiagonal(mesh);
   const int frames = std::max(1, scenario.frames);
+  if (scenario.uses_sel_def()) return InterpolateDragPath(scenario.def_transform, centroid, frames);
   std::vector<Eigen::Affine3d> path;
   path.reserve(frames);
   for (int k = 1; k <= frames; ++k) {

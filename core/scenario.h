@@ -21,6 +21,13 @@
 //     "frames": 30                                    // optional, default 1
 //   }
 //
+// Instead of "fixed", "handle" and "transform", a scenario may name a
+// Botsch-Sorkine pair, relative to its folder (docs/formats.md):
+//     "sel": "cactus.sel",   // per vertex 0 fixed, 1 free, 2 handle
+//     "def": "cactus.def",   // the handle's final 4x4 transform, world coordinates
+// Its drag path interpolates the .def transform (core/drag_path.h) about the
+// handle's centroid; "watch" may be given with either form.
+//
 // A REGION is exactly one of:
 //   {"vertices": [ids...]}
 //   {"sphere": {"center": [x,y,z] | "center_vertex": id,
@@ -105,6 +112,13 @@ struct Scenario {
   VertexRegion watch;
   HandleMotion motion;
   int frames = 1;  // 1 .. kMaxScenarioFrames.
+  // "sel" and "def" (resolved), instead of "fixed", "handle" and "transform":
+  // the handles from a .sel file (read against the mesh by ResolveScenario)
+  // and the final transform from a .def file (read by ReadScenario).
+  std::string sel_path, def_path;
+  Eigen::Affine3d def_transform = Eigen::Affine3d::Identity();
+
+  bool uses_sel_def() const { return !sel_path.empty(); }
 };
 
 // Parses a scenario file. Missing, mistyped, unknown or out-of-range fields
@@ -113,7 +127,8 @@ struct Scenario {
 bool ReadScenario(const std::string& path, Scenario* scenario, std::string* error);
 
 // Applies a scenario to its mesh: selects the fixed, handle and watch
-// vertices (sorted, unique) and computes the final handle transform. Fails,
+// vertices (sorted, unique; from the .sel file when the scenario names one)
+// and computes the final handle transform. Fails,
 // naming the region, when a region selects nothing or names a vertex outside
 // the mesh, or when the layout does not validate (e.g. a vertex both fixed
 // and moveable).

@@ -1,10 +1,7 @@
 // An experiment's edit: a mesh, its handle layout, an optional watch region
-// and the drag path, from either kind of entry under experiments/scenarios/:
-//   - a JSON scenario in core/scenario.h's format (read by ReadScenario), or
-//   - a Botsch-Sorkine entry, a JSON object with "mesh", "sel" and "def"
-//     (paths relative to the entry's folder), optional "name", "description"
-//     and "frames" (default 1); the drag turns and moves the handle about its
-//     rest centroid (core/drag_path.h).
+// and the drag path, from a scenario file under experiments/scenarios/ in the
+// one format msdeform reads too (core/scenario.h, docs/formats.md): regions
+// and a transform, or a .sel/.def pair.
 
 #ifndef MSDEFORM_EXPERIMENTS_EXPERIMENT_SCENARIO_H_
 #define MSDEFORM_EXPERIMENTS_EXPERIMENT_SCENARIO_H_

@@ -7,6 +7,7 @@
 
 #include <ceres/problem.h>
 #include <ceres/solver.h>
+#include <ceres/version.h>
 #include <glog/logging.h>
 
 #include "energies/coherence_cost.h"
@@ -64,6 +65,8 @@ bool ParseSparseLibrary(const std::string& name, ceres::SparseLinearAlgebraLibra
   *type = parsed;
   return true;
 }
+
+std::string CeresVersion() { return CERES_VERSION_STRING; }
 
 std::vector<ceres::SparseLinearAlgebraLibraryType> CeresSparseLibraries() {
   std::vector<ceres::SparseLinearAlgebraLibraryType> libraries;

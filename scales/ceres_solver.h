@@ -42,6 +42,8 @@ std::string CeresLinearSolverName(ceres::LinearSolverType type);
 bool ParseCeresLinearSolver(const std::string& name, ceres::LinearSolverType* type);
 std::string SparseLibraryName(ceres::SparseLinearAlgebraLibraryType type);
 bool ParseSparseLibrary(const std::string& name, ceres::SparseLinearAlgebraLibraryType* type);
+// "2.1.0": the Ceres msdeform is built against.
+std::string CeresVersion();
 // The sparse libraries this build of Ceres has, among those three.
 std::vector<ceres::SparseLinearAlgebraLibraryType> CeresSparseLibraries();
 

@@ -30,6 +30,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -126,6 +127,12 @@ struct DeformerOptions {
 
   bool Check(std::string* error) const;
 };
+
+// Every field of `options` as (name, value) pairs, in declaration order, with
+// names as in the struct ("stopping.max_iterations") and numbers printed
+// exactly (%.17g): what reports and table headers record so a run can be
+// repeated.
+std::vector<std::pair<std::string, std::string>> DescribeOptions(const DeformerOptions& options);
 
 // `options` with the multi-scale method as the paper writes it: lattice
 // shape-matching rigidity, every fixed-handle node Half Free, the Fixed nodes

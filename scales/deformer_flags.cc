@@ -202,6 +202,80 @@ bool DeformerOptionsFromFlags(DeformerOptions* options, std::string* error) {
   return true;
 }
 
+namespace {
+
+// The flags with a "[topic] " description: the program's own.
+std::vector<gflags::CommandLineFlagInfo> ProgramFlags() {
+  std::vector<gflags::CommandLineFlagInfo> all, own;
+  gflags::GetAllFlags(&all);
+  for (const gflags::CommandLineFlagInfo& flag : all) {
+    const std::string& text = flag.description;
+    if (text.size() > 3 && text[0] == '[' && text.find("] ") != std::string::npos) {
+      own.push_back(flag);
+    }
+  }
+  return own;
+}
+
+// Levenshtein distance.
+int EditDistance(const std::string& a, const std::string& b) {
+  std::vector<int> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = static_cast<int>(j);
+  for (size_t i = 1; i <= a.size(); ++i) {
+    int diagonal = row[0];
+    row[0] = static_cast<int>(i);
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const int up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+}  // namespace
+
+bool CheckFlagNames(int argc, char** argv, std::string* error) {
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i];
+    if (arg == "--") break;
+    if (arg.size() < 2 || arg[0] != '-') continue;
+    arg.erase(0, arg[1] == '-' ? 2 : 1);
+    const std::string name = arg.substr(0, arg.find('='));
+    gflags::CommandLineFlagInfo info;
+    if (name.empty() || gflags::GetCommandLineFlagInfo(name.c_str(), &info)) continue;
+    // gflags's boolean negation --nox.
+    if (name.rfind("no", 0) == 0 && gflags::GetCommandLineFlagInfo(name.c_str() + 2, &info) &&
+        info.type == "bool") {
+      continue;
+    }
+    std::string nearest;
+    int best = 1 << 30;
+    for (const gflags::CommandLineFlagInfo& flag : ProgramFlags()) {
+      const int distance = EditDistance(name, flag.name);
+      if (distance < best) {
+        best = distance;
+        nearest = flag.name;
+      }
+    }
+    *error = "unknown flag --" + name;
+    if (!nearest.empty() && best <= std::max<int>(2, static_cast<int>(name.size()) / 3)) {
+      *error += " (did you mean --" + nearest + "?)";
+    }
+    *error += "; --help lists the flags";
+    return false;
+  }
+  return true;
+}
+
+std::vector<std::pair<std::string, std::string>> ProgramFlagValues() {
+  std::vector<std::pair<std::string, std::string>> values;
+  for (const gflags::CommandLineFlagInfo& flag : ProgramFlags())
+    values.emplace_back(flag.name, flag.current_value);
+  std::sort(values.begin(), values.end());
+  return values;
+}
+
 bool HandleHelpRequest(int argc, char** argv, const std::string& usage, std::ostream& out) {
   bool asked = false;
   for (int i = 1; i < argc; ++i) {

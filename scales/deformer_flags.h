@@ -14,6 +14,8 @@
 
 #include <iosfwd>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "scales/deformer.h"
 
@@ -28,6 +30,15 @@ bool DeformerOptionsFromFlags(DeformerOptions* options, std::string* error);
 // gflags), prints `usage` and the program's flags grouped by topic to `out`
 // and returns true; the caller exits 0. Call before gflags parses argv.
 bool HandleHelpRequest(int argc, char** argv, const std::string& usage, std::ostream& out);
+
+// Before gflags parses argv: false with "unknown flag --x (did you mean
+// --y?)" naming the nearest of the program's flags when argv has a flag
+// gflags does not know (gflags itself would only say it is unknown).
+bool CheckFlagNames(int argc, char** argv, std::string* error);
+
+// The program's own flags (those with a "[topic] " description) and their
+// current values, in name order: what a report records to repeat a run.
+std::vector<std::pair<std::string, std::string>> ProgramFlagValues();
 
 }  // namespace msdeform
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Same seed, same bytes: runs msdeform twice with the same inputs and seed
 # (and two threads) and compares the deformed meshes and node dumps byte for
-# byte. The reports differ only in their timings (timings_ms) and output path, which are left out.
+# byte. The reports differ only in their timings (timings_ms), date, command line and output
+# path, which are left out.
 #
 #   bash tests/apps/determinism_test.sh <msdeform binary> <corpus folder>
 set -euo pipefail
@@ -12,9 +13,10 @@ trap 'rm -rf "${work}"' EXIT
 for method in multiscale static; do
   for run in 1 2; do
     "${msdeform}" --quiet --scenario="${corpus}/slab_x.json" --method="${method}" --seed=7 \
-      --threads=2 --out="${work}/${run}.off" --report="${work}/${run}.json" \
+      --threads=2 --overwrite --out="${work}/${run}.off" --report="${work}/${run}.json" \
       --dump_nodes="${work}/${run}.csv"
-    sed -e '/"timings_ms"/,/}/d' -e '/"output"/d' "${work}/${run}.json" > "${work}/${run}.json.stable"
+    sed -e '/"timings_ms"/,/}/d' -e '/"command_line"/,/]/d' -e '/"output"/d' -e '/"date"/d' \
+      "${work}/${run}.json" > "${work}/${run}.json.stable"
   done
   for file in off csv json.stable; do
     if ! cmp "${work}/1.${file}" "${work}/2.${file}"; then

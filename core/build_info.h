@@ -1,0 +1,36 @@
+// What a run was made with, for reports and --version: msdeform's version and
+// the commit it was built from (embedded at build time), the versions of the
+// libraries core is built against, the machine, the date, and SHA-256 digests
+// of input files.
+
+#ifndef MSDEFORM_CORE_BUILD_INFO_H_
+#define MSDEFORM_CORE_BUILD_INFO_H_
+
+#include <string>
+
+namespace msdeform {
+
+// "0.3.0" (CMake's project version).
+const char* MsdeformVersion();
+// The short commit hash the binary was built from, "+uncommitted" when the
+// working tree had changes to tracked files, or "unknown" outside a git
+// checkout.
+const char* MsdeformCommit();
+// "3.4.0", "9.0".
+std::string EigenVersion();
+std::string OpenMeshVersion();
+// The CPU model name from /proc/cpuinfo ("unknown" when not there).
+std::string CpuModel();
+int NumCores();
+// Current UTC time, ISO 8601: "2026-11-23T04:05:06Z".
+std::string UtcNow();
+
+// SHA-256 of a file's bytes as 64 lowercase hex digits; false with
+// "<path>: cannot read" when it cannot be read.
+bool Sha256File(const std::string& path, std::string* digest, std::string* error);
+// SHA-256 of a byte string (the same digest as the file holding those bytes).
+std::string Sha256(const std::string& bytes);
+
+}  // namespace msdeform
+
+#endif  // MSDEFORM_CORE_BUILD_INFO_H_
