@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <utility>
 #include <map>
@@ -112,6 +113,57 @@ bool ParseFlag(const char* flag, const std::string& value, bool (*parse)(const s
   return false;
 }
 
+// "--name=value: expected ..." unless lo <= value (< or <=) hi and finite.
+bool CheckRange(const char* name, double value, double lo, double hi, bool hi_open,
+                const char* expected, std::string* error) {
+  if (std::isfinite(value) && value >= lo && (hi_open ? value < hi : value <= hi)) return true;
+  std::ostringstream text;
+  text << "--" << name << "=" << value << ": expected " << expected;
+  *error = text.str();
+  return false;
+}
+
+// Every numeric flag against its range, so that errors name the flag the
+// user typed (the options' own checks name struct fields).
+bool CheckNumericFlags(std::string* error) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  constexpr double kIntMax = std::numeric_limits<int>::max();
+  struct Range {
+    const char* name;
+    double value, lo, hi;
+    bool hi_open;
+    const char* expected;
+  };
+  const Range ranges[] = {
+      {"threads", double(FLAGS_threads), 1, 1024, false, "an integer in 1..1024"},
+      {"static_nodes", double(FLAGS_static_nodes), 1, kIntMax, false, "an integer >= 1"},
+      {"nodes_per_scale", double(FLAGS_nodes_per_scale), 1, kIntMax, false, "an integer >= 1"},
+      {"cell_width", FLAGS_cell_width, 0, kInf, true,
+       "a length >= 0 in mesh units (0: diagonal / 48)"},
+      {"max_iterations", double(FLAGS_max_iterations), 1, kIntMax, false,
+       "an integer >= 1 (a frame with no iteration leaves the handle behind)"},
+      {"function_tolerance", FLAGS_function_tolerance, 0, kInf, true, "a finite number >= 0"},
+      {"gradient_tolerance", FLAGS_gradient_tolerance, 0, kInf, true, "a finite number >= 0"},
+      {"parameter_tolerance", FLAGS_parameter_tolerance, 0, kInf, true, "a finite number >= 0"},
+      {"gn_refactor_ratio", FLAGS_gn_refactor_ratio, 1e-300, kInf, true, "a number > 0"},
+      {"w_rot", FLAGS_w_rot, 0, kInf, true, "a finite weight >= 0"},
+      {"w_coh", FLAGS_w_coh, 0, kInf, true, "a finite weight >= 0"},
+      {"w_con", FLAGS_w_con, 0, kInf, true, "a finite weight >= 0"},
+      {"rigidity_stiffness", FLAGS_rigidity_stiffness, 0, kInf, true, "a finite number >= 0"},
+      {"rigidity_damping", FLAGS_rigidity_damping, 0, 1, true, "a number in [0, 1)"},
+      {"rigidity_steps", double(FLAGS_rigidity_steps), 1, kIntMax, false, "an integer >= 1"},
+      {"rigidity_region", double(FLAGS_rigidity_region), 1, kIntMax, false, "an integer >= 1"},
+      {"threshold_floor", FLAGS_threshold_floor, 0, 1, true, "a number in [0, 1)"},
+  };
+  for (const Range& range : ranges) {
+    if (!CheckRange(range.name, range.value, range.lo, range.hi, range.hi_open, range.expected,
+                    error)) {
+      return false;
+    }
+  }
+  return true;
+}
+
 bool ParseSolverFlags(DeformerOptions* options, std::string* error) {
   if (!ParseFlag("solver", FLAGS_solver, ParseSolver, "gauss_newton or ceres", &options->backend,
                  error) ||
@@ -140,34 +192,18 @@ bool ParseSolverFlags(DeformerOptions* options, std::string* error) {
     *error = "--ceres_sparse=" + FLAGS_ceres_sparse + ": expected one this Ceres has: " + names;
     return false;
   }
-  const std::pair<const char*, double> tolerances[] = {
-      {"function_tolerance", FLAGS_function_tolerance},
-      {"gradient_tolerance", FLAGS_gradient_tolerance},
-      {"parameter_tolerance", FLAGS_parameter_tolerance}};
-  for (const auto& [name, value] : tolerances) {
-    if (!(value >= 0.0) || !std::isfinite(value)) {
-      std::ostringstream text;
-      text << "--" << name << "=" << value << ": expected a finite number >= 0";
-      *error = text.str();
-      return false;
-    }
-  }
   options->gauss_newton.refactor_ratio = FLAGS_gn_refactor_ratio;
   options->stopping.max_iterations = FLAGS_max_iterations;
   options->stopping.function_tolerance = FLAGS_function_tolerance;
   options->stopping.gradient_tolerance = FLAGS_gradient_tolerance;
   options->stopping.parameter_tolerance = FLAGS_parameter_tolerance;
-  if (FLAGS_max_iterations < 1) {
-    *error = "--max_iterations=" + std::to_string(FLAGS_max_iterations) +
-             ": expected >= 1 (a frame with no iteration leaves the handle behind)";
-    return false;
-  }
   return true;
 }
 
 }  // namespace
 
 bool DeformerOptionsFromFlags(DeformerOptions* options, std::string* error) {
+  if (!CheckNumericFlags(error)) return false;
   if (!ParseFlag("method", FLAGS_method, ParseMethod, "multiscale, static or static_dense",
                  &options->method, error)) {
     return false;
