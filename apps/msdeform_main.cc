@@ -81,6 +81,7 @@ struct Job {
   std::vector<int> watch;             // empty without a watch region
   std::vector<Eigen::Affine3d> path;  // one transform per frame
   std::string out_path, report_path, nodes_path, frames_dir;
+  MeshReadReport read_report;
   DeformerOptions options;
   double load_ms = 0.0;
 };
@@ -108,8 +109,14 @@ std::string Absolute(const std::string& path) {
   return path.empty() ? path : fs::absolute(path).lexically_normal().string();
 }
 
-bool LoadMesh(const std::string& path, Mesh* mesh, std::string* error) {
-  return ReadMesh(path, mesh, error);
+// Reads the mesh; faces it drops (repeated vertex, exact duplicate) are
+// noted on stderr (unless --quiet) and in the report.
+bool LoadMesh(const std::string& path, Mesh* mesh, MeshReadReport* report, std::string* error) {
+  if (!ReadMesh(path, mesh, report, error)) return false;
+  if (!report->notice.empty() && !FLAGS_quiet) {
+    std::cerr << "msdeform: notice: " << report->notice << "\n";
+  }
+  return true;
 }
 
 bool PrepareJob(Job* job, std::string* error) {
@@ -178,7 +185,7 @@ bool PrepareJob(Job* job, std::string* error) {
 
   // Read the inputs.
   const auto load_start = Clock::now();
-  if (!LoadMesh(job->mesh_path, &job->mesh, error)) return false;
+  if (!LoadMesh(job->mesh_path, &job->mesh, &job->read_report, error)) return false;
   if (job->scenario_path.empty()) {
     if (!ReadSel(job->sel_path, job->mesh.num_vertices(), &job->layout, error)) return false;
     Eigen::Affine3d deformed_from_rest;
@@ -420,6 +427,8 @@ int Run(const std::vector<std::string>& command_line) {
   if (!Provenance(job, command_line, &report, &error)) return Fail(error);
   report["vertices"] = job.mesh.num_vertices();
   report["faces"] = job.mesh.num_faces();
+  report["dropped_faces"] = {{"repeat_a_vertex", job.read_report.dropped_degenerate_faces},
+                             {"duplicates", job.read_report.dropped_duplicate_faces}};
   report["diag"] = diagonal;
   report["handle_vertices"] = {{"fixed", job.layout.fixed.size()},
                                {"moveable", job.layout.moveable.size()}};
