@@ -872,11 +872,21 @@ bool CheckPly(const std::string& text, int* num_vertices, int* num_faces, std::s
   return true;
 }
 
+// What a format pre-check expects OpenMesh to hand over, and what OpenMesh's
+// reader drops itself.
+struct ExpectedCounts {
+  int num_vertices = -1;  // -1: the format does not say
+  int num_faces = -1;
+  // Triangles that repeat a vertex which OpenMesh's OBJ and STL readers skip
+  // without a word; the notice counts them with those dropped here.
+  int dropped_degenerate_faces = 0;
+};
+
 // True for an OBJ face corner "v", "v/t", "v//n" or "v/t/n": v a non-zero
 // integer (negative counts back from the last vertex), t and n empty or
-// integers. OpenMesh's OBJ reader asserts (aborts) on a corner without v,
-// e.g. "/1/1" (found by tests/fuzz/obj_fuzzer).
-bool IsObjFaceCorner(std::string_view corner) {
+// integers; sets *vertex to v. OpenMesh's OBJ reader asserts (aborts) on a
+// corner without v, e.g. "/1/1" (found by tests/fuzz/obj_fuzzer).
+bool ParseObjFaceCorner(std::string_view corner, long long* vertex) {
   std::string_view parts[3];
   int num_parts = 0;
   size_t start = 0;
@@ -888,20 +898,22 @@ bool IsObjFaceCorner(std::string_view corner) {
     if (slash == std::string_view::npos) break;
     start = slash + 1;
   }
-  long long value = 0;
-  if (!ParseInt(parts[0], &value) || value == 0 || value < std::numeric_limits<int>::min() ||
-      value > std::numeric_limits<int>::max()) {
+  if (!ParseInt(parts[0], vertex) || *vertex == 0 || *vertex < std::numeric_limits<int>::min() ||
+      *vertex > std::numeric_limits<int>::max()) {
     return false;
   }
+  long long value = 0;
   for (int k = 1; k < num_parts; ++k) {
     if (!parts[k].empty() && !ParseInt(parts[k], &value)) return false;
   }
   return true;
 }
 
-// Checks the "v x y z" and "f ..." lines of an OBJ file and counts the
-// vertices.
-bool CheckObj(const std::string& text, int* num_vertices, std::string* problem) {
+// Checks the "v x y z" and "f ..." lines of an OBJ file, counts the vertices,
+// and predicts the faces OpenMesh hands over: its reader removes the repeats
+// of a vertex from a face ((a, b, b, c) becomes (a, b, c)) and skips a face
+// left with fewer than 3, so the fan triangles lost that way are counted too.
+bool CheckObj(const std::string& text, ExpectedCounts* expected, std::string* problem) {
   std::ostringstream message;
   size_t pos = 0;
   int line_number = 0;
@@ -909,6 +921,9 @@ bool CheckObj(const std::string& text, int* num_vertices, std::string* problem) 
   Tokens tokens;
   bool had_comment = false;
   long long count = 0;
+  long long num_faces = 0;
+  long long dropped_triangles = 0;
+  std::vector<long long> ids;
   while (NextLine(text, &pos, &line)) {
     ++line_number;
     Tokenize(line, &tokens, &had_comment);
@@ -919,25 +934,156 @@ bool CheckObj(const std::string& text, int* num_vertices, std::string* problem) 
         *problem = message.str();
         return false;
       }
+      ids.clear();
       for (size_t k = 1; k < tokens.size(); ++k) {
-        if (!IsObjFaceCorner(tokens[k])) {
+        long long id = 0;
+        if (!ParseObjFaceCorner(tokens[k], &id)) {
           message << "line " << line_number << ": face corner " << Quote(tokens[k])
                   << " is not v, v/t, v//n or v/t/n with a non-zero vertex number";
           *problem = message.str();
           return false;
         }
+        ids.push_back(id < 0 ? count + id + 1 : id);  // as OpenMesh resolves it
       }
+      const long long corners = static_cast<long long>(ids.size());
+      std::sort(ids.begin(), ids.end());
+      const long long distinct = std::unique(ids.begin(), ids.end()) - ids.begin();
+      if (distinct >= 3) ++num_faces;
+      dropped_triangles += (corners - 2) - std::max(distinct - 2, 0LL);
       continue;
     }
     if (tokens.empty() || tokens[0] != "v") continue;
     if (!CheckVertexCoordinates(tokens, 1, line_number, count, problem)) return false;
     ++count;
   }
-  if (count > std::numeric_limits<int>::max()) {
-    *problem = "too many vertices";
+  if (count > std::numeric_limits<int>::max() || num_faces > std::numeric_limits<int>::max() ||
+      dropped_triangles > std::numeric_limits<int>::max()) {
+    *problem = "too many vertices or faces";
     return false;
   }
-  *num_vertices = static_cast<int>(count);
+  expected->num_vertices = static_cast<int>(count);
+  expected->num_faces = static_cast<int>(num_faces);
+  expected->dropped_degenerate_faces = static_cast<int>(dropped_triangles);
+  return true;
+}
+
+// ---------------------------------------------------------------------------
+// STL pre-check. OpenMesh's STL reader merges corners at equal positions and
+// skips, without a word, a facet two of whose corners merge; so the facets are
+// walked here as it walks them, to count those for the notice and to compare
+// what it hands over. (On the way this refuses what it would misread: it
+// takes the three lines after any line holding "outer" as the corners,
+// whatever they say, and keeps going with stale values.)
+
+// Single precision, as OpenMesh reads STL, and through strtof as its stream
+// input does, so that equal positions here are equal there.
+bool ParseFloat(std::string_view token, float* value) {
+  const std::string copy(token);
+  char* end = nullptr;
+  *value = std::strtof(copy.c_str(), &end);
+  return end == copy.c_str() + copy.size() && !copy.empty();
+}
+
+using StlCorner = std::array<float, 3>;
+
+// OpenMesh's STL reader takes two corners for one vertex when every
+// coordinate differs by at most FLT_MIN (its CmpVec).
+bool SameStlCorner(const StlCorner& p, const StlCorner& q) {
+  for (int k = 0; k < 3; ++k) {
+    if (!(std::fabs(p[k] - q[k]) <= std::numeric_limits<float>::min())) return false;
+  }
+  return true;
+}
+
+bool IsCollapsedFacet(const std::array<StlCorner, 3>& corners) {
+  return SameStlCorner(corners[0], corners[1]) || SameStlCorner(corners[1], corners[2]) ||
+         SameStlCorner(corners[0], corners[2]);
+}
+
+// "vertex" in any case (OpenMesh does not look at the word at all).
+bool IsStlVertexKeyword(std::string_view token) {
+  constexpr std::string_view kVertex = "vertex";
+  return token.size() == kVertex.size() &&
+         std::equal(token.begin(), token.end(), kVertex.begin(), [](char a, char b) {
+           return std::tolower(static_cast<unsigned char>(a)) == b;
+         });
+}
+
+bool CheckStl(const std::string& text, ExpectedCounts* expected, std::string* problem) {
+  std::ostringstream message;
+  long long num_facets = 0;
+  long long num_collapsed = 0;
+  // OpenMesh reads binary STL exactly when the file is as long as the facet
+  // count after the 80-byte header says: 84 bytes and 50 per facet.
+  uint32_t binary_count = 0;
+  if (text.size() >= 84) std::memcpy(&binary_count, text.data() + 80, sizeof(binary_count));
+  if (text.size() >= 84 && text.size() == 84 + 50ull * binary_count) {
+    for (uint32_t facet = 0; facet < binary_count; ++facet) {
+      std::array<StlCorner, 3> corners;
+      // After the facet's normal: three corners of three little-endian floats.
+      std::memcpy(corners.data(), text.data() + 84 + 50ull * facet + 12, sizeof(corners));
+      for (int c = 0; c < 3; ++c) {
+        for (float coordinate : corners[c]) {
+          if (!std::isfinite(coordinate)) {
+            message << "binary facet " << facet << ": corner " << c
+                    << " has a non-finite coordinate";
+            *problem = message.str();
+            return false;
+          }
+        }
+      }
+      num_collapsed += IsCollapsedFacet(corners);
+    }
+    num_facets = binary_count;
+  } else {
+    size_t pos = 0;
+    int line_number = 0;
+    std::string_view line;
+    Tokens tokens;
+    bool had_comment = false;
+    while (NextLine(text, &pos, &line)) {
+      ++line_number;
+      if (line.find("outer") == std::string_view::npos &&
+          line.find("OUTER") == std::string_view::npos) {
+        continue;
+      }
+      const int outer_line = line_number;
+      std::array<StlCorner, 3> corners;
+      for (int c = 0; c < 3; ++c) {
+        if (!NextLine(text, &pos, &line)) {
+          message << "truncated: the file ends in facet " << num_facets << " (line " << line_number
+                  << ")";
+          *problem = message.str();
+          return false;
+        }
+        ++line_number;
+        Tokenize(line, &tokens, &had_comment);
+        if (tokens.size() != 4 || !IsStlVertexKeyword(tokens[0])) {
+          message << "line " << line_number << ": facet " << num_facets
+                  << ": expected 'vertex x y z' (corner " << c << " after 'outer' on line "
+                  << outer_line << ")";
+          *problem = message.str();
+          return false;
+        }
+        for (int k = 0; k < 3; ++k) {
+          if (!ParseFloat(tokens[1 + k], &corners[c][k]) || !std::isfinite(corners[c][k])) {
+            message << "line " << line_number << ": facet " << num_facets << ": "
+                    << Quote(tokens[1 + k]) << " is not a finite number";
+            *problem = message.str();
+            return false;
+          }
+        }
+      }
+      ++num_facets;
+      num_collapsed += IsCollapsedFacet(corners);
+    }
+  }
+  if (num_facets > std::numeric_limits<int>::max()) {
+    *problem = "too many facets";
+    return false;
+  }
+  expected->num_faces = static_cast<int>(num_facets - num_collapsed);
+  expected->dropped_degenerate_faces = static_cast<int>(num_collapsed);
   return true;
 }
 
@@ -975,7 +1121,7 @@ class ScopedTemporaryCopy {
 };
 
 // Merges vertices at exactly equal positions (first appearance wins, order
-// kept) and drops the triangles that collapse.
+// kept). Triangles that collapse are left to DropDegenerateAndDuplicateFaces.
 void WeldExactDuplicates(Mesh* mesh) {
   std::map<std::array<double, 3>, int> id_of_position;
   std::vector<int> new_id(mesh->num_vertices());
@@ -988,15 +1134,61 @@ void WeldExactDuplicates(Mesh* mesh) {
     new_id[v] = it->second;
   }
   mesh->vertices.conservativeResize(3, count);
-  int kept = 0;
   for (int f = 0; f < mesh->num_faces(); ++f) {
-    const int a = new_id[mesh->faces(0, f)];
-    const int b = new_id[mesh->faces(1, f)];
-    const int c = new_id[mesh->faces(2, f)];
-    if (a == b || b == c || a == c) continue;
-    mesh->faces.col(kept++) << a, b, c;
+    for (int c = 0; c < 3; ++c) mesh->faces(c, f) = new_id[mesh->faces(c, f)];
+  }
+}
+
+// Drops the triangles that repeat a vertex and the exact duplicates of an
+// earlier triangle (same cyclic order; see mesh_io.h), keeping the order of
+// the rest, and adds their counts to *report.
+void DropDegenerateAndDuplicateFaces(Mesh* mesh, MeshReadReport* report) {
+  const int num_faces = mesh->num_faces();
+  std::vector<char> drop(num_faces, 0);
+  // Each triangle rotated to start at its lowest id: one key for the three
+  // rotations of (a, b, c), another for the opposite orientation (a, c, b).
+  std::vector<std::array<int, 3>> keys(num_faces);
+  std::vector<int> order;  // the triangles that do not repeat a vertex
+  order.reserve(num_faces);
+  for (int f = 0; f < num_faces; ++f) {
+    const int a = mesh->faces(0, f), b = mesh->faces(1, f), c = mesh->faces(2, f);
+    if (a == b || b == c || a == c) {
+      drop[f] = 1;
+      ++report->dropped_degenerate_faces;
+      continue;
+    }
+    const int first = a < b ? (a < c ? 0 : 2) : (b < c ? 1 : 2);
+    keys[f] = {mesh->faces(first, f), mesh->faces((first + 1) % 3, f),
+               mesh->faces((first + 2) % 3, f)};
+    order.push_back(f);
+  }
+  // Equal keys end up next to each other, the earliest triangle first.
+  std::stable_sort(order.begin(), order.end(), [&keys](int f, int g) { return keys[f] < keys[g]; });
+  for (size_t i = 1; i < order.size(); ++i) {
+    if (keys[order[i]] == keys[order[i - 1]]) {
+      drop[order[i]] = 1;
+      ++report->dropped_duplicate_faces;
+    }
+  }
+  int kept = 0;
+  for (int f = 0; f < num_faces; ++f) {
+    if (!drop[f]) mesh->faces.col(kept++) = mesh->faces.col(f);
   }
   mesh->faces.conservativeResize(3, kept);
+}
+
+// "3 faces that repeat a vertex and 1 duplicate face" ("" when none).
+std::string DescribeDroppedFaces(const MeshReadReport& report) {
+  std::ostringstream text;
+  const int degenerate = report.dropped_degenerate_faces;
+  const int duplicate = report.dropped_duplicate_faces;
+  if (degenerate > 0) {
+    text << degenerate << (degenerate == 1 ? " face that repeats" : " faces that repeat")
+         << " a vertex";
+  }
+  if (degenerate > 0 && duplicate > 0) text << " and ";
+  if (duplicate > 0) text << duplicate << " duplicate face" << (duplicate == 1 ? "" : "s");
+  return text.str();
 }
 
 std::string FormatName(const std::string& extension) {
@@ -1008,7 +1200,8 @@ std::string FormatName(const std::string& extension) {
 
 }  // namespace
 
-bool ReadMesh(const std::string& path, Mesh* mesh, std::string* error) {
+bool ReadMesh(const std::string& path, Mesh* mesh, MeshReadReport* report, std::string* error) {
+  *report = MeshReadReport();
   const std::string extension = LowerExtension(path);
   if (extension != "off" && extension != "obj" && extension != "ply" && extension != "stl") {
     return Fail(path,
@@ -1029,28 +1222,30 @@ bool ReadMesh(const std::string& path, Mesh* mesh, std::string* error) {
   in.close();
   if (text.empty()) return Fail(path, "file is empty", error);
 
-  // Check the text first (see CheckOff); remember the counts it announces.
-  int expected_vertices = -1;
-  int expected_faces = -1;
+  // Check the text first (see CheckOff); remember the counts it announces
+  // (or, for OBJ and STL, predicts).
+  ExpectedCounts expected;
   ScopedTemporaryCopy normalized_copy;
   std::string read_path = path;
   std::string problem;
   if (extension == "off") {
     OffCheck off;
     if (!CheckOff(text, &off, &problem)) return Fail(path, problem, error);
-    expected_vertices = off.num_vertices;
-    expected_faces = off.num_faces;
+    expected.num_vertices = off.num_vertices;
+    expected.num_faces = off.num_faces;
     if (off.needs_normalizing) {
       if (!normalized_copy.Create(NormalizeOff(text), ".off", &problem))
         return Fail(path, problem, error);
       read_path = normalized_copy.name();
     }
   } else if (extension == "ply") {
-    if (!CheckPly(text, &expected_vertices, &expected_faces, &problem)) {
+    if (!CheckPly(text, &expected.num_vertices, &expected.num_faces, &problem)) {
       return Fail(path, problem, error);
     }
   } else if (extension == "obj") {
-    if (!CheckObj(text, &expected_vertices, &problem)) return Fail(path, problem, error);
+    if (!CheckObj(text, &expected, &problem)) return Fail(path, problem, error);
+  } else if (extension == "stl") {
+    if (!CheckStl(text, &expected, &problem)) return Fail(path, problem, error);
   }
   text.clear();
   text.shrink_to_fit();
@@ -1068,17 +1263,21 @@ bool ReadMesh(const std::string& path, Mesh* mesh, std::string* error) {
   }
 
   const int num_vertices = static_cast<int>(importer.n_vertices());
-  if ((expected_vertices >= 0 && num_vertices != expected_vertices) ||
-      (expected_faces >= 0 && importer.num_polygons() != expected_faces)) {
+  if ((expected.num_vertices >= 0 && num_vertices != expected.num_vertices) ||
+      (expected.num_faces >= 0 && importer.num_polygons() != expected.num_faces)) {
     std::ostringstream message;
-    message << "the file announces " << expected_vertices << " vertices";
-    if (expected_faces >= 0) message << " and " << expected_faces << " faces";
-    message << ", but OpenMesh read " << num_vertices << " and " << importer.num_polygons()
-            << " (corrupt file?)";
+    message << "expected";
+    if (expected.num_vertices >= 0) message << " " << expected.num_vertices << " vertices";
+    if (expected.num_vertices >= 0 && expected.num_faces >= 0) message << " and";
+    if (expected.num_faces >= 0) message << " " << expected.num_faces << " faces";
+    message << " from the file, but OpenMesh read " << num_vertices << " vertices and "
+            << importer.num_polygons() << " faces (corrupt file?)";
     return Fail(path, message.str(), error);
   }
 
-  // Check the polygons as the file numbers them, then fan-triangulate.
+  // Check the polygons as the file numbers them, then fan-triangulate. (A
+  // polygon that repeats a vertex is split too; its fan triangles that repeat
+  // one are dropped below with the others.)
   int num_triangles = 0;
   for (int p = 0; p < importer.num_polygons(); ++p) {
     const int* ids = importer.face_ids.data() + importer.face_offsets[p];
@@ -1094,12 +1293,6 @@ bool ReadMesh(const std::string& path, Mesh* mesh, std::string* error) {
                 << num_vertices - 1;
         return Fail(path, message.str(), error);
       }
-      for (int j = 0; j < k; ++j) {
-        if (ids[j] == ids[k]) {
-          message << "face " << p << " repeats vertex " << ids[k];
-          return Fail(path, message.str(), error);
-        }
-      }
     }
     num_triangles += size - 2;
   }
@@ -1114,8 +1307,21 @@ bool ReadMesh(const std::string& path, Mesh* mesh, std::string* error) {
 
   if (extension == "stl") WeldExactDuplicates(mesh);
 
+  report->dropped_degenerate_faces = expected.dropped_degenerate_faces;
+  DropDegenerateAndDuplicateFaces(mesh, report);
+  const std::string dropped = DescribeDroppedFaces(*report);
+  if (mesh->num_faces() == 0 && !dropped.empty()) {
+    return Fail(path, "no face left after dropping " + dropped + "; need at least one triangle",
+                error);
+  }
   if (!ValidateMesh(*mesh, &problem)) return Fail(path, problem, error);
+  if (!dropped.empty()) report->notice = path + ": dropped " + dropped;
   return true;
+}
+
+bool ReadMesh(const std::string& path, Mesh* mesh, std::string* error) {
+  MeshReadReport report;
+  return ReadMesh(path, mesh, &report, error);
 }
 
 bool WriteMesh(const std::string& path, const Mesh& mesh, std::string* error) {

@@ -14,6 +14,30 @@
 // STL has no shared vertices: vertices at exactly equal positions are merged,
 // in order of first appearance.
 //
+// Two kinds of triangle are dropped, counted in a MeshReadReport, instead of
+// refusing the mesh: nothing is lost with them, and they are a common cause
+// of failed factorisations elsewhere.
+//   - Triangles that repeat a vertex, (a, a, b): zero area by construction.
+//     This includes an STL facet two of whose corners are at one position,
+//     and the fan triangles of a polygon that repeats a vertex: (a, b, c, a)
+//     reads as the triangle (a, b, c) and one dropped triangle. (OpenMesh's
+//     OBJ reader removes a polygon's repeated corners itself, (a, b, c), which
+//     gives the same triangles and count when the repeats are neighbours.)
+//   - Exact duplicates: the same three vertices in the same cyclic order as an
+//     earlier triangle ((a, b, c), (b, c, a) and (c, a, b) are one triangle);
+//     the first stays.
+// A copy with the opposite orientation, (a, c, b) after (a, b, c), is not a
+// duplicate and stays: it is the back of a two-sided sheet (or of a
+// zero-thickness wall), a face of its own that the written result keeps so
+// that both sides still render; it adds no edge, component or lattice cell,
+// so it cannot make the deformation singular. (Its area-weighted normal
+// cancels the front's, as it would in any tool.)
+// Vertices are never dropped or renumbered: a vertex used only by dropped
+// triangles stays as an isolated vertex (a mesh component of its own, which
+// the deformer leaves at rest). The kept triangles keep the file's order.
+// Counts are of triangles after the fan split; for a triangle mesh they are
+// the file's faces.
+//
 // Coordinates pass through OpenMesh as single precision both ways: reading
 // rounds to float, writing prints floats with 9 significant digits, which
 // reproduces every float exactly, so a write-read round trip is within float
@@ -28,11 +52,24 @@
 
 namespace msdeform {
 
-// Reads `path` into *mesh and checks it with ValidateMesh. On failure returns
-// false, leaves *mesh unspecified, and puts one line in *error naming the file
-// and, where known, the line, vertex or face and what is wrong (missing or
-// empty file, wrong header, truncated data, non-finite coordinate, face id out
-// of range, ...).
+// What ReadMesh dropped (see above).
+struct MeshReadReport {
+  int dropped_degenerate_faces = 0;  // triangles that repeat a vertex
+  int dropped_duplicate_faces = 0;   // exact duplicates of an earlier triangle
+  // One line for the user when something was dropped, else empty, e.g.
+  // "in.off: dropped 3 faces that repeat a vertex and 1 duplicate face".
+  std::string notice;
+};
+
+// Reads `path` into *mesh, drops the triangles described above (counted in
+// *report), and checks the result with ValidateMesh. On failure returns
+// false, leaves *mesh and *report unspecified, and puts one line in *error
+// naming the file and, where known, the line, vertex or face and what is
+// wrong (missing or empty file, wrong header, truncated data, non-finite
+// coordinate, face id out of range, no face left after dropping, ...).
+bool ReadMesh(const std::string& path, Mesh* mesh, MeshReadReport* report, std::string* error);
+
+// The same without the report, for callers that do not tell the user.
 bool ReadMesh(const std::string& path, Mesh* mesh, std::string* error);
 
 // Writes `mesh` to `path` (format by extension) atomically: a temporary beside

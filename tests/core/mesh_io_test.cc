@@ -334,6 +334,176 @@ TEST(MeshIoTest, BinaryStlIsWeldedToSharedVertices) {
   EXPECT_EQ(mesh.faces(1, 0), mesh.faces(0, 1)) << "shared vertex (1,0,0) is merged";
 }
 
+// Five vertices; faces: (0,1,2), (0,0,3) repeats a vertex, (1,3,2),
+// (2,0,1) repeats (0,1,2) in the same cyclic order, (3,4,4) repeats a vertex
+// (and is the only face of vertex 4), (0,2,1) is (0,1,2) turned over.
+const std::vector<std::vector<int>> kFacesWithDrops = {{0, 1, 2}, {0, 0, 3}, {1, 3, 2},
+                                                       {2, 0, 1}, {3, 4, 4}, {0, 2, 1}};
+constexpr double kFiveVertices[5][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0.5}, {2, 2, 2}};
+
+// The five vertices and `faces` as the text of an .off, .obj or .ply file.
+std::string MeshText(const std::string& format, const std::vector<std::vector<int>>& faces) {
+  std::ostringstream text;
+  if (format == "off") text << "OFF\n5 " << faces.size() << " 0\n";
+  if (format == "ply") {
+    text << "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\n"
+            "property float z\nelement face "
+         << faces.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+  }
+  for (const auto& p : kFiveVertices) {
+    text << (format == "obj" ? "v " : "") << p[0] << " " << p[1] << " " << p[2] << "\n";
+  }
+  for (const auto& face : faces) {
+    text << (format == "obj" ? "f" : std::to_string(face.size()));
+    for (int id : face) text << " " << (format == "obj" ? id + 1 : id);
+    text << "\n";
+  }
+  return text.str();
+}
+
+class DroppedFacesTest : public testing::TestWithParam<std::string> {};
+
+TEST_P(DroppedFacesTest, RepeatedVertexAndDuplicateFacesAreDroppedAndCounted) {
+  const std::string path = FreshFolder() + "/drops." + GetParam();
+  WriteText(path, MeshText(GetParam(), kFacesWithDrops));
+  Mesh mesh;
+  MeshReadReport report;
+  std::string error;
+  ASSERT_TRUE(ReadMesh(path, &mesh, &report, &error)) << error;
+  Eigen::Matrix3Xi expected(3, 3);
+  expected << 0, 1, 0,  //
+      1, 3, 2,          //
+      2, 2, 1;
+  EXPECT_EQ(mesh.faces, expected) << "the rest in file order; the turned-over copy stays";
+  ASSERT_EQ(mesh.num_vertices(), 5) << "vertex 4, now in no face, stays";
+  for (int v = 0; v < 5; ++v) {
+    EXPECT_EQ(mesh.vertices.col(v),
+              Eigen::Vector3d(kFiveVertices[v][0], kFiveVertices[v][1], kFiveVertices[v][2]));
+  }
+  EXPECT_EQ(report.dropped_degenerate_faces, 2);
+  EXPECT_EQ(report.dropped_duplicate_faces, 1);
+  EXPECT_EQ(report.notice, path + ": dropped 2 faces that repeat a vertex and 1 duplicate face");
+
+  // The old signature reads the same mesh.
+  Mesh again;
+  ASSERT_TRUE(ReadMesh(path, &again, &error)) << error;
+  EXPECT_EQ(again.faces, expected);
+}
+
+TEST_P(DroppedFacesTest, NothingDroppedMeansNoNotice) {
+  const std::string path = FreshFolder() + "/clean." + GetParam();
+  WriteText(path, MeshText(GetParam(), {{0, 1, 2}, {1, 3, 2}, {0, 2, 1}, {2, 3, 4}}));
+  Mesh mesh;
+  MeshReadReport report;
+  report.dropped_duplicate_faces = 7;  // stale values are reset
+  report.notice = "stale";
+  std::string error;
+  ASSERT_TRUE(ReadMesh(path, &mesh, &report, &error)) << error;
+  EXPECT_EQ(mesh.num_faces(), 4);
+  EXPECT_EQ(report.dropped_degenerate_faces, 0);
+  EXPECT_EQ(report.dropped_duplicate_faces, 0);
+  EXPECT_EQ(report.notice, "");
+}
+
+TEST_P(DroppedFacesTest, OnlyDuplicatesGiveTheirOwnNotice) {
+  const std::string path = FreshFolder() + "/duplicates." + GetParam();
+  WriteText(path, MeshText(GetParam(), {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 1, 2}, {1, 3, 2}}));
+  Mesh mesh;
+  MeshReadReport report;
+  std::string error;
+  ASSERT_TRUE(ReadMesh(path, &mesh, &report, &error)) << error;
+  Eigen::Matrix3Xi expected(3, 2);
+  expected << 0, 1,  //
+      1, 3,          //
+      2, 2;
+  EXPECT_EQ(mesh.faces, expected);
+  EXPECT_EQ(report.dropped_degenerate_faces, 0);
+  EXPECT_EQ(report.dropped_duplicate_faces, 3);
+  EXPECT_EQ(report.notice, path + ": dropped 3 duplicate faces");
+}
+
+TEST_P(DroppedFacesTest, OnlyFacesThatRepeatAVertexIsAnError) {
+  const std::string path = FreshFolder() + "/degenerate." + GetParam();
+  WriteText(path, MeshText(GetParam(), {{0, 0, 1}, {2, 3, 3}, {4, 1, 4}}));
+  Mesh mesh;
+  MeshReadReport report;
+  std::string error;
+  EXPECT_FALSE(ReadMesh(path, &mesh, &report, &error));
+  EXPECT_EQ(error, path +
+                       ": no face left after dropping 3 faces that repeat a vertex; need at least "
+                       "one triangle");
+}
+
+// A polygon that repeats a vertex keeps its area: (0, 1, 2, 0) is the triangle
+// (0, 1, 2), and (0, 0, 1, 3, 2) the fan (0, 1, 3), (0, 3, 2); one fan triangle
+// of each repeats a vertex.
+TEST_P(DroppedFacesTest, PolygonsThatRepeatAVertexLoseOnlyTheirEmptyTriangles) {
+  const std::string path = FreshFolder() + "/polygons." + GetParam();
+  WriteText(path, MeshText(GetParam(), {{0, 1, 2, 0}, {0, 0, 1, 3, 2}}));
+  Mesh mesh;
+  MeshReadReport report;
+  std::string error;
+  ASSERT_TRUE(ReadMesh(path, &mesh, &report, &error)) << error;
+  Eigen::Matrix3Xi expected(3, 3);
+  expected << 0, 0, 0,  //
+      1, 1, 3,          //
+      2, 3, 2;
+  EXPECT_EQ(mesh.faces, expected);
+  EXPECT_EQ(report.dropped_degenerate_faces, 2);
+  EXPECT_EQ(report.dropped_duplicate_faces, 0);
+  EXPECT_EQ(report.notice, path + ": dropped 2 faces that repeat a vertex");
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, DroppedFacesTest, testing::Values("off", "obj", "ply"));
+
+// The unit square of kStlTriangles, then a facet with two corners at (1,0,0),
+// the first facet again from its second corner, and the first facet turned
+// over.
+constexpr float kStlTrianglesWithDrops[5][3][3] = {{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}},
+                                                   {{1, 0, 0}, {1, 1, 0}, {0, 1, 0}},
+                                                   {{0, 0, 0}, {1, 0, 0}, {1, 0, 0}},
+                                                   {{1, 0, 0}, {0, 1, 0}, {0, 0, 0}},
+                                                   {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}}};
+
+TEST(MeshIoTest, StlFacetsThatCollapseOrRepeatAreDroppedAndCounted) {
+  const std::string folder = FreshFolder();
+  std::ostringstream ascii;
+  ascii << "solid drops\n";
+  std::string binary(80, ' ');
+  const uint32_t count = 5;
+  binary.append(reinterpret_cast<const char*>(&count), 4);
+  for (const auto& triangle : kStlTrianglesWithDrops) {
+    ascii << "  facet normal 0 0 1\n    outer loop\n";
+    const float normal[3] = {0, 0, 1};
+    binary.append(reinterpret_cast<const char*>(normal), 12);
+    for (const auto& p : triangle) {
+      ascii << "      vertex " << p[0] << " " << p[1] << " " << p[2] << "\n";
+      binary.append(reinterpret_cast<const char*>(p), 12);
+    }
+    ascii << "    endloop\n  endfacet\n";
+    binary.append(2, '\0');
+  }
+  ascii << "endsolid drops\n";
+  WriteText(folder + "/ascii.stl", ascii.str());
+  WriteText(folder + "/binary.stl", binary);
+  for (const std::string name : {"ascii.stl", "binary.stl"}) {
+    const std::string path = folder + "/" + name;
+    Mesh mesh;
+    MeshReadReport report;
+    std::string error;
+    ASSERT_TRUE(ReadMesh(path, &mesh, &report, &error)) << error;
+    EXPECT_EQ(mesh.num_vertices(), 4) << name;
+    Eigen::Matrix3Xi expected(3, 3);
+    expected << 0, 1, 0,  //
+        1, 3, 2,          //
+        2, 2, 1;
+    EXPECT_EQ(mesh.faces, expected) << name;
+    EXPECT_EQ(report.dropped_degenerate_faces, 1) << name;
+    EXPECT_EQ(report.dropped_duplicate_faces, 1) << name;
+    EXPECT_EQ(report.notice, path + ": dropped 1 face that repeats a vertex and 1 duplicate face");
+  }
+}
+
 struct BadFile {
   const char* name;      // file name, also the test name
   const char* contents;  // nullptr: do not create the file
@@ -399,8 +569,25 @@ INSTANTIATE_TEST_SUITE_P(
                 "line 4: face corner '0'"},
         BadFile{"two_corner_face.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n",
                 "line 3: a face has 2 vertices; need at least 3"},
-        BadFile{"repeated_vertex.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 1\n",
-                "face 0 repeats vertex 1"},
+        // Faces that repeat a vertex are dropped; none left is an error.
+        BadFile{"all_faces_repeat_a_vertex.off",
+                "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 1\n3 2 2 0\n",
+                "no face left after dropping 2 faces that repeat a vertex; need at least one"},
+        BadFile{"all_faces_repeat_a_vertex.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 2\n",
+                "no face left after dropping 1 face that repeats a vertex"},
+        BadFile{"truncated_facet.stl",
+                "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n",
+                "truncated: the file ends in facet 0"},
+        BadFile{"nan.stl",
+                "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 nan 0\n"
+                "vertex 0 1 0\nendloop\nendfacet\nendsolid t\n",
+                "line 5: facet 0: 'nan' is not a finite number"},
+        // OpenMesh takes the three lines after any line holding "outer" as
+        // corners: here "facet normal 0 0 1" and "outer loop".
+        BadFile{"outer_in_the_name.stl",
+                "solid outerwear\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+                "vertex 0 1 0\nendloop\nendfacet\nendsolid outerwear\n",
+                "line 2: facet 0: expected 'vertex x y z' (corner 0 after 'outer' on line 1)"},
         BadFile{"unknown.xyz", "0 0 0\n", "unknown mesh format '.xyz'"}),
     [](const testing::TestParamInfo<BadFile>& info) {
       std::string name = info.param.name;

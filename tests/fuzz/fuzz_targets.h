@@ -107,9 +107,15 @@ inline void FuzzScenario(const uint8_t* data, size_t size) {
 inline void FuzzMesh(const uint8_t* data, size_t size, const std::string& extension) {
   const std::string path = WriteInput(data, size, extension);
   Mesh mesh;
+  MeshReadReport report;
   std::string error;
-  if (ReadMesh(path, &mesh, &error)) {
+  if (ReadMesh(path, &mesh, &report, &error)) {
     Require(ValidateMesh(mesh, &error), "ReadMesh returned an invalid mesh");
+    const bool dropped = report.dropped_degenerate_faces > 0 || report.dropped_duplicate_faces > 0;
+    Require(report.dropped_degenerate_faces >= 0 && report.dropped_duplicate_faces >= 0,
+            "negative dropped-face count");
+    Require(dropped ? OneLine(report.notice) : report.notice.empty(),
+            "dropped-face notice not one line, or given when nothing was dropped");
   } else {
     Require(OneLine(error), "ReadMesh error not one line");
   }

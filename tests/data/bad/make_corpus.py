@@ -62,6 +62,25 @@ def obj(verts, faces):
     return "\n".join(lines) + "\n"
 
 
+def stl_ascii(verts, faces):
+    lines = ["solid bar"]
+    for f in faces:
+        lines += ["  facet normal 0 0 0", "    outer loop"]
+        lines += ["      vertex %s %s %s" % tuple(repr(float(c)) for c in verts[i]) for i in f]
+        lines += ["    endloop", "  endfacet"]
+    return "\n".join(lines + ["endsolid bar"]) + "\n"
+
+
+def stl_binary(verts, faces):
+    data = b" " * 80 + struct.pack("<I", len(faces))
+    for f in faces:
+        data += struct.pack("<3f", 0, 0, 0)
+        for i in f:
+            data += struct.pack("<3f", *verts[i])
+        data += b"\0\0"
+    return data
+
+
 def write(name, text, binary=False):
     with open(os.path.join(HERE, name), "wb" if binary else "w") as f:
         f.write(text)
@@ -90,7 +109,15 @@ write("mesh_truncated.off", off(V, T)[:400])
 write("mesh_wrong_header.off", off(V, T).replace("OFF", "OFX", 1))
 write("mesh_face_out_of_range.off", off(V, T[:-1] + [[0, 1, n + 5]]))
 write("mesh_face_negative_index.off", off(V, T[:-1] + [[0, 1, -1]]))
+# Faces that repeat a vertex, or repeat an earlier face in the same cyclic
+# order, are dropped with a notice; a mesh of nothing else is an error.
 write("mesh_face_repeated_index.off", off(V, T[:-1] + [[0, 1, 1]]))
+write("mesh_all_faces_repeat_a_vertex.off", off(V, [[a, a, b] for a, b, c in T]))
+write("mesh_duplicate_faces.off", off(V, T + [T[0][1:] + T[0][:1], T[5]]))
+# STL: a facet with two corners at one position, a facet repeated; and a
+# facet cut short.
+write("mesh_stl_drops.stl", stl_binary(V, T + [[0, 1, 1], T[3]]), binary=True)
+write("mesh_stl_truncated.stl", stl_ascii(V, T).rsplit("      vertex", 1)[0])
 write("mesh_face_two_vertices.off", off(V, T + [[0, 1]]))
 write("mesh_quads.off", off(V, Q))
 write("mesh_pentagon_fan.off", off(V + [(2.0, 0.5, -0.5)], T + [[0, 1, 2, 3, n]]))
