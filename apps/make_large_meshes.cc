@@ -18,14 +18,16 @@
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
+#include "core/build_info.h"
 #include "core/mesh.h"
 #include "core/mesh_io.h"
 #include "core/procedural_meshes.h"
 #include "core/subdivide.h"
 
-DEFINE_string(mesh_dir, MSDEFORM_DATA_DIR "/meshes",
+DEFINE_string(mesh_dir, "",
               "Folder holding armadillo.off (from data/fetch_meshes.sh); the large "
-              "variants and cylinder.off are written next to it.");
+              "variants and cylinder.off are written next to it. Default: data/meshes of the "
+              "source tree (core/build_info.h, DataDir).");
 DEFINE_bool(force, false,
             "Remake the meshes even when their files already exist.");
 
@@ -131,6 +133,7 @@ int main(int argc, char** argv) {
       "Writes armadillo_104k.off and armadillo_416k.off (Loop subdivision of "
       "armadillo.off) and cylinder.off (a capped cylinder) into --mesh_dir.");
   gflags::ParseCommandLineFlags(&argc, &argv, true);
+  if (FLAGS_mesh_dir.empty()) FLAGS_mesh_dir = msdeform::DataDir() + "/meshes";
   google::InitGoogleLogging(argv[0]);
   FLAGS_logtostderr = true;
   return msdeform::Run();

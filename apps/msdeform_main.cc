@@ -86,25 +86,6 @@ struct Job {
   double load_ms = 0.0;
 };
 
-// The data folder: $MSDEFORM_DATA_DIR, else data/ of the source tree the
-// executable was built in (<tree>/build/apps/msdeform), else ./data.
-std::string DataDir() {
-  if (const char* env = std::getenv("MSDEFORM_DATA_DIR"); env != nullptr && *env != '\0') {
-    return env;
-  }
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    for (fs::path dir = exe.parent_path(); !dir.empty() && dir != dir.root_path();
-         dir = dir.parent_path()) {
-      if (fs::exists(dir / "data" / "scenarios" / "armadillo_claw.json", ec)) {
-        return (dir / "data").string();
-      }
-    }
-  }
-  return "data";
-}
-
 std::string Absolute(const std::string& path) {
   return path.empty() ? path : fs::absolute(path).lexically_normal().string();
 }

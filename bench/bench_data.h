@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 #include <glog/logging.h>
 
+#include "core/build_info.h"
 #include "core/handles.h"
 #include "core/mesh.h"
 #include "core/mesh_io.h"
@@ -22,7 +23,7 @@ namespace msdeform {
 
 // data/meshes/<name>.off.
 inline Mesh ReadBenchMeshOrDie(const std::string& name) {
-  const std::string path = std::string(MSDEFORM_DATA_DIR) + "/meshes/" + name + ".off";
+  const std::string path = DataDir() + "/meshes/" + name + ".off";
   Mesh mesh;
   std::string error;
   CHECK(ReadMesh(path, &mesh, &error))
@@ -45,7 +46,7 @@ inline const ClawEdit& LoadClawEdit(const std::string& name) {
   ClawEdit& edit = (*edits)[name];
   std::string error;
   Scenario scenario;
-  CHECK(ReadScenario(std::string(MSDEFORM_DATA_DIR) + "/scenarios/armadillo_claw.json", &scenario,
+  CHECK(ReadScenario(DataDir() + "/scenarios/armadillo_claw.json", &scenario,
                      &error))
       << error;
   edit.mesh = ReadBenchMeshOrDie(name);

@@ -25,6 +25,7 @@
 
 #include "core/lattice.h"
 #include "core/mesh.h"
+#include "core/build_info.h"
 #include "core/mesh_io.h"
 #include "scales/rigidity.h"
 
@@ -42,7 +43,7 @@ struct Scene {
 
 Scene MakeScene(const std::string& file) {
   Scene scene;
-  const std::string path = std::string(MSDEFORM_DATA_DIR) + "/meshes/" + file;
+  const std::string path = DataDir() + "/meshes/" + file;
   std::string error;
   if (!ReadMesh(path, &scene.mesh, &error)) {
     scene.error = error + " (run data/fetch_meshes.sh and apps/make_large_meshes)";

@@ -3,7 +3,9 @@
 #include <array>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -139,6 +141,29 @@ std::string UtcNow() {
   const std::time_t now = std::time(nullptr);
   std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
   return text;
+}
+
+std::string SourceTreePath(const std::string& relative) {
+  namespace fs = std::filesystem;
+  if (const char* root = std::getenv("MSDEFORM_SOURCE_DIR"); root != nullptr && *root != '\0') {
+    return (fs::path(root) / relative).string();
+  }
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    for (fs::path dir = exe.parent_path(); !dir.empty(); dir = dir.parent_path()) {
+      if (fs::exists(dir / relative, ec)) return (dir / relative).string();
+      if (dir == dir.root_path()) break;
+    }
+  }
+  return relative;
+}
+
+std::string DataDir() {
+  if (const char* data = std::getenv("MSDEFORM_DATA_DIR"); data != nullptr && *data != '\0') {
+    return data;
+  }
+  return SourceTreePath("data");
 }
 
 bool Sha256File(const std::string& path, std::string* digest, std::string* error) {

@@ -25,6 +25,15 @@ int NumCores();
 // Current UTC time, ISO 8601: "2026-11-23T04:05:06Z".
 std::string UtcNow();
 
+// Where msdeform's own files are, without a path baked in at build time:
+// `relative` (e.g. "experiments/scenarios") under $MSDEFORM_SOURCE_DIR when
+// set, else under the nearest folder above the running executable that has
+// it (the source tree of a build in <tree>/build/...), else `relative`
+// itself (from the working folder).
+std::string SourceTreePath(const std::string& relative);
+// The data folder: $MSDEFORM_DATA_DIR when set, else SourceTreePath("data").
+std::string DataDir();
+
 // SHA-256 of a file's bytes as 64 lowercase hex digits; false with
 // "<path>: cannot read" when it cannot be read.
 bool Sha256File(const std::string& path, std::string* digest, std::string* error);
