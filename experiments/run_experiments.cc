@@ -1,26 +1,51 @@
 // msdeform_experiments: regenerates every table under experiments/results/
-// from the scenarios under experiments/scenarios/ (README.md).
+// from the scenarios under experiments/scenarios/ (README.md), and with
+// --solver_lab the solver lab's instead (experiments/solver_lab.h).
 //
 //   build/experiments/msdeform_experiments                 # the full run
 //   build/experiments/msdeform_experiments --quick --out_dir=/tmp/quick
+//   build/experiments/msdeform_experiments --solver_lab    # solvers.{csv,md}, solver_traces.csv
+//   build/experiments/msdeform_experiments --solver_lab --quick --out_dir=/tmp/lab
 
 #include <cstdio>
 #include <iostream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
+#include "core/build_info.h"
 #include "experiments/runner.h"
+#include "experiments/solver_lab.h"
 #include "scales/deformer_flags.h"
 
-DEFINE_string(scenarios, MSDEFORM_SOURCE_DIR "/experiments/scenarios",
-              "[input] Folder of the scenario entries (*.json).");
-DEFINE_string(out_dir, MSDEFORM_SOURCE_DIR "/experiments/results", "[output] Where the tables go.");
+DEFINE_string(scenarios, "",
+              "[input] Folder of the scenario entries (*.json). Default: experiments/scenarios "
+              "of the source tree (core/build_info.h, SourceTreePath).");
+DEFINE_string(data_dir, "",
+              "[input] Solver lab: folder of scenarios/armadillo_claw.json and "
+              "meshes/armadillo_{104k,416k}.off, the claw_104k and claw_416k drags (default: "
+              "$MSDEFORM_DATA_DIR, else the source tree's data/; core/build_info.h).");
+DEFINE_string(out_dir, "experiments_out",
+              "[output] Where the tables go (created if missing). The committed tables are "
+              "regenerated with --out_dir=experiments/results from the repository root.");
 DEFINE_bool(quick, false, "[input] The CI subset: cactus and hand_finger, 5 frames, ablations "
-                          "on the cactus.");
+                          "on the cactus (--solver_lab: the cactus, 5 frames, budgets 1, 3 and "
+                          "converged, every variant).");
 DEFINE_int32(frames, 0, "[input] Drag frames per scenario (0: the scenario's; 5 with --quick).");
-DEFINE_string(only, "", "[input] Comma-separated scenario names to run (default: all).");
+DEFINE_string(only, "", "[input] Comma-separated scenario names to run (default: all; the "
+                        "solver lab also knows claw_104k and claw_416k).");
+DEFINE_bool(large_meshes, true,
+            "[input] Solver lab: also the claw drag on the 104K and 416K armadillo.");
+DEFINE_bool(solver_lab, false,
+            "[solver] Run the solver lab instead of the tables: every solver variant x scenario "
+            "x iteration budget against a tightly converged reference (solvers.csv, solvers.md, "
+            "solver_traces.csv; experiments/solver_lab.h). The solver flags are the lab's.");
+DEFINE_string(variants, "",
+              "[solver] Solver lab: comma-separated variant names (default: all, e.g. gn_lagged, "
+              "gn_exact, ceres_lm_eigen_sparse).");
 DEFINE_string(methods, "",
               "[method] Comma-separated methods of table 2: multiscale, static, static_dense, "
               "cgal_arap (default: all four).");
@@ -32,27 +57,66 @@ DEFINE_int32(cgal_iterations, 20, "[solver] CGAL ARAP iterations per frame.");
 namespace msdeform {
 namespace {
 
+std::vector<std::string> SplitNames(const std::string& list) {
+  std::vector<std::string> names;
+  std::stringstream stream(list);
+  std::string name;
+  while (std::getline(stream, name, ','))
+    if (!name.empty()) names.push_back(name);
+  return names;
+}
+
+void PrintLine(const std::string& line) {
+  std::printf("%s\n", line.c_str());
+  std::fflush(stdout);
+}
+
 bool FillOptions(RunnerOptions* options, std::string* error) {
-  options->scenario_dir = FLAGS_scenarios;
+  options->scenario_dir =
+      FLAGS_scenarios.empty() ? SourceTreePath("experiments/scenarios") : FLAGS_scenarios;
   options->out_dir = FLAGS_out_dir;
-  options->source_dir = MSDEFORM_SOURCE_DIR;
   options->quick = FLAGS_quick;
   options->frames = FLAGS_frames;
-  std::stringstream only(FLAGS_only);
-  std::string name;
-  while (std::getline(only, name, ','))
-    if (!name.empty()) options->only.push_back(name);
-  std::stringstream methods(FLAGS_methods);
-  while (std::getline(methods, name, ','))
-    if (!name.empty()) options->methods.push_back(name);
+  options->only = SplitNames(FLAGS_only);
+  options->methods = SplitNames(FLAGS_methods);
   options->time_other_backend = FLAGS_time_other_backend;
   if (!DeformerOptionsFromFlags(&options->deformer, error)) return false;
   options->threads = options->deformer.num_threads;
   options->cgal.iterations = FLAGS_cgal_iterations;
-  options->progress = [](const std::string& line) {
-    std::printf("%s\n", line.c_str());
-    std::fflush(stdout);
-  };
+  options->progress = PrintLine;
+  return options->Check(error);
+}
+
+// The lab sets the solver per variant and budget: a solver flag of
+// scales/deformer_flags.cc ("[solver] ...") given with --solver_lab is an error.
+bool CheckNoSolverFlags(std::string* error) {
+  std::vector<gflags::CommandLineFlagInfo> flags;
+  gflags::GetAllFlags(&flags);
+  for (const gflags::CommandLineFlagInfo& flag : flags) {
+    const bool shared = flag.filename.find("deformer_flags.cc") != std::string::npos;
+    if (shared && flag.description.rfind("[solver] ", 0) == 0 && !flag.is_default) {
+      *error = "--" + flag.name + ": the solver lab sets the solver per variant and budget "
+               "(drop the flag; --variants picks variants)";
+      return false;
+    }
+  }
+  return true;
+}
+
+bool FillLabOptions(SolverLabOptions* options, std::string* error) {
+  if (!CheckNoSolverFlags(error)) return false;
+  options->scenario_dir =
+      FLAGS_scenarios.empty() ? SourceTreePath("experiments/scenarios") : FLAGS_scenarios;
+  options->out_dir = FLAGS_out_dir;
+  options->data_dir = FLAGS_data_dir;
+  options->quick = FLAGS_quick;
+  options->frames = FLAGS_frames;
+  options->large_meshes = FLAGS_large_meshes;
+  options->only = SplitNames(FLAGS_only);
+  options->variants = SplitNames(FLAGS_variants);
+  if (!DeformerOptionsFromFlags(&options->deformer, error)) return false;
+  options->threads = options->deformer.num_threads;
+  options->progress = PrintLine;
   return options->Check(error);
 }
 
@@ -64,7 +128,9 @@ int main(int argc, char** argv) {
   gflags::SetCommandLineOptionWithMode("threads", "1", gflags::SET_FLAGS_DEFAULT);
   const std::string usage =
       "msdeform_experiments [--quick] [--out_dir=DIR] [--scenarios=DIR] [--only=a,b] "
-      "[--frames=N] [--threads=N] [any msdeform method, solver or ablation flag]";
+      "[--frames=N] [--threads=N] [any msdeform method, solver or ablation flag]\n"
+      "the solver lab: msdeform_experiments --solver_lab [--quick] [--out_dir=DIR] [--only=a,b] "
+      "[--variants=a,b] [--large_meshes=false] [--frames=N] [--threads=N]";
   if (msdeform::HandleHelpRequest(argc, argv, usage, std::cout)) return 0;
   gflags::SetUsageMessage(usage);
   gflags::ParseCommandLineFlags(&argc, &argv, true);
@@ -77,8 +143,15 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::string error;
-  msdeform::RunnerOptions options;
-  if (!msdeform::FillOptions(&options, &error) || !msdeform::RunExperiments(options, &error)) {
+  bool ok = false;
+  if (FLAGS_solver_lab) {
+    msdeform::SolverLabOptions options;
+    ok = msdeform::FillLabOptions(&options, &error) && msdeform::RunSolverLab(options, &error);
+  } else {
+    msdeform::RunnerOptions options;
+    ok = msdeform::FillOptions(&options, &error) && msdeform::RunExperiments(options, &error);
+  }
+  if (!ok) {
     std::cerr << "msdeform_experiments: " << error << "\n";
     return 1;
   }

@@ -402,8 +402,13 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
            << ", " << options.threads << " thread(s), " << SolverName(base.backend)
            << " backend, max " << base.stopping.max_iterations << " iterations per frame, CGAL "
            << options.cgal.iterations << " iterations per frame, seed " << base.graph.seed;
-  std::vector<std::string> header = ProvenanceLines(options.source_dir);
+  std::vector<std::string> header = ProvenanceLines();
   header.push_back(settings.str());
+  // Every setting that changes a number: the base options each row starts
+  // from (a row then sets its method, backend or one ablation).
+  std::string described = "base options:";
+  for (const auto& [name, value] : DescribeOptions(base)) described += " " + name + "=" + value;
+  header.push_back(described);
   const std::string units =
       "Times in ms (medians over the drag frames); *_rel lengths are divided by the bounding-box "
       "diagonal; arap_energy is the cotangent ARAP energy over the rest edge energy "

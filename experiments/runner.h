@@ -94,8 +94,7 @@ struct RunnerOptions {
   std::string scenario_dir;
   // Where the tables go (created if missing).
   std::string out_dir;
-  // Repository the commit is read from.
-  std::string source_dir;
+
   // The CI subset: cactus and hand_finger with 5 frames, ablations on the
   // cactus only.
   bool quick = false;

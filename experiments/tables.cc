@@ -10,37 +10,46 @@
 #include <glog/logging.h>
 
 #include "core/atomic_file.h"
+#include "core/build_info.h"
+#include "scales/ceres_solver.h"
 
 namespace msdeform {
 namespace {
-
-std::string RunCommand(const std::string& command) {
-  std::string output;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return output;
-  char buffer[256];
-  while (fgets(buffer, sizeof(buffer), pipe) != nullptr) output += buffer;
-  pclose(pipe);
-  while (!output.empty() && (output.back() == '\n' || output.back() == '\r')) output.pop_back();
-  return output;
-}
-
-std::string CpuModel() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.rfind("model name", 0) == 0) {
-      const size_t colon = line.find(':');
-      if (colon != std::string::npos) return line.substr(line.find_first_not_of(" \t", colon + 1));
-    }
-  }
-  return "unknown";
-}
 
 std::string SanitiseCell(std::string cell) {
   for (char& c : cell)
     if (c == ',' || c == '\n' || c == '|') c = ';';
   return cell;
+}
+
+// The pipe table and, after a blank line, its notes.
+std::string PipeTable(const Table& table) {
+  std::ostringstream md;
+  md << "|";
+  for (const std::string& column : table.columns) md << " " << SanitiseCell(column) << " |";
+  md << "\n|";
+  for (size_t c = 0; c < table.columns.size(); ++c) md << "---|";
+  md << "\n";
+  for (const auto& row : table.rows) {
+    md << "|";
+    for (const std::string& cell : row) md << " " << SanitiseCell(cell) << " |";
+    md << "\n";
+  }
+  if (!table.notes.empty()) {
+    md << "\n";
+    for (const std::string& note : table.notes) md << note << "\n";
+  }
+  return md.str();
+}
+
+bool WriteText(const std::string& path, const std::string& content, std::string* error) {
+  return WriteFileAtomically(
+      path,
+      [&](std::ostream& out, std::string*) {
+        out << content;
+        return static_cast<bool>(out);
+      },
+      error);
 }
 
 }  // namespace
@@ -64,25 +73,17 @@ std::string FormatFixed(double value, int decimals) {
   return buffer;
 }
 
-std::vector<std::string> ProvenanceLines(const std::string& source_dir) {
-  std::string commit = RunCommand("git -C '" + source_dir + "' rev-parse --short HEAD 2>/dev/null");
-  if (commit.empty()) {
-    commit = "unknown";
-  } else if (!RunCommand("git -C '" + source_dir + "' status --porcelain --untracked-files=no "
-                         "2>/dev/null").empty()) {
-    commit += "+uncommitted";
-  }
-  char date[64];
-  const std::time_t now = std::time(nullptr);
-  std::strftime(date, sizeof(date), "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
-  return {"machine: nproc " + std::to_string(std::thread::hardware_concurrency()) + ", " +
-              CpuModel(),
-          "commit: " + commit, std::string("date: ") + date};
+std::vector<std::string> ProvenanceLines() {
+  return {"machine: nproc " + std::to_string(NumCores()) + ", " + CpuModel(),
+          std::string("commit: ") + MsdeformCommit() + " (msdeform " + MsdeformVersion() +
+              "; Ceres " + CeresVersion() + ", Eigen " + EigenVersion() + ", OpenMesh " +
+              OpenMeshVersion() + ")",
+          "date: " + UtcNow()};
 }
 
-bool WriteTable(const std::string& out_dir, const std::string& stem, const Table& table,
-                const std::vector<std::string>& header, std::string* error) {
-  std::ostringstream csv, md;
+bool WriteCsv(const std::string& out_dir, const std::string& stem, const Table& table,
+              const std::vector<std::string>& header, std::string* error) {
+  std::ostringstream csv;
   for (const std::string& line : header) csv << "# " << line << "\n";
   for (size_t c = 0; c < table.columns.size(); ++c)
     csv << (c ? "," : "") << SanitiseCell(table.columns[c]);
@@ -91,36 +92,28 @@ bool WriteTable(const std::string& out_dir, const std::string& stem, const Table
     for (size_t c = 0; c < row.size(); ++c) csv << (c ? "," : "") << SanitiseCell(row[c]);
     csv << "\n";
   }
-  md << "# " << table.title << "\n\n";
+  return WriteText(out_dir + "/" + stem + ".csv", csv.str(), error);
+}
+
+std::string MarkdownTable(const Table& table, int level) {
+  return (level > 0 ? std::string(level, '#') + " " + table.title + "\n\n" : std::string()) +
+         PipeTable(table);
+}
+
+bool WriteMarkdown(const std::string& out_dir, const std::string& stem, const std::string& title,
+                   const std::vector<std::string>& header, const std::vector<std::string>& sections,
+                   std::string* error) {
+  std::ostringstream md;
+  md << "# " << title << "\n\n";
   for (const std::string& line : header) md << "- " << line << "\n";
-  md << "\n|";
-  for (const std::string& column : table.columns) md << " " << SanitiseCell(column) << " |";
-  md << "\n|";
-  for (size_t c = 0; c < table.columns.size(); ++c) md << "---|";
-  md << "\n";
-  for (const auto& row : table.rows) {
-    md << "|";
-    for (const std::string& cell : row) md << " " << SanitiseCell(cell) << " |";
-    md << "\n";
-  }
-  if (!table.notes.empty()) {
-    md << "\n";
-    for (const std::string& note : table.notes) md << note << "\n";
-  }
-  for (const auto& [extension, text] :
-       {std::make_pair(std::string(".csv"), csv.str()), std::make_pair(std::string(".md"), md.str())}) {
-    const std::string& content = text;
-    if (!WriteFileAtomically(
-            out_dir + "/" + stem + extension,
-            [&](std::ostream& out, std::string*) {
-              out << content;
-              return static_cast<bool>(out);
-            },
-            error)) {
-      return false;
-    }
-  }
-  return true;
+  for (const std::string& section : sections) md << "\n" << section;
+  return WriteText(out_dir + "/" + stem + ".md", md.str(), error);
+}
+
+bool WriteTable(const std::string& out_dir, const std::string& stem, const Table& table,
+                const std::vector<std::string>& header, std::string* error) {
+  return WriteCsv(out_dir, stem, table, header, error) &&
+         WriteMarkdown(out_dir, stem, table.title, header, {MarkdownTable(table, 0)}, error);
 }
 
 bool ReadTableCsv(const std::string& path, std::vector<std::string>* columns,

@@ -26,14 +26,27 @@ struct Table {
 std::string FormatNumber(double value, int significant = 4);
 std::string FormatFixed(double value, int decimals);
 
-// Provenance lines: machine (nproc, CPU model from /proc/cpuinfo), commit of
-// `source_dir` (git rev-parse --short HEAD, "unknown" outside a repository;
-// "+uncommitted" when the tree has changes) and the UTC date.
-std::vector<std::string> ProvenanceLines(const std::string& source_dir);
+// Provenance lines: machine (nproc, CPU model), the commit the binary was
+// built from with msdeform's and the libraries' versions (core/build_info.h),
+// and the UTC date.
+std::vector<std::string> ProvenanceLines();
 
 // Writes <out_dir>/<stem>.csv and <stem>.md. `header` lines go first in both.
 bool WriteTable(const std::string& out_dir, const std::string& stem, const Table& table,
                 const std::vector<std::string>& header, std::string* error);
+
+// The parts of WriteTable, for files with more than one table:
+// <out_dir>/<stem>.csv of `table` alone ('#' header lines, column names, rows);
+bool WriteCsv(const std::string& out_dir, const std::string& stem, const Table& table,
+              const std::vector<std::string>& header, std::string* error);
+// the Markdown of one table: its title as a heading of `level` '#'s and a
+// blank line (level 0: no heading), the pipe table, then its notes;
+std::string MarkdownTable(const Table& table, int level);
+// <out_dir>/<stem>.md: "# title", the header lines as a list, then the
+// `sections` (Markdown, e.g. MarkdownTable's) separated by blank lines.
+bool WriteMarkdown(const std::string& out_dir, const std::string& stem, const std::string& title,
+                   const std::vector<std::string>& header, const std::vector<std::string>& sections,
+                   std::string* error);
 
 // Reads a CSV written by WriteTable (skipping '#' lines): column names and
 // rows. No quoting is supported (WriteTable never writes commas in cells).

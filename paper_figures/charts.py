@@ -1,8 +1,11 @@
 """Charts (matplotlib) into paper_figures/out/:
 
-  chart_frame_time.png   median frame time against vertex count (log-log)
-  chart_solvers.png      solver variants (experiments/results/solvers.csv)
-  chart_nodes_vs_p.png   optimised nodes (and frame time) against P
+  chart_frame_time.png      median frame time against vertex count (log-log)
+  chart_solver_traces.png   energy gap against time within a frame, per solver variant
+                            (experiments/results/solver_traces.csv)
+  chart_solver_budgets.png  frame time against energy gap, per variant and iteration budget
+                            (experiments/results/solvers.csv)
+  chart_nodes_vs_p.png      optimised nodes (and frame time) against P
 
 Reads experiments/results/*.csv when present (the '#' lines are provenance),
 and paper_figures/data/ (generate_data.sh) otherwise or in addition.
@@ -18,7 +21,9 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.lines  # noqa: E402
 import matplotlib.ticker  # noqa: E402
+import matplotlib.transforms  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from figlib import DATA, OUT, ROOT, shrink_png  # noqa: E402
@@ -220,39 +225,137 @@ def chart_frame_time():
     return notes
 
 
-def chart_solvers():
+# The solver lab's charts (experiments/solver_lab.h): the 104K claw drag, else the cactus (the
+# --quick lab).
+SOLVER_SCENARIOS = ("claw_104k", "cactus")
+# Gaps at or below this are drawn at it (a converged run reaches the reference to rounding).
+GAP_FLOOR = 1e-12
+BUDGET_MARKERS = {"1": "o", "2": "s", "3": "^", "5": "D", "10": "v", "converged": "*"}
+
+
+def solver_scenario(rows):
+    """The first of SOLVER_SCENARIOS the rows have, or None."""
+    present = {r["scenario"] for r in rows}
+    return next((s for s in SOLVER_SCENARIOS if s in present), None)
+
+
+def variant_styles(variants):
+    """Colour and line style per variant, distinct within each backend's panel: Gauss-Newton
+    solid (dash-dot after ten), Ceres dashed."""
+    cmap = plt.get_cmap("tab10")
+    styles = {}
+    for _, members in solver_panels(variants):
+        for i, v in enumerate(members):
+            gn = v.startswith("gn_")
+            styles[v] = dict(color=cmap(i % 10),
+                             linestyle=("-" if i < 10 else "-.") if gn else "--")
+    return styles
+
+
+def solver_legend(ax):
+    ax.legend(fontsize=8, ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.13),
+              frameon=False)
+
+
+def log_axis_labels(axis):
+    """Plain numbers on a log axis, minor ticks at 2 and 5 labelled too."""
+    axis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+    axis.set_minor_locator(matplotlib.ticker.LogLocator(subs=(2.0, 5.0)))
+    axis.set_minor_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+
+
+def solver_panels(variants):
+    """(title, variants) for the Gauss-Newton and the Ceres panel."""
+    return [("Gauss-Newton backend", [v for v in variants if v.startswith("gn_")]),
+            ("Ceres backend", [v for v in variants if not v.startswith("gn_")])]
+
+
+def chart_solver_traces():
+    path, label = table_path("solver_traces.csv")
+    if path is None:
+        print("charts: no solver_traces.csv yet: solver trace chart skipped")
+        return None
+    rows = read_table(path)
+    scenario = solver_scenario(rows)
+    if scenario is None:
+        print("charts: solver_traces.csv has none of %s: skipped" % (SOLVER_SCENARIOS,))
+        return None
+    rows = [r for r in rows if r["scenario"] == scenario]
+    last = max(int(r["frame"]) for r in rows)
+    rows = [r for r in rows if int(r["frame"]) == last]
+    variants = list(dict.fromkeys(r["variant"] for r in rows))
+    styles = variant_styles(variants)
+    fig, axes = plt.subplots(1, 2, figsize=(13.5, 6.6), sharey=True)
+    for ax, (title, members) in zip(axes, solver_panels(variants)):
+        for v in members:
+            pts = [r for r in rows if r["variant"] == v]
+            ms = [num(r["ms"]) for r in pts]
+            gap = [max(num(r["energy_gap"]), GAP_FLOOR) for r in pts]
+            ax.plot(ms, gap, marker=".", markersize=5, linewidth=1.4, label=v, **styles[v])
+        ax.set_yscale("log")
+        ax.set_xlim(left=0)
+        ax.axhline(1e-3, color="#555555", linestyle=":", linewidth=1)
+        ax.set_xlabel("time within the frame's solve (ms)")
+        ax.set_title(title)
+        ax.grid(True, which="major", alpha=0.3)
+        solver_legend(ax)
+    axes[0].set_ylabel("energy gap (E - E*) / E*  (floor %g)" % GAP_FLOOR)
+    axes[0].text(0.02, 1.2e-3, "1e-3", fontsize=8, color="#555555",
+                 transform=matplotlib.transforms.blended_transform_factory(axes[0].transAxes,
+                                                                          axes[0].transData))
+    fig.suptitle("Convergence within the last frame (%d) of %s, budget converged, one point per "
+                 "iteration\n(solver_traces.csv, %s)" % (last, scenario, label), fontsize=11)
+    fig.tight_layout()
+    save(fig, "chart_solver_traces.png")
+    return scenario
+
+
+def chart_solver_budgets():
     path, label = table_path("solvers.csv")
     if path is None:
-        print("charts: no solvers.csv yet: solver chart skipped")
-        return False
+        print("charts: no solvers.csv yet: solver budget chart skipped")
+        return None
     rows = read_table(path)
-    scenarios = sorted({r["scenario"] for r in rows})
-    fig, axes = plt.subplots(1, len(scenarios), figsize=(max(8.0, 5.2 * len(scenarios)), 5.0),
-                             squeeze=False)
-    for ax, scenario in zip(axes[0], scenarios):
-        rs = [r for r in rows if r["scenario"] == scenario]
-        y = list(range(len(rs)))
-        median = [num(r["solve_ms"]) for r in rs]
-        ax.barh(y, median, height=0.6, color="#4c72b0")
-        ax.set_yticks(y)
-        ax.set_yticklabels([r["variant"] for r in rs], fontsize=8)
-        ax.invert_yaxis()
-        ax.set_xlabel("median solve time per frame (ms)")
-        ax.set_title(scenario)
-        top = max(x for x in median if x == x)
-        for i, r in zip(y, rs):
-            ax.text(num(r["solve_ms"]) + top * 0.02, i,
-                    "%s it, %.0f ms in all, cost %.3g" % (r.get("iterations_total", ""),
-                                                          num(r.get("solve_total_ms")),
-                                                          num(r.get("final_cost"))),
-                    va="center", fontsize=7)
-        ax.set_xlim(0, top * 1.9)
-        ax.grid(True, axis="x", alpha=0.3)
-    fig.suptitle("Solver variants on the multi-scale problem\n(solvers.csv, %s)" % label,
-                 fontsize=11)
-    fig.tight_layout()
-    save(fig, "chart_solvers.png")
-    return True
+    if "energy_gap_max" not in rows[0]:
+        print("charts: %s is not the solver lab's: skipped" % path)
+        return None
+    scenario = solver_scenario(rows)
+    if scenario is None:
+        print("charts: solvers.csv has none of %s: skipped" % (SOLVER_SCENARIOS,))
+        return None
+    rows = [r for r in rows if r["scenario"] == scenario]
+    variants = list(dict.fromkeys(r["variant"] for r in rows))
+    styles = variant_styles(variants)
+    fig, axes = plt.subplots(1, 2, figsize=(13.5, 6.8), sharex=True, sharey=True)
+    for ax, (title, members) in zip(axes, solver_panels(variants)):
+        for v in members:
+            pts = [r for r in rows if r["variant"] == v]
+            gap = [max(num(r["energy_gap_max"]), GAP_FLOOR) for r in pts]
+            ms = [num(r["frame_ms"]) for r in pts]
+            ax.plot(gap, ms, linewidth=1.0, alpha=0.7, label=v, **styles[v])
+            for r, x, y in zip(pts, gap, ms):
+                ax.plot([x], [y], marker=BUDGET_MARKERS.get(r["budget"], "x"), markersize=6,
+                        color=styles[v]["color"], linestyle="none")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.axvline(1e-3, color="#555555", linestyle=":", linewidth=1)
+        ax.set_xlabel("largest energy gap over the frames, (E - E*) / E*  (floor %g)" % GAP_FLOOR)
+        ax.set_title(title)
+        ax.grid(True, which="both", alpha=0.25)
+        solver_legend(ax)
+        log_axis_labels(ax.yaxis)
+    axes[0].set_ylabel("median frame time (ms)")
+    # The budget markers, once.
+    handles = [matplotlib.lines.Line2D([], [], marker=m, color="#333333", linestyle="none",
+                                       label="budget " + b)
+               for b, m in BUDGET_MARKERS.items() if any(r["budget"] == b for r in rows)]
+    fig.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, 0.93),
+               ncol=len(handles), fontsize=8, frameon=False)
+    fig.suptitle("Frame time against quality per iteration budget, %s; the dotted line is "
+                 "equal quality (gap 1e-3)\n(solvers.csv, %s)" % (scenario, label), fontsize=11)
+    fig.tight_layout(rect=(0, 0, 1, 0.94))
+    save(fig, "chart_solver_budgets.png")
+    return scenario
 
 
 def chart_nodes_vs_p():
@@ -296,5 +399,6 @@ def chart_nodes_vs_p():
 if __name__ == "__main__":
     os.makedirs(OUT, exist_ok=True)
     chart_frame_time()
-    chart_solvers()
+    chart_solver_traces()
+    chart_solver_budgets()
     chart_nodes_vs_p()

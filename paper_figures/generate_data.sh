@@ -117,12 +117,18 @@ run "$D/nodes_vs_p_armadillo_foot.json" --mode=nodes_vs_p \
   --scenario="$SC/armadillo_foot.json" --p_values=25,50,100,200,400,800,1600
 
 # Charts from experiments' tables: when experiments/results/ has none yet, a preview from the
-# runner's --quick subset (cactus and hand_finger, 5 frames) into data/experiments_quick/.
+# runner's --quick subset (cactus and hand_finger, 5 frames) and the solver lab's (the cactus, 5
+# frames) into data/experiments_quick/.
 EXP_BIN="${EXPERIMENTS_BIN:-$(dirname "$(dirname "$BIN")")/experiments/msdeform_experiments}"
-if [ ! -f "$ROOT/experiments/results/solvers.csv" ] && [ -x "$EXP_BIN" ] && \
-   { [ ! -s "$D/experiments_quick/solvers.csv" ] || [ "${FORCE:-0}" = 1 ]; }; then
+if [ ! -f "$ROOT/experiments/results/table2.csv" ] && [ -x "$EXP_BIN" ] && \
+   { [ ! -s "$D/experiments_quick/table2.csv" ] || [ "${FORCE:-0}" = 1 ]; }; then
   echo "generate_data: experiments_quick (msdeform_experiments --quick)"
   "$EXP_BIN" --quick --out_dir="$D/experiments_quick"
+fi
+if [ ! -f "$ROOT/experiments/results/solvers.csv" ] && [ -x "$EXP_BIN" ] && \
+   { [ ! -s "$D/experiments_quick/solvers.csv" ] || [ "${FORCE:-0}" = 1 ]; }; then
+  echo "generate_data: experiments_quick (msdeform_experiments --solver_lab --quick)"
+  "$EXP_BIN" --solver_lab --quick --out_dir="$D/experiments_quick"
 fi
 
 # Chart: frame time against vertex count, when neither docs/performance.md nor experiments/ has it.

@@ -8,7 +8,8 @@
 # 2. builds msdeform and msdeform_figure_data in build/ (incrementally; SKIP_BUILD=1: not),
 # 3. generates the figure data into paper_figures/data/ (skipped when present;
 #    FORCE=1 regenerates), timing runs included when experiments/results/ has none,
-#    and a `msdeform_experiments --quick` preview when it has no solvers.csv,
+#    and `msdeform_experiments --quick` / `--solver_lab --quick` previews when it has no
+#    table2.csv / solvers.csv,
 # 4. renders with VTK offscreen under xvfb-run and charts with matplotlib,
 #    writing out/*.png and out/index.md.
 set -euo pipefail
@@ -38,7 +39,8 @@ if [ "${SKIP_BUILD:-0}" != 1 ]; then
   [ -f "$BUILD/CMakeCache.txt" ] || cmake -S "$ROOT" -B "$BUILD"
   cmake --build "$BUILD" -j2 --target msdeform msdeform_figure_data
   # The experiment runner, for a --quick preview of the tables experiments/results/ lacks.
-  if [ ! -f "$ROOT/experiments/results/solvers.csv" ]; then
+  if [ ! -f "$ROOT/experiments/results/table2.csv" ] || \
+     [ ! -f "$ROOT/experiments/results/solvers.csv" ]; then
     cmake --build "$BUILD" -j2 --target run_experiments || \
       echo "make_figures: msdeform_experiments did not build; charts from it are skipped"
   fi

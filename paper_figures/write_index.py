@@ -1,6 +1,7 @@
 """Writes paper_figures/out/index.md: every figure with its caption, numbers
 filled in from paper_figures/data/ so the captions match the pictures."""
 
+import csv
 import json
 import os
 import sys
@@ -36,6 +37,68 @@ def load_edit(name):
 
 def pct(x):
     return "%.0f%%" % (100 * x)
+
+
+def solver_table(name):
+    """Rows (dicts) of the solver lab's <name> from experiments/results/, else from the
+    --quick preview in data/experiments_quick/; and where they came from. (None, None) if
+    neither exists."""
+    for folder, label in ((os.path.join(ROOT, "experiments", "results"),
+                           "experiments/results/" + name),
+                          (os.path.join(DATA, "experiments_quick"),
+                           "the `msdeform_experiments --solver_lab --quick` preview (the "
+                           "cactus, 5 frames; experiments/results/ had no " + name + " yet)")):
+        path = os.path.join(folder, name)
+        if os.path.exists(path):
+            with open(path) as f:
+                lines = [l for l in f if not l.startswith("#") and l.strip()]
+            return list(csv.DictReader(lines)), label
+    return None, None
+
+
+def solver_scenario(rows):
+    present = {r["scenario"] for r in rows}
+    return next((s for s in ("claw_104k", "cactus") if s in present), None)
+
+
+def solver_traces_caption():
+    rows, label = solver_table("solver_traces.csv")
+    scenario = solver_scenario(rows) if rows else None
+    if scenario is None:
+        return "The solver lab's traces are missing; run `msdeform_experiments --solver_lab`."
+    last = max(int(r["frame"]) for r in rows if r["scenario"] == scenario)
+    return ("The energy gap (E - E*) / E* of each solver variant against the time within the "
+            "last frame's solve (frame %d of the %s drag, budget converged: at most 200 "
+            "iterations, the default tolerances), one point per iteration; E* is that frame's "
+            "minimum from a tightly converged reference run (Gauss-Newton, a factorisation every "
+            "iteration, tolerances 1e-14). Gaps below 1e-12 are drawn at 1e-12; the dotted line "
+            "is the lab's equal-quality threshold 1e-3. From %s (experiments/solver_lab.h)."
+            % (last, scenario, label))
+
+
+def solver_budgets_caption():
+    rows, label = solver_table("solvers.csv")
+    scenario = solver_scenario(rows) if rows else None
+    if scenario is None or "energy_gap_max" not in rows[0]:
+        return "The solver lab's table is missing; run `msdeform_experiments --solver_lab`."
+    rows = [r for r in rows if r["scenario"] == scenario]
+
+    def clean(r):
+        return r["failed_frames"] == "0" and r["nonfinite_frames"] == "0"
+
+    equal = [r for r in rows if clean(r) and float(r["energy_gap_max"] or "inf") <= 1e-3]
+    best = min(equal, key=lambda r: float(r["frame_ms"])) if equal else None
+    text = ("Median frame time against the largest energy gap over the drag's frames for each "
+            "solver variant on the %s drag, one marker per per-frame iteration budget (1, 2, 3, "
+            "5, 10, converged); left of the dotted line (gap 1e-3) a run is of equal quality (the "
+            "lab's winner criterion). "
+            % scenario)
+    if best is not None:
+        text += ("The fastest run at equal quality is %s with budget %s: %s ms per frame, "
+                 "%s iterations per frame, largest gap %s. " % (
+                     best["variant"], best["budget"], best["frame_ms"], best["iterations"],
+                     best["energy_gap_max"]))
+    return text + "From %s (experiments/solver_lab.h)." % label
 
 
 def fig4_caption():
@@ -304,7 +367,6 @@ def main():
     have_results = os.path.exists(os.path.join(ROOT, "experiments", "results", "table2.csv"))
     have_quick = os.path.exists(os.path.join(DATA, "experiments_quick", "table2.csv"))
     have_perf = os.path.exists(os.path.join(ROOT, "docs", "performance.md"))
-    have_solvers = os.path.exists(os.path.join(ROOT, "experiments", "results", "solvers.csv"))
     figures = [
         ("fig2_lattice.png", "Fig. 2 analogue: models in their lattice",
          "The lattice of cell width w = diag / 48 (docs/method.md §1) over the armadillo, the camel "
@@ -350,12 +412,10 @@ def main():
           if have_quick else
           "CGAL ARAP is pending: it is measured by experiments/ (table2.csv), which had not "
           "written its results when this figure was made; rerun make_figures.sh to add it.")),
-        ("chart_solvers.png", "Solver variants",
-         "Median solve time per frame for each solver variant of " +
-         ("experiments/results/solvers.csv" if have_solvers else
-          "the `msdeform_experiments --quick` preview (the cactus only, 5 frames; "
-          "experiments/results/ had no solvers.csv yet)") +
-         ", with the median iterations and the final cost."),
+        ("chart_solver_traces.png", "Solver lab: convergence within a frame",
+         solver_traces_caption()),
+        ("chart_solver_budgets.png", "Solver lab: frame time against quality per iteration "
+         "budget", solver_budgets_caption()),
         ("chart_nodes_vs_p.png", "Optimised nodes against P",
          "For P = 25 .. 1600 nodes per scale step (graphs and Eq. 6 together), the nodes the "
          "method optimises (Totally Free + Half Free) and the nodes of the selected scale, for "

@@ -259,9 +259,13 @@ SolveSummary CeresSolver::Solve(const Eigen::Affine3d& handle, NodeTransforms* t
   summary.converged = ceres_summary.termination_type == ceres::CONVERGENCE;
   summary.failed = ceres_summary.termination_type == ceres::FAILURE;
   summary.message = ceres_summary.message;
+  // An unsuccessful iteration reports the rejected candidate's cost; the
+  // solver stays where it was, so the trace repeats the last accepted cost
+  // (as the Gauss-Newton backend's does).
+  double current = ceres_summary.initial_cost;
   for (const ceres::IterationSummary& iteration : ceres_summary.iterations) {
-    summary.trace.push_back(
-        {1e3 * iteration.cumulative_time_in_seconds, iteration.cost + constant_cost});
+    if (iteration.iteration == 0 || iteration.step_is_successful) current = iteration.cost;
+    summary.trace.push_back({1e3 * iteration.cumulative_time_in_seconds, current + constant_cost});
   }
   if (!summary.trace.empty()) summary.trace.front().ms = 0.0;
   transforms->rotations = impl.parameters.rotations;

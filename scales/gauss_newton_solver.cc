@@ -177,6 +177,11 @@ struct GaussNewtonSolver::Impl {
   std::vector<int> rot_value_index;  // 81 per rot node, column-major 9x9
   std::vector<int> diagonal_index;   // per variable
   bool factor_valid = false;        // a factorisation from an earlier iteration exists
+  // The last Solve ended wanting a new factorisation (its last step was
+  // rejected, or did not shrink the gradient enough): a lagged factor is not
+  // carried into the next frame then, so a small iteration budget cannot keep
+  // reusing a factor that already failed.
+  bool refactor_next = false;
   Eigen::SimplicialLLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> llt;
   Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
 #ifdef MSDEFORM_HAVE_CHOLMOD
@@ -512,7 +517,8 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
   // PCG multiplies by the current J^T J, so it reassembles every iteration
   // and only its preconditioner follows the factorisation rule.
   const bool cholesky = impl.UsesCholesky();
-  bool need_factor = !impl.factor_valid || options_.factorization != Factorization::kLagged ||
+  bool need_factor = !impl.factor_valid || impl.refactor_next ||
+                     options_.factorization != Factorization::kLagged ||
                      levenberg_marquardt;
   bool fresh = false;  // the factorisation is of J^T J at the current x and mu
   bool assembled = false;  // `system` holds J^T J + mu D at the current x and mu
@@ -620,6 +626,7 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
     assembled = false;
   }
   if (!done && summary.message.empty()) summary.message = "iteration cap";
+  impl.refactor_next = need_factor && !summary.converged;
   summary.final_cost = cost;
   summary.failed = !std::isfinite(cost);
   if (summary.failed) summary.message = "the cost is not finite";
