@@ -51,7 +51,7 @@ done
 for solver in ceres gauss_newton; do
   perf record -q -g -o "$OUT/$solver.perf" "$BUILD/apps/msdeform" \
     --mesh=data/meshes/armadillo_104k.off --solver=$solver --threads=1 --frames=300 \
-    --out="$OUT/profile_run.off" --report="$OUT/profile_run.report" --quiet >/dev/null 2>&1 || true
+    --out="$OUT/profile_$solver.off" --report="$OUT/profile_$solver.json" --quiet >/dev/null
   perf report -i "$OUT/$solver.perf" --no-children --sort dso,symbol --stdio 2>/dev/null \
     | grep -E '^ +[0-9.]+%' | head -25 > "$OUT/$solver.profile" || true
 done
