@@ -37,7 +37,7 @@ namespace {
 // Solver settings: the default, and the changes a user is most likely to try.
 enum class Backend {
   kGaussNewton,          // the defaults
-  kGaussNewtonPrevious,  // warm start from the previous frame (no extrapolation)
+  kGaussNewtonExtrapolated,  // start from the extrapolated solution
   kGaussNewtonExact,     // J^T J factorised every iteration
   kCeres,                // Ceres, Levenberg-Marquardt, EIGEN_SPARSE
   kCeresSuiteSparse,     // Ceres with CHOLMOD
@@ -49,8 +49,8 @@ DeformerOptions Options(Backend backend, int threads = 2) {
   switch (backend) {
     case Backend::kGaussNewton:
       break;
-    case Backend::kGaussNewtonPrevious:
-      options.initial_guess = InitialGuess::kPrevious;
+    case Backend::kGaussNewtonExtrapolated:
+      options.initial_guess = InitialGuess::kExtrapolated;
       break;
     case Backend::kGaussNewtonExact:
       options.gauss_newton.factorization = GaussNewtonOptions::Factorization::kEveryIteration;
@@ -145,7 +145,8 @@ void BM_ClawDrag(benchmark::State& state, const std::string& name, Backend backe
   BENCHMARK_CAPTURE(BM_SetHandles, label##_ceres, std::string(file), Backend::kCeres)       \
       ->Unit(benchmark::kMillisecond)->UseRealTime();                                      \
   MSDEFORM_DRAG_BENCHMARK(label, file, _gauss_newton, Backend::kGaussNewton);               \
-  MSDEFORM_DRAG_BENCHMARK(label, file, _gauss_newton_previous, Backend::kGaussNewtonPrevious); \
+  MSDEFORM_DRAG_BENCHMARK(label, file, _gauss_newton_extrapolated,                       \
+                          Backend::kGaussNewtonExtrapolated);                              \
   MSDEFORM_DRAG_BENCHMARK(label, file, _gauss_newton_exact, Backend::kGaussNewtonExact);    \
   MSDEFORM_DRAG_BENCHMARK(label, file, _ceres, Backend::kCeres);                            \
   MSDEFORM_DRAG_BENCHMARK(label, file, _ceres_suite_sparse, Backend::kCeresSuiteSparse)

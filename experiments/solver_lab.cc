@@ -584,16 +584,11 @@ std::vector<SolverVariant> SolverVariants() {
       {"gn_ldlt", [](DeformerOptions* o) { o->gauss_newton.cholesky = GN::Cholesky::kEigenLDLT; }},
       {"gn_cholmod", [](DeformerOptions* o) { o->gauss_newton.cholesky = GN::Cholesky::kCholmod; }},
       {"gn_cold", [](DeformerOptions* o) { o->initial_guess = InitialGuess::kRest; }},
-      {"gn_previous", [](DeformerOptions* o) { o->initial_guess = InitialGuess::kPrevious; }},
+      {"gn_extrapolated",
+       [](DeformerOptions* o) { o->initial_guess = InitialGuess::kExtrapolated; }},
       // The factorisation rule before 2026-11-23 (refactorise unless a step
-      // shrinks the gradient 4x), alone and with the warm start of then: the
-      // default of then.
+      // shrinks the gradient 4x): the default of then.
       {"gn_refactor_025", [](DeformerOptions* o) { o->gauss_newton.refactor_ratio = 0.25; }},
-      {"gn_previous_refactor_025",
-       [](DeformerOptions* o) {
-         o->gauss_newton.refactor_ratio = 0.25;
-         o->initial_guess = InitialGuess::kPrevious;
-       }},
   };
   // Ceres with each sparse library it has, then CGNR.
   for (auto trust_region : {ceres::LEVENBERG_MARQUARDT, ceres::DOGLEG}) {

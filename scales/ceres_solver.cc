@@ -234,19 +234,39 @@ bool CeresSolver::Setup(const DeformationEnergy& energy, const NodeTransforms& t
   return true;
 }
 
+// Moves the handle targets to `handle`; returns what the grouped position
+// blocks leave out of Ceres's cost.
+double CeresSolver::SetHandle(const Eigen::Affine3d& handle) {
+  Impl& impl = *impl_;
+  for (Impl::PositionTerm& term : impl.position_costs)
+    term.cost->set_target(handle * term.rest);
+  double constant_cost = 0.0;
+  for (PositionGroupCost* group : impl.position_groups) {
+    group->SetHandle(handle);
+    constant_cost += group->ConstantCost();
+  }
+  return constant_cost;
+}
+
+double CeresSolver::Cost(const Eigen::Affine3d& handle, const NodeTransforms& transforms) {
+  CHECK(impl_ != nullptr) << "Setup first";
+  Impl& impl = *impl_;
+  CHECK_EQ(transforms.num_nodes(), impl.parameters.num_nodes());
+  impl.parameters.rotations = transforms.rotations;
+  impl.parameters.translations = transforms.translations;
+  const double constant_cost = SetHandle(handle);
+  double cost = 0.0;
+  impl.problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
+  return cost + constant_cost;
+}
+
 SolveSummary CeresSolver::Solve(const Eigen::Affine3d& handle, NodeTransforms* transforms) {
   CHECK(impl_ != nullptr) << "Setup first";
   Impl& impl = *impl_;
   CHECK_EQ(transforms->num_nodes(), impl.parameters.num_nodes());
   impl.parameters.rotations = transforms->rotations;
   impl.parameters.translations = transforms->translations;
-  for (Impl::PositionTerm& term : impl.position_costs)
-    term.cost->set_target(handle * term.rest);
-  double constant_cost = 0.0;  // what the grouped position blocks leave out
-  for (PositionGroupCost* group : impl.position_groups) {
-    group->SetHandle(handle);
-    constant_cost += group->ConstantCost();
-  }
+  const double constant_cost = SetHandle(handle);
   ceres::Solver::Summary ceres_summary;
   ceres::Solve(impl.solver, impl.problem.get(), &ceres_summary);
   VLOG(1) << ceres_summary.FullReport();  // msdeform --verbose --v=1

@@ -56,9 +56,12 @@ class CeresSolver : public FrameSolver {
   bool Setup(const DeformationEnergy& energy, const NodeTransforms& transforms,
              std::string* error) override;
   SolveSummary Solve(const Eigen::Affine3d& handle, NodeTransforms* transforms) override;
+  double Cost(const Eigen::Affine3d& handle, const NodeTransforms& transforms) override;
   int num_variables() const override { return num_variables_; }
 
  private:
+  double SetHandle(const Eigen::Affine3d& handle);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
   CeresOptions options_;

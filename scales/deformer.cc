@@ -492,9 +492,18 @@ bool Deformer::Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats,
     case InitialGuess::kPrevious:
       break;
     case InitialGuess::kExtrapolated:
+      // Safeguarded: the extrapolation only where it starts lower than the
+      // previous solution (a path that turns, or a frame that did not
+      // converge, can make it worse).
       if (frames_since_layout_ >= 2) {
-        transforms_.rotations = 2.0 * last_good.rotations - previous_transforms_.rotations;
-        transforms_.translations = 2.0 * last_good.translations - previous_transforms_.translations;
+        NodeTransforms extrapolated = last_good;
+        extrapolated.rotations = 2.0 * last_good.rotations - previous_transforms_.rotations;
+        extrapolated.translations =
+            2.0 * last_good.translations - previous_transforms_.translations;
+        if (solver_->Cost(deformed_from_rest, extrapolated) <
+            solver_->Cost(deformed_from_rest, last_good)) {
+          transforms_ = std::move(extrapolated);
+        }
       }
       break;
   }

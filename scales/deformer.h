@@ -57,8 +57,8 @@ enum class Solver { kCeres, kGaussNewton };
 
 // Where a frame's solve starts: the rest pose (R = I, t = 0: no warm start),
 // the previous frame's solution (warm start), or its linear extrapolation
-// from the last two frames, x_f + (x_f - x_{f-1}) (the previous solution on
-// the first two frames of a layout).
+// from the last two frames, x_f + (x_f - x_{f-1}), where that starts with a
+// lower energy than x_f (x_f on the first two frames of a layout).
 enum class InitialGuess { kRest, kPrevious, kExtrapolated };
 
 // "multiscale", "static", "static_dense".
@@ -114,9 +114,10 @@ struct DeformerOptions {
   // tolerance 1e-8, gradient 1e-10, parameter 1e-10.
   Solver backend = Solver::kGaussNewton;
   StoppingRule stopping;
-  // Extrapolated: 25-30% fewer iterations than the previous frame's solution
-  // (docs/decisions.md, "Solver defaults").
-  InitialGuess initial_guess = InitialGuess::kExtrapolated;
+  // The previous frame's solution. The extrapolated guess saves iterations on
+  // some multi-scale edits and costs many on others (the static cactus: 7x
+  // the factorisations); docs/decisions.md, "Solver seam and defaults".
+  InitialGuess initial_guess = InitialGuess::kPrevious;
   // Gauss-Newton: sparse Cholesky (Eigen's SimplicialLLT), factorisation
   // lagged across iterations and frames (refactorised when a step fails to
   // shrink the gradient), damping only as a safeguard.

@@ -42,7 +42,7 @@ DEFINE_double(parameter_tolerance, kDefaults.stopping.parameter_tolerance,
               "[solver] Stop when |step| <= this * (|x| + this).");
 DEFINE_string(initial_guess, msdeform::InitialGuessName(kDefaults.initial_guess),
               "[solver] Start of each frame's solve: previous (warm start), extrapolated (from "
-              "the last two frames) or rest (no warm start).");
+              "the last two frames, where that starts lower) or rest (no warm start).");
 DEFINE_string(gn_linear_solver, msdeform::LinearSolverName(kDefaults.gauss_newton.linear_solver),
               "[solver] Gauss-Newton step: cholesky (exact), pcg_jacobi or "
               "pcg_incomplete_cholesky (inexact, forcing-term stop).");

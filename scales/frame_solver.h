@@ -69,6 +69,12 @@ class FrameSolver {
   // starting from *transforms, which it updates in place.
   virtual SolveSummary Solve(const Eigen::Affine3d& handle, NodeTransforms* transforms) = 0;
 
+  // The energy (1/2 sum of squared residuals, as Solve reports it) with the
+  // handle at `handle` and the nodes at `transforms`; the free blocks are
+  // read from `transforms`, the constant ones are Setup's. For choosing
+  // between initial guesses: cheaper than a solve.
+  virtual double Cost(const Eigen::Affine3d& handle, const NodeTransforms& transforms) = 0;
+
   virtual int num_variables() const = 0;
 };
 

@@ -311,6 +311,31 @@ struct GaussNewtonSolver::Impl {
     return delta->allFinite();
   }
 
+  // The variables of `transforms`.
+  Eigen::VectorXd Gather(const NodeTransforms& transforms) const {
+    Eigen::VectorXd x(hessian.rows());
+    for (int j = 0; j < static_cast<int>(offset.size()); ++j) {
+      const int o = offset[j];
+      if (o < 0) continue;
+      x.segment<9>(o) = transforms.rotations.col(j);
+      if (totally_free[j]) x.segment<3>(o + 9) = transforms.translations.col(j);
+    }
+    return x;
+  }
+
+  // g0 = A^T c - A^T P tau: the gradient of the linear terms at x = 0.
+  Eigen::VectorXd HandleGradient(const Eigen::Affine3d& handle) const {
+    return linear_gradient - handle_gradient * HandleParameters(handle);
+  }
+
+  // kappa = |c - P tau|^2, twice the linear terms' cost at x = 0.
+  double ConstantCost(const Eigen::Affine3d& handle) const {
+    Eigen::Matrix<double, 13, 1> tau1;
+    tau1.head<12>() = HandleParameters(handle);
+    tau1[12] = 1.0;
+    return tau1.dot(constant_gram * tau1);
+  }
+
   // Rot cost at x; with gradient/blocks != nullptr also J_rot^T r (added to
   // *gradient) and J_rot^T J_rot per rot node (9x9 each).
   double RotCost(const Eigen::VectorXd& x, Eigen::VectorXd* gradient,
@@ -465,6 +490,17 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
   return true;
 }
 
+double GaussNewtonSolver::Cost(const Eigen::Affine3d& handle, const NodeTransforms& transforms) {
+  CHECK(impl_ != nullptr) << "Setup first";
+  const Impl& impl = *impl_;
+  CHECK_EQ(static_cast<int>(impl.offset.size()), transforms.num_nodes());
+  const Eigen::VectorXd x = impl.Gather(transforms);
+  const Eigen::VectorXd hx = impl.hessian * x;
+  return 0.5 * (x.dot(hx) + 2.0 * impl.HandleGradient(handle).dot(x) +
+                impl.ConstantCost(handle)) +
+         impl.RotCost(x, nullptr, nullptr);
+}
+
 SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
                                       NodeTransforms* transforms) {
   CHECK(impl_ != nullptr) << "Setup first";
@@ -479,20 +515,9 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
   const int num_nodes = transforms->num_nodes();
   CHECK_EQ(static_cast<int>(impl.offset.size()), num_nodes);
 
-  // Gather x.
-  Eigen::VectorXd x(n);
-  for (int j = 0; j < num_nodes; ++j) {
-    const int o = impl.offset[j];
-    if (o < 0) continue;
-    x.segment<9>(o) = transforms->rotations.col(j);
-    if (impl.totally_free[j]) x.segment<3>(o + 9) = transforms->translations.col(j);
-  }
-
-  Eigen::Matrix<double, 13, 1> tau1;
-  tau1.head<12>() = HandleParameters(handle);
-  tau1[12] = 1.0;
-  const Eigen::VectorXd g0 = impl.linear_gradient - impl.handle_gradient * tau1.head<12>();
-  const double kappa = tau1.dot(impl.constant_gram * tau1);
+  Eigen::VectorXd x = impl.Gather(*transforms);
+  const Eigen::VectorXd g0 = impl.HandleGradient(handle);
+  const double kappa = impl.ConstantCost(handle);
 
   Eigen::VectorXd hx = impl.hessian * x;
   double linear_cost = 0.5 * (x.dot(hx) + 2.0 * g0.dot(x) + kappa);

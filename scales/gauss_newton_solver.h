@@ -116,6 +116,7 @@ class GaussNewtonSolver : public FrameSolver {
   bool Setup(const DeformationEnergy& energy, const NodeTransforms& transforms,
              std::string* error) override;
   SolveSummary Solve(const Eigen::Affine3d& handle, NodeTransforms* transforms) override;
+  double Cost(const Eigen::Affine3d& handle, const NodeTransforms& transforms) override;
   int num_variables() const override { return num_variables_; }
 
  private:

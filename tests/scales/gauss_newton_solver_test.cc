@@ -402,12 +402,42 @@ TEST(GaussNewtonSolverTest, EveryGaussNewtonVariantReachesTheSameMinimum) {
     EXPECT_FALSE(summary.failed) << what;
     const double value = EvaluateEnergy(energy, transforms, edit.path.back());
     EXPECT_NEAR(summary.final_cost, value, 1e-8 * (1.0 + value)) << what;
+    // Cost (for choosing an initial guess) is the same energy, also away
+    // from the minimum.
+    EXPECT_NEAR(solver->Cost(edit.path.back(), transforms), value, 1e-8 * (1.0 + value)) << what;
+    const NodeTransforms rest = NodeTransforms::Identity(transforms.num_nodes());
+    const double at_rest = EvaluateEnergy(energy, rest, edit.path.back());
+    EXPECT_NEAR(solver->Cost(edit.path.back(), rest), at_rest, 1e-8 * (1.0 + at_rest)) << what;
     // The trace starts at the initial cost and ends at the final one.
     ASSERT_GE(summary.trace.size(), 2u) << what;
     EXPECT_EQ(summary.trace.front().cost, summary.initial_cost) << what;
     EXPECT_EQ(summary.trace.back().cost, summary.final_cost) << what;
     if (reference < 0.0) reference = value;
     EXPECT_NEAR(value, reference, 1e-9 * reference) << what;
+  }
+}
+
+// The Ceres backend's Cost is Eq. 17 (grouped position blocks add their
+// constant), at rest and away from it.
+TEST(GaussNewtonSolverTest, CeresCostIsTheEnergy) {
+  const Edit edit = BarEdit(3);
+  DeformerOptions options = TightOptions(Method::kMultiScale, Solver::kCeres);
+  options.graph.nodes_per_scale = 20;
+  Deformer deformer;
+  std::string error;
+  ASSERT_TRUE(deformer.Init(edit.mesh, options, &error)) << error;
+  ASSERT_TRUE(deformer.SetHandles(edit.layout, &error)) << error;
+  for (bool grouped : {true, false}) {
+    CeresOptions ceres;
+    ceres.group_position_terms = grouped;
+    NodeTransforms transforms = NodeTransforms::Identity(deformer.active().num_nodes());
+    CeresSolver solver(ceres, TightStopping(), 1);
+    ASSERT_TRUE(solver.Setup(deformer.energy(), transforms, &error)) << error;
+    const double at_rest = EvaluateEnergy(deformer.energy(), transforms, edit.path.back());
+    EXPECT_NEAR(solver.Cost(edit.path.back(), transforms), at_rest, 1e-9 * at_rest);
+    solver.Solve(edit.path.back(), &transforms);
+    const double solved = EvaluateEnergy(deformer.energy(), transforms, edit.path.back());
+    EXPECT_NEAR(solver.Cost(edit.path.back(), transforms), solved, 1e-9 * (1.0 + solved));
   }
 }
 
