@@ -66,7 +66,7 @@ struct GraphOptions {
   // P: nodes per scale step. N = max(1, floor(D1 / P)) scales (paper: 100).
   int nodes_per_scale = 100;
   // Seed of the random vertex chosen in each surface cell for DG1 (mt19937_64).
-  uint64_t seed = 20080101;
+  uint64_t seed = 1;
   // Cell rings searched for candidates beyond the first ring that reaches
   // k + 1 distinct nodes (core/nearest_nodes.h, docs/decisions.md).
   int extra_rings = 1;

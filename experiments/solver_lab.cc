@@ -647,8 +647,11 @@ std::string DescribeSolver(const DeformerOptions& options) {
     } else {
       text << LinearSolverName(gn.linear_solver);
     }
-    text << "; factorisation " << FactorizationName(gn.factorization) << "; damping "
-         << DampingName(gn.damping);
+    text << "; factorisation " << FactorizationName(gn.factorization);
+    if (gn.factorization != GN::Factorization::kEveryIteration) {
+      text << " (refactor ratio " << gn.refactor_ratio << ")";
+    }
+    text << "; damping " << DampingName(gn.damping);
   } else {
     const CeresOptions& ceres = options.ceres;
     text << "Ceres; " << TrustRegionName(ceres.trust_region) << "; "

@@ -65,13 +65,15 @@ struct GaussNewtonOptions {
   // step inexact (a chord step), not the minimum: all stop on the same tests.
   enum class Factorization { kEveryIteration, kPerFrame, kLagged };
   Factorization factorization = Factorization::kLagged;
-  // 1: refactorise only when a step grew the gradient or was rejected. A
-  // factorisation costs about ten chord steps here, and Gauss-Newton on Eq.
-  // 17 converges linearly even with a fresh one, so refactorising on slow
-  // progress (0.25, the rule before 2026-11-23) bought few iterations for many
-  // factorisations (experiments/results/solvers.md, docs/decisions.md "Solver
-  // defaults").
-  double refactor_ratio = 1.0;
+  // A factorisation costs about five to ten chord steps here, and
+  // Gauss-Newton on Eq. 17 converges linearly even with a fresh one, so
+  // refactorising whenever a step shrinks the gradient less than 4x (0.25,
+  // the rule before 2026-11-23) bought few iterations for many
+  // factorisations; refactorising only when it grows (1) lets a stale factor
+  // crawl (the cactus with the paper's fixed border: 3,045 iterations and
+  // stuck at 45x the minimum's energy). 0.8 keeps both in check
+  // (docs/decisions.md, "Solver seam and defaults").
+  double refactor_ratio = 0.8;
   // kGaussNewton: mu at min_damping, x10 after a rejected step, /10 after an
   // accepted one. kLevenbergMarquardt: mu from initial_damping, updated from
   // the gain ratio rho of each step (Nielsen: mu *= max(1/3, 1 - (2 rho - 1)^3)
