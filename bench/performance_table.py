@@ -90,7 +90,7 @@ for mesh, label in meshes:
         t = r["timings_ms"]
         print("| %s | %s | %s | %s | %.2f | %.2f | %.2f | %g | %d | %.1f | %.0f | %.0f | %.2e |" % (
             label, method, solver, threads, t["frame_median"], t["solve_median"],
-            t["skin_median"], r["solver"]["iterations_median"], r["variables"],
+            t["skin_median"], r["solve"]["iterations_median"], r["variables"],
             t["rigidity"] + t["setup"], t["precompute"], r["peak_mb"],
             r["handle_rms"] / r["diag"]))
 print()

@@ -115,7 +115,7 @@ struct DeformerOptions {
   Solver backend = Solver::kGaussNewton;
   StoppingRule stopping;
   // The previous frame's solution. The extrapolated guess saves iterations on
-  // some multi-scale edits and costs many on others (the static cactus: 7x
+  // some multi-scale edits and costs many on others (the static cactus: 4.5x
   // the factorisations); docs/decisions.md, "Solver seam and defaults".
   InitialGuess initial_guess = InitialGuess::kPrevious;
   // Gauss-Newton: sparse Cholesky (Eigen's SimplicialLLT), factorisation
