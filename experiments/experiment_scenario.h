@@ -28,9 +28,11 @@ struct ExperimentScenario {
 };
 
 // Reads the entry at `path` and its mesh; `frames` > 0 overrides the entry's
-// frame count. False with one line naming the file on any error.
+// frame count, a non-empty `mesh_path` the entry's mesh (the same edit on a
+// subdivided mesh, whose first vertices are the original's). False with one
+// line naming the file on any error.
 bool LoadExperimentScenario(const std::string& path, int frames, ExperimentScenario* scenario,
-                            std::string* error);
+                            std::string* error, const std::string& mesh_path = "");
 
 }  // namespace msdeform
 

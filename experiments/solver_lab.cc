@@ -9,8 +9,6 @@
 #include <utility>
 
 #include "core/build_info.h"
-#include "core/mesh_io.h"
-#include "core/scenario.h"
 #include "core/timing.h"
 #include "experiments/metrics.h"
 #include "experiments/tables.h"
@@ -72,25 +70,12 @@ struct LabScenario {
 bool LoadClawScenario(const std::string& data_dir, const std::string& name,
                       const std::string& mesh_name, int frames, ExperimentScenario* scenario,
                       std::string* error) {
-  *scenario = ExperimentScenario();
-  scenario->file = data_dir + "/scenarios/armadillo_claw.json";
+  if (!LoadExperimentScenario(data_dir + "/scenarios/armadillo_claw.json", frames, scenario, error,
+                              data_dir + "/meshes/" + mesh_name + ".off")) {
+    *error += " (build/apps/msdeform_make_large makes the large meshes; or leave them out)";
+    return false;
+  }
   scenario->name = name;
-  scenario->mesh_path = data_dir + "/meshes/" + mesh_name + ".off";
-  Scenario parsed;
-  if (!ReadScenario(scenario->file, &parsed, error)) return false;
-  if (frames > 0) parsed.frames = frames;
-  if (!ReadMesh(scenario->mesh_path, &scenario->mesh, error)) {
-    *error += " (build/apps/msdeform_make_large makes it; or leave out the large meshes)";
-    return false;
-  }
-  Eigen::Affine3d target;
-  if (!ResolveScenario(parsed, scenario->mesh, &scenario->layout, &scenario->watch, &target,
-                       error)) {
-    *error = scenario->file + " on " + scenario->mesh_path + ": " + *error;
-    return false;
-  }
-  scenario->has_watch = parsed.has_watch;
-  scenario->path = DragPath(parsed, scenario->mesh, scenario->layout);
   return true;
 }
 
