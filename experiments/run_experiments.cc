@@ -52,7 +52,8 @@ DEFINE_string(methods, "",
 DEFINE_bool(time_other_backend, true,
             "[solver] Also time multiscale and static with the other backend (Ceres when "
             "--solver=gauss_newton, the default).");
-DEFINE_int32(cgal_iterations, 20, "[solver] CGAL ARAP iterations per frame.");
+DEFINE_int32(cgal_iterations, msdeform::CgalArapOptions().iterations,
+             "[solver] CGAL ARAP iterations per frame.");
 
 namespace msdeform {
 namespace {
@@ -125,7 +126,9 @@ bool FillLabOptions(SolverLabOptions* options, std::string* error) {
 
 int main(int argc, char** argv) {
   // The runner measures one core per run unless told otherwise.
-  gflags::SetCommandLineOptionWithMode("threads", "1", gflags::SET_FLAGS_DEFAULT);
+  gflags::SetCommandLineOptionWithMode(
+      "threads", std::to_string(msdeform::RunnerOptions().threads).c_str(),
+      gflags::SET_FLAGS_DEFAULT);
   const std::string usage =
       "msdeform_experiments [--quick] [--out_dir=DIR] [--scenarios=DIR] [--only=a,b] "
       "[--frames=N] [--threads=N] [any msdeform method, solver or ablation flag]\n"
