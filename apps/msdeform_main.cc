@@ -86,6 +86,15 @@ struct Job {
   double load_ms = 0.0;
 };
 
+// --out_frames: frame f (1-based) as <dir>/<name>_0001.<extension of --out>.
+std::string FramePath(const Job& job, int frame) {
+  char number[16];
+  std::snprintf(number, sizeof(number), "_%04d", frame);
+  return (fs::path(job.frames_dir) /
+          (job.name + number + fs::path(job.out_path).extension().string()))
+      .string();
+}
+
 std::string Absolute(const std::string& path) {
   return path.empty() ? path : fs::absolute(path).lexically_normal().string();
 }
@@ -152,12 +161,8 @@ bool PrepareJob(Job* job, std::string* error) {
       return false;
     }
     const int frames = FLAGS_frames > 0 ? FLAGS_frames : std::max(1, scenario.frames);
-    const std::string extension = fs::path(job->out_path).extension().string();
     for (int f = 1; f <= frames; ++f) {
-      char number[16];
-      std::snprintf(number, sizeof(number), "_%04d", f);
-      outputs.push_back({(fs::path(job->frames_dir) / (job->name + number + extension)).string(),
-                         "--out_frames", kMeshExtensions});
+      outputs.push_back({FramePath(*job, f), "--out_frames", kMeshExtensions});
     }
   }
   const std::vector<std::string> inputs = {job->mesh_path, job->sel_path, job->def_path,
@@ -331,12 +336,7 @@ int Run(const std::vector<std::string>& command_line) {
   const int num_frames = static_cast<int>(job.path.size());
   drag_options.on_frame = [&](int frame, const DragStats& stats) {
     if (!job.frames_dir.empty() && frame_error.empty()) {
-      char number[16];
-      std::snprintf(number, sizeof(number), "_%04d", frame);
-      const std::string path =
-          (fs::path(job.frames_dir) /
-           (job.name + number + fs::path(job.out_path).extension().string()))
-              .string();
+      const std::string path = FramePath(job, frame);
       std::string staged_path;
       deformed.vertices = deformer.deformed_vertices();
       if (!staged.Stage(path, &staged_path, &frame_error) ||

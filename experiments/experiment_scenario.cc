@@ -1,5 +1,8 @@
 #include "experiments/experiment_scenario.h"
 
+#include <algorithm>
+#include <filesystem>
+
 #include "core/mesh_io.h"
 #include "core/scenario.h"
 
@@ -23,6 +26,21 @@ bool LoadExperimentScenario(const std::string& path, int frames, ExperimentScena
   }
   scenario->has_watch = parsed.has_watch;
   scenario->path = DragPath(parsed, scenario->mesh, scenario->layout);
+  return true;
+}
+
+bool ListScenarioFiles(const std::string& folder, std::vector<std::string>* files,
+                       std::string* error) {
+  files->clear();
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
+    if (entry.path().extension() == ".json") files->push_back(entry.path().string());
+  }
+  if (ec) {
+    *error = folder + ": " + ec.message();
+    return false;
+  }
+  std::sort(files->begin(), files->end());
   return true;
 }
 

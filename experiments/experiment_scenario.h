@@ -34,6 +34,11 @@ struct ExperimentScenario {
 bool LoadExperimentScenario(const std::string& path, int frames, ExperimentScenario* scenario,
                             std::string* error, const std::string& mesh_path = "");
 
+// The scenario files (*.json) of `folder`, in name order; false with
+// "<folder>: <why>" when it cannot be listed.
+bool ListScenarioFiles(const std::string& folder, std::vector<std::string>* files,
+                       std::string* error);
+
 }  // namespace msdeform
 
 #endif  // MSDEFORM_EXPERIMENTS_EXPERIMENT_SCENARIO_H_

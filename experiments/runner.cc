@@ -247,15 +247,7 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
 
   // The scenario entries, in name order.
   std::vector<std::string> files;
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(options.scenario_dir, ec)) {
-    if (entry.path().extension() == ".json") files.push_back(entry.path().string());
-  }
-  if (ec) {
-    *error = options.scenario_dir + ": " + ec.message();
-    return false;
-  }
-  std::sort(files.begin(), files.end());
+  if (!ListScenarioFiles(options.scenario_dir, &files, error)) return false;
   std::vector<std::string> only = options.only;
   std::vector<std::string> methods = options.methods;
   if (methods.empty()) methods = {"multiscale", "static", "static_dense", "cgal_arap"};
@@ -274,6 +266,7 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
     *error = options.scenario_dir + ": no scenario selected";
     return false;
   }
+  std::error_code ec;
   fs::create_directories(options.out_dir, ec);
   if (ec) {
     *error = options.out_dir + ": " + ec.message();

@@ -84,15 +84,7 @@ bool LoadClawScenario(const std::string& data_dir, const std::string& name,
 bool ListScenarios(const SolverLabOptions& options, const std::vector<std::string>& only,
                    std::vector<LabScenario>* scenarios, std::string* error) {
   std::vector<std::string> files;
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(options.scenario_dir, ec)) {
-    if (entry.path().extension() == ".json") files.push_back(entry.path().string());
-  }
-  if (ec) {
-    *error = options.scenario_dir + ": " + ec.message();
-    return false;
-  }
-  std::sort(files.begin(), files.end());
+  if (!ListScenarioFiles(options.scenario_dir, &files, error)) return false;
   scenarios->clear();
   for (const std::string& file : files) {
     const std::string stem = fs::path(file).stem().string();

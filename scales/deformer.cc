@@ -508,14 +508,14 @@ bool Deformer::Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats,
       break;
   }
   const auto solve_start = std::chrono::steady_clock::now();
-  const SolveSummary summary = solver_->Solve(deformed_from_rest, &transforms_);
+  SolveSummary summary = solver_->Solve(deformed_from_rest, &transforms_);
   frame.solve_ms = MillisecondsSince(solve_start);
   frame.iterations = summary.iterations;
   frame.factorizations = summary.factorizations;
   frame.initial_cost = summary.initial_cost;
   frame.final_cost = summary.final_cost;
   frame.converged = summary.converged;
-  frame.trace = summary.trace;
+  frame.trace = std::move(summary.trace);
   if (summary.failed || !std::isfinite(summary.final_cost) || !transforms_.rotations.allFinite() ||
       !transforms_.translations.allFinite()) {
     transforms_ = last_good;
