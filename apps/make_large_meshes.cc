@@ -18,11 +18,11 @@
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
-#include "core/build_info.h"
-#include "core/mesh.h"
-#include "core/mesh_io.h"
-#include "core/procedural_meshes.h"
-#include "core/subdivide.h"
+#include "msdeform/core/build_info.h"
+#include "msdeform/core/mesh.h"
+#include "msdeform/core/mesh_io.h"
+#include "msdeform/core/procedural_meshes.h"
+#include "msdeform/core/subdivide.h"
 
 DEFINE_string(mesh_dir, "",
               "Folder holding armadillo.off (from data/fetch_meshes.sh); the large "

@@ -29,14 +29,14 @@
 #include <glog/logging.h>
 #include <nlohmann/json.hpp>
 
-#include "core/atomic_file.h"
-#include "core/mesh_io.h"
-#include "core/scenario.h"
-#include "core/timing.h"
-#include "scales/deformer.h"
-#include "scales/deformer_flags.h"
-#include "scales/rigidity.h"
-#include "scales/scale_selection.h"
+#include "msdeform/core/atomic_file.h"
+#include "msdeform/core/mesh_io.h"
+#include "msdeform/core/scenario.h"
+#include "msdeform/core/timing.h"
+#include "msdeform/scales/deformer.h"
+#include "msdeform/scales/deformer_flags.h"
+#include "msdeform/scales/rigidity.h"
+#include "msdeform/scales/scale_selection.h"
 
 DEFINE_string(mode, "edit", "[input] graphs, edit or nodes_vs_p.");
 DEFINE_string(mesh, "", "[input] Mesh (graphs mode; overrides the scenario's mesh otherwise).");

@@ -25,14 +25,14 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/outputs.h"
-#include "core/build_info.h"
-#include "core/drag_path.h"
-#include "core/handles.h"
-#include "core/mesh_io.h"
-#include "core/scenario.h"
-#include "core/timing.h"
-#include "scales/deformer.h"
-#include "scales/deformer_flags.h"
+#include "msdeform/core/build_info.h"
+#include "msdeform/core/drag_path.h"
+#include "msdeform/core/handles.h"
+#include "msdeform/core/mesh_io.h"
+#include "msdeform/core/scenario.h"
+#include "msdeform/core/timing.h"
+#include "msdeform/scales/deformer.h"
+#include "msdeform/scales/deformer_flags.h"
 
 DEFINE_string(mesh, "",
               "[input] Input mesh (OFF, OBJ, PLY, STL). Default: the scenario's mesh.");

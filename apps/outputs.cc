@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <ostream>
 
-#include "core/atomic_file.h"
+#include "msdeform/core/atomic_file.h"
 
 namespace msdeform {
 

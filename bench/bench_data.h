@@ -13,11 +13,11 @@
 #include <Eigen/Geometry>
 #include <glog/logging.h>
 
-#include "core/build_info.h"
-#include "core/handles.h"
-#include "core/mesh.h"
-#include "core/mesh_io.h"
-#include "core/scenario.h"
+#include "msdeform/core/build_info.h"
+#include "msdeform/core/handles.h"
+#include "msdeform/core/mesh.h"
+#include "msdeform/core/mesh_io.h"
+#include "msdeform/core/scenario.h"
 
 namespace msdeform {
 

@@ -16,8 +16,8 @@
 #include <glog/logging.h>
 
 #include "bench/bench_data.h"
-#include "core/mesh_io.h"
-#include "core/scenario.h"
+#include "msdeform/core/mesh_io.h"
+#include "msdeform/core/scenario.h"
 #include "experiments/cgal_arap.h"
 
 namespace msdeform {

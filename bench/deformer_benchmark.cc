@@ -26,10 +26,10 @@
 #include <glog/logging.h>
 
 #include "bench/bench_data.h"
-#include "core/mesh_io.h"
-#include "core/scenario.h"
-#include "core/timing.h"
-#include "scales/deformer.h"
+#include "msdeform/core/mesh_io.h"
+#include "msdeform/core/scenario.h"
+#include "msdeform/core/timing.h"
+#include "msdeform/scales/deformer.h"
 
 namespace msdeform {
 namespace {

@@ -15,9 +15,9 @@
 #include <glog/logging.h>
 
 #include "bench/bench_data.h"
-#include "core/deformation_graph.h"
-#include "core/lattice.h"
-#include "core/mesh_io.h"
+#include "msdeform/core/deformation_graph.h"
+#include "msdeform/core/lattice.h"
+#include "msdeform/core/mesh_io.h"
 
 namespace msdeform {
 namespace {

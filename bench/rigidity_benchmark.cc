@@ -23,11 +23,11 @@
 
 #include <benchmark/benchmark.h>
 
-#include "core/lattice.h"
-#include "core/mesh.h"
-#include "core/build_info.h"
-#include "core/mesh_io.h"
-#include "scales/rigidity.h"
+#include "msdeform/core/lattice.h"
+#include "msdeform/core/mesh.h"
+#include "msdeform/core/build_info.h"
+#include "msdeform/core/mesh_io.h"
+#include "msdeform/scales/rigidity.h"
 
 namespace msdeform {
 namespace {

@@ -27,10 +27,10 @@
 #include <glog/logging.h>
 
 #include "bench/bench_data.h"
-#include "core/deformation_graph.h"
-#include "core/lattice.h"
-#include "core/mesh_io.h"
-#include "core/skinning.h"
+#include "msdeform/core/deformation_graph.h"
+#include "msdeform/core/lattice.h"
+#include "msdeform/core/mesh_io.h"
+#include "msdeform/core/skinning.h"
 
 namespace msdeform {
 namespace {

@@ -1,20 +1,37 @@
+# msdeform_library(<target> <export name>) makes <target> one of the installed
+# libraries: alias msdeform::<export name>, headers included as
+# <msdeform/<folder>/<name>.h> in the build tree and after installation, and
+# its folder's headers installed under include/msdeform/<folder>/.
+function(msdeform_library target export_name)
+  add_library(msdeform::${export_name} ALIAS ${target})
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${export_name})
+  target_include_directories(${target} PUBLIC
+    $<BUILD_INTERFACE:${MSDEFORM_BUILD_INCLUDE_DIR}>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  file(RELATIVE_PATH folder ${PROJECT_SOURCE_DIR} ${CMAKE_CURRENT_SOURCE_DIR})
+  file(GLOB headers CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.h)
+  set_property(GLOBAL APPEND PROPERTY MSDEFORM_LIBRARIES ${target})
+  set_property(TARGET ${target} PROPERTY MSDEFORM_HEADERS ${headers})
+  set_property(TARGET ${target} PROPERTY MSDEFORM_FOLDER ${folder})
+endfunction()
+
 # msdeform_test(<folder>/<name>_test) adds tests/<folder>/<name>_test.cc as one
 # executable and one ctest named "<folder>/<name>_test", linked with the shared
 # test main and the given libraries.
 function(msdeform_test name)
   cmake_parse_arguments(ARG "" "" "LIBS" ${ARGN})
   string(REPLACE "/" "_" target "${name}")
-  add_executable(${target} ${CMAKE_SOURCE_DIR}/tests/${name}.cc)
+  add_executable(${target} ${PROJECT_SOURCE_DIR}/tests/${name}.cc)
   target_link_libraries(${target} PRIVATE msdeform_test_main ${ARG_LIBS})
   add_test(NAME ${name} COMMAND ${target}
-           WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+           WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
 endfunction()
 
 # msdeform_benchmark(<name>) adds bench/<name>_benchmark.cc with Google Benchmark.
 function(msdeform_benchmark name)
   cmake_parse_arguments(ARG "" "" "LIBS" ${ARGN})
-  add_executable(${name}_benchmark ${CMAKE_SOURCE_DIR}/bench/${name}_benchmark.cc)
+  add_executable(${name}_benchmark ${PROJECT_SOURCE_DIR}/bench/${name}_benchmark.cc)
   target_link_libraries(${name}_benchmark PRIVATE ${ARG_LIBS} benchmark::benchmark)
   set_target_properties(${name}_benchmark PROPERTIES
-                        RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/bench)
+                        RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bench)
 endfunction()

@@ -1,4 +1,4 @@
-#include "core/atomic_file.h"
+#include "msdeform/core/atomic_file.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>

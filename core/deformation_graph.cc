@@ -1,4 +1,4 @@
-#include "core/deformation_graph.h"
+#include "msdeform/core/deformation_graph.h"
 
 #include <algorithm>
 #include <functional>

@@ -25,9 +25,9 @@
 
 #include <Eigen/Core>
 
-#include "core/lattice.h"
-#include "core/mesh.h"
-#include "core/nearest_nodes.h"
+#include "msdeform/core/lattice.h"
+#include "msdeform/core/mesh.h"
+#include "msdeform/core/nearest_nodes.h"
 
 namespace msdeform {
 

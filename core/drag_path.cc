@@ -1,4 +1,4 @@
-#include "core/drag_path.h"
+#include "msdeform/core/drag_path.h"
 
 #include <glog/logging.h>
 

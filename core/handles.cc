@@ -1,4 +1,4 @@
-#include "core/handles.h"
+#include "msdeform/core/handles.h"
 
 #include <algorithm>
 #include <cctype>
@@ -11,7 +11,7 @@
 #include <limits>
 #include <sstream>
 
-#include "core/atomic_file.h"
+#include "msdeform/core/atomic_file.h"
 
 namespace msdeform {
 namespace {

@@ -1,4 +1,4 @@
-#include "core/lattice.h"
+#include "msdeform/core/lattice.h"
 
 #include <algorithm>
 #include <cmath>

@@ -26,7 +26,7 @@
 
 #include <Eigen/Core>
 
-#include "core/mesh.h"
+#include "msdeform/core/mesh.h"
 
 namespace msdeform {
 

@@ -1,4 +1,4 @@
-#include "core/mesh.h"
+#include "msdeform/core/mesh.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "core/mesh_io.h"
+#include "msdeform/core/mesh_io.h"
 
 #include <stdlib.h>
 #include <unistd.h>
@@ -27,7 +27,7 @@
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 
-#include "core/atomic_file.h"
+#include "msdeform/core/atomic_file.h"
 
 namespace msdeform {
 namespace {

@@ -48,7 +48,7 @@
 
 #include <string>
 
-#include "core/mesh.h"
+#include "msdeform/core/mesh.h"
 
 namespace msdeform {
 

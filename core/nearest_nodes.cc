@@ -1,4 +1,4 @@
-#include "core/nearest_nodes.h"
+#include "msdeform/core/nearest_nodes.h"
 
 #include <algorithm>
 #include <climits>

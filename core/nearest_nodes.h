@@ -24,7 +24,7 @@
 
 #include <Eigen/Core>
 
-#include "core/lattice.h"
+#include "msdeform/core/lattice.h"
 
 namespace msdeform {
 

@@ -1,4 +1,4 @@
-#include "core/scenario.h"
+#include "msdeform/core/scenario.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,8 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/drag_path.h"
-#include "core/handles.h"
+#include "msdeform/core/drag_path.h"
+#include "msdeform/core/handles.h"
 
 namespace msdeform {
 namespace {

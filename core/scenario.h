@@ -58,8 +58,8 @@
 
 #include <Eigen/Geometry>
 
-#include "core/handles.h"
-#include "core/mesh.h"
+#include "msdeform/core/handles.h"
+#include "msdeform/core/mesh.h"
 
 namespace msdeform {
 

@@ -1,4 +1,4 @@
-#include "core/skinning.h"
+#include "msdeform/core/skinning.h"
 
 #include <algorithm>
 #include <atomic>

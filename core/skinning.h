@@ -38,7 +38,7 @@
 
 #include <Eigen/Core>
 
-#include "core/deformation_graph.h"
+#include "msdeform/core/deformation_graph.h"
 
 namespace msdeform {
 

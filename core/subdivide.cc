@@ -1,4 +1,4 @@
-#include "core/subdivide.h"
+#include "msdeform/core/subdivide.h"
 
 #include <algorithm>
 #include <sstream>

@@ -12,7 +12,7 @@
 
 #include <string>
 
-#include "core/mesh.h"
+#include "msdeform/core/mesh.h"
 
 namespace msdeform {
 

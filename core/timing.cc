@@ -1,4 +1,4 @@
-#include "core/timing.h"
+#include "msdeform/core/timing.h"
 
 #include <algorithm>
 

@@ -8,10 +8,10 @@
 
 #include <ceres/dynamic_autodiff_cost_function.h>
 
-#include "energies/coherence_cost.h"
-#include "energies/gauge_cost.h"
-#include "energies/position_cost.h"
-#include "energies/rot_cost.h"
+#include "msdeform/energies/coherence_cost.h"
+#include "msdeform/energies/gauge_cost.h"
+#include "msdeform/energies/position_cost.h"
+#include "msdeform/energies/rot_cost.h"
 
 namespace msdeform {
 

@@ -1,4 +1,4 @@
-#include "energies/position_group_cost.h"
+#include "msdeform/energies/position_group_cost.h"
 
 #include <Eigen/Eigenvalues>
 #include <glog/logging.h>

@@ -25,7 +25,7 @@
 #include <Eigen/Geometry>
 #include <ceres/cost_function.h>
 
-#include "energies/position_cost.h"
+#include "msdeform/energies/position_cost.h"
 
 namespace msdeform {
 

@@ -6,7 +6,7 @@
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_deformation.h>
 
-#include "core/timing.h"
+#include "msdeform/core/timing.h"
 
 namespace msdeform {
 namespace {

@@ -22,8 +22,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "core/handles.h"
-#include "core/mesh.h"
+#include "msdeform/core/handles.h"
+#include "msdeform/core/mesh.h"
 
 namespace msdeform {
 

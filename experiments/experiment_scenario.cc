@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "core/mesh_io.h"
-#include "core/scenario.h"
+#include "msdeform/core/mesh_io.h"
+#include "msdeform/core/scenario.h"
 
 namespace msdeform {
 

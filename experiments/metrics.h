@@ -13,8 +13,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "core/deformation_graph.h"
-#include "core/mesh.h"
+#include "msdeform/core/deformation_graph.h"
+#include "msdeform/core/mesh.h"
 
 namespace msdeform {
 

@@ -16,10 +16,10 @@
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
-#include "core/build_info.h"
+#include "msdeform/core/build_info.h"
 #include "experiments/runner.h"
 #include "experiments/solver_lab.h"
-#include "scales/deformer_flags.h"
+#include "msdeform/scales/deformer_flags.h"
 
 DEFINE_string(scenarios, "",
               "[input] Folder of the scenario entries (*.json). Default: experiments/scenarios "

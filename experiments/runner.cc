@@ -7,7 +7,7 @@
 #include <limits>
 #include <sstream>
 
-#include "core/timing.h"
+#include "msdeform/core/timing.h"
 #include "experiments/metrics.h"
 #include "experiments/tables.h"
 

@@ -20,7 +20,7 @@
 
 #include "experiments/cgal_arap.h"
 #include "experiments/experiment_scenario.h"
-#include "scales/deformer.h"
+#include "msdeform/scales/deformer.h"
 
 namespace msdeform {
 

@@ -8,11 +8,11 @@
 #include <sstream>
 #include <utility>
 
-#include "core/build_info.h"
-#include "core/timing.h"
+#include "msdeform/core/build_info.h"
+#include "msdeform/core/timing.h"
 #include "experiments/metrics.h"
 #include "experiments/tables.h"
-#include "scales/deformation_energy.h"
+#include "msdeform/scales/deformation_energy.h"
 
 namespace msdeform {
 namespace {

@@ -33,7 +33,7 @@
 #include <vector>
 
 #include "experiments/experiment_scenario.h"
-#include "scales/deformer.h"
+#include "msdeform/scales/deformer.h"
 
 namespace msdeform {
 

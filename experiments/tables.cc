@@ -9,9 +9,9 @@
 
 #include <glog/logging.h>
 
-#include "core/atomic_file.h"
-#include "core/build_info.h"
-#include "scales/ceres_solver.h"
+#include "msdeform/core/atomic_file.h"
+#include "msdeform/core/build_info.h"
+#include "msdeform/scales/ceres_solver.h"
 
 namespace msdeform {
 namespace {

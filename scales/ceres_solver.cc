@@ -1,4 +1,4 @@
-#include "scales/ceres_solver.h"
+#include "msdeform/scales/ceres_solver.h"
 
 #include <algorithm>
 #include <cctype>
@@ -10,11 +10,11 @@
 #include <ceres/version.h>
 #include <glog/logging.h>
 
-#include "energies/coherence_cost.h"
-#include "energies/gauge_cost.h"
-#include "energies/position_cost.h"
-#include "energies/position_group_cost.h"
-#include "energies/rot_cost.h"
+#include "msdeform/energies/coherence_cost.h"
+#include "msdeform/energies/gauge_cost.h"
+#include "msdeform/energies/position_cost.h"
+#include "msdeform/energies/position_group_cost.h"
+#include "msdeform/energies/rot_cost.h"
 
 namespace msdeform {
 namespace {

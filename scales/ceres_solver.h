@@ -12,7 +12,7 @@
 
 #include <ceres/types.h>
 
-#include "scales/frame_solver.h"
+#include "msdeform/scales/frame_solver.h"
 
 namespace msdeform {
 

@@ -1,8 +1,8 @@
-#include "scales/deformation_energy.h"
+#include "msdeform/scales/deformation_energy.h"
 
 #include <Eigen/Eigenvalues>
 
-#include "energies/gauge_cost.h"
+#include "msdeform/energies/gauge_cost.h"
 
 namespace msdeform {
 

@@ -16,9 +16,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "core/deformation_graph.h"
-#include "energies/position_cost.h"
-#include "scales/scale_selection.h"
+#include "msdeform/core/deformation_graph.h"
+#include "msdeform/energies/position_cost.h"
+#include "msdeform/scales/scale_selection.h"
 
 namespace msdeform {
 

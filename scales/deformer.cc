@@ -1,4 +1,4 @@
-#include "scales/deformer.h"
+#include "msdeform/scales/deformer.h"
 
 #include <algorithm>
 #include <chrono>
@@ -8,8 +8,8 @@
 
 #include <glog/logging.h>
 
-#include "core/skinning.h"
-#include "core/timing.h"
+#include "msdeform/core/skinning.h"
+#include "msdeform/core/timing.h"
 
 namespace msdeform {
 namespace {

@@ -35,16 +35,16 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include "core/deformation_graph.h"
-#include "core/handles.h"
-#include "core/lattice.h"
-#include "core/mesh.h"
-#include "scales/ceres_solver.h"
-#include "scales/deformation_energy.h"
-#include "scales/frame_solver.h"
-#include "scales/gauss_newton_solver.h"
-#include "scales/rigidity.h"
-#include "scales/scale_selection.h"
+#include "msdeform/core/deformation_graph.h"
+#include "msdeform/core/handles.h"
+#include "msdeform/core/lattice.h"
+#include "msdeform/core/mesh.h"
+#include "msdeform/scales/ceres_solver.h"
+#include "msdeform/scales/deformation_energy.h"
+#include "msdeform/scales/frame_solver.h"
+#include "msdeform/scales/gauss_newton_solver.h"
+#include "msdeform/scales/rigidity.h"
+#include "msdeform/scales/scale_selection.h"
 
 namespace msdeform {
 

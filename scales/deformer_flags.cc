@@ -1,4 +1,4 @@
-#include "scales/deformer_flags.h"
+#include "msdeform/scales/deformer_flags.h"
 
 #include <algorithm>
 #include <cmath>

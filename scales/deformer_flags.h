@@ -17,7 +17,7 @@
 #include <utility>
 #include <vector>
 
-#include "scales/deformer.h"
+#include "msdeform/scales/deformer.h"
 
 namespace msdeform {
 

@@ -1,4 +1,4 @@
-#include "scales/frame_solver.h"
+#include "msdeform/scales/frame_solver.h"
 
 #include <cmath>
 #include <utility>

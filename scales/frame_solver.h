@@ -17,8 +17,8 @@
 
 #include <Eigen/Geometry>
 
-#include "core/deformation_graph.h"
-#include "scales/deformation_energy.h"
+#include "msdeform/core/deformation_graph.h"
+#include "msdeform/scales/deformation_energy.h"
 
 namespace msdeform {
 

@@ -1,4 +1,4 @@
-#include "scales/gauss_newton_solver.h"
+#include "msdeform/scales/gauss_newton_solver.h"
 
 #include <algorithm>
 #include <chrono>
@@ -11,7 +11,7 @@
 #include <Eigen/CholmodSupport>
 #endif
 
-#include "energies/gauge_cost.h"
+#include "msdeform/energies/gauge_cost.h"
 
 namespace msdeform {
 namespace {

@@ -37,7 +37,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "scales/frame_solver.h"
+#include "msdeform/scales/frame_solver.h"
 
 namespace msdeform {
 

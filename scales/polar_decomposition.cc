@@ -1,4 +1,4 @@
-#include "scales/polar_decomposition.h"
+#include "msdeform/scales/polar_decomposition.h"
 
 #include <cmath>
 #include <limits>

@@ -1,4 +1,4 @@
-#include "scales/rigidity.h"
+#include "msdeform/scales/rigidity.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +11,7 @@
 #include <Eigen/SparseCore>
 #include <glog/logging.h>
 
-#include "scales/polar_decomposition.h"
+#include "msdeform/scales/polar_decomposition.h"
 
 namespace msdeform {
 namespace {

@@ -49,7 +49,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "core/lattice.h"
+#include "msdeform/core/lattice.h"
 
 namespace msdeform {
 

@@ -1,4 +1,4 @@
-#include "scales/scale_selection.h"
+#include "msdeform/scales/scale_selection.h"
 
 #include <algorithm>
 #include <cmath>

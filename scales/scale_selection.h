@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "core/deformation_graph.h"
+#include "msdeform/core/deformation_graph.h"
 
 namespace msdeform {
 

@@ -1,4 +1,4 @@
-#include "core/atomic_file.h"
+#include "msdeform/core/atomic_file.h"
 
 #include <stdlib.h>
 #include <unistd.h>

@@ -1,4 +1,4 @@
-#include "core/build_info.h"
+#include "msdeform/core/build_info.h"
 
 #include <cstdlib>
 #include <filesystem>

@@ -1,4 +1,4 @@
-#include "core/deformation_graph.h"
+#include "msdeform/core/deformation_graph.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,8 +11,8 @@
 #include <glog/logging.h>
 #include <gtest/gtest.h>
 
-#include "core/mesh_io.h"
-#include "core/procedural_meshes.h"
+#include "msdeform/core/mesh_io.h"
+#include "msdeform/core/procedural_meshes.h"
 #include "tests/core/lattice_test_util.h"
 
 namespace msdeform {

@@ -1,4 +1,4 @@
-#include "core/handles.h"
+#include "msdeform/core/handles.h"
 
 #include <stdlib.h>
 

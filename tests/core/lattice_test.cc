@@ -1,10 +1,10 @@
-#include "core/lattice.h"
+#include "msdeform/core/lattice.h"
 
 #include <set>
 
 #include <gtest/gtest.h>
 
-#include "core/procedural_meshes.h"
+#include "msdeform/core/procedural_meshes.h"
 #include "tests/core/lattice_test_util.h"
 
 namespace msdeform {

@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "core/lattice.h"
-#include "core/mesh.h"
+#include "msdeform/core/lattice.h"
+#include "msdeform/core/mesh.h"
 
 namespace msdeform {
 

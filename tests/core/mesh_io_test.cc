@@ -1,4 +1,4 @@
-#include "core/mesh_io.h"
+#include "msdeform/core/mesh_io.h"
 
 #include <stdlib.h>
 

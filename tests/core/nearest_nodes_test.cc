@@ -1,4 +1,4 @@
-#include "core/nearest_nodes.h"
+#include "msdeform/core/nearest_nodes.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,8 +9,8 @@
 
 #include <gtest/gtest.h>
 
-#include "core/deformation_graph.h"
-#include "core/procedural_meshes.h"
+#include "msdeform/core/deformation_graph.h"
+#include "msdeform/core/procedural_meshes.h"
 #include "tests/core/lattice_test_util.h"
 
 namespace msdeform {

@@ -1,4 +1,4 @@
-#include "core/procedural_meshes.h"
+#include "msdeform/core/procedural_meshes.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "core/scenario.h"
+#include "msdeform/core/scenario.h"
 
 #include <stdlib.h>
 
@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/procedural_meshes.h"
+#include "msdeform/core/procedural_meshes.h"
 
 namespace msdeform {
 namespace {

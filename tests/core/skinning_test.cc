@@ -1,4 +1,4 @@
-#include "core/skinning.h"
+#include "msdeform/core/skinning.h"
 
 #include <cmath>
 #include <limits>
@@ -10,7 +10,7 @@
 #include <Eigen/LU>
 #include <gtest/gtest.h>
 
-#include "core/procedural_meshes.h"
+#include "msdeform/core/procedural_meshes.h"
 
 namespace msdeform {
 namespace {

@@ -1,4 +1,4 @@
-#include "core/subdivide.h"
+#include "msdeform/core/subdivide.h"
 
 #include <map>
 #include <string>
@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/procedural_meshes.h"
+#include "msdeform/core/procedural_meshes.h"
 
 namespace msdeform {
 namespace {

@@ -1,4 +1,4 @@
-#include "energies/coherence_cost.h"
+#include "msdeform/energies/coherence_cost.h"
 
 #include <memory>
 

@@ -1,4 +1,4 @@
-#include "energies/gauge_cost.h"
+#include "msdeform/energies/gauge_cost.h"
 
 #include <cmath>
 #include <memory>

@@ -1,4 +1,4 @@
-#include "energies/position_cost.h"
+#include "msdeform/energies/position_cost.h"
 
 #include <memory>
 

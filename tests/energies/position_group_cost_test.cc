@@ -1,11 +1,11 @@
-#include "energies/position_group_cost.h"
+#include "msdeform/energies/position_group_cost.h"
 
 #include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
 
-#include "energies/position_cost.h"
+#include "msdeform/energies/position_cost.h"
 
 namespace msdeform {
 namespace {

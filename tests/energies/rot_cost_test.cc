@@ -1,4 +1,4 @@
-#include "energies/rot_cost.h"
+#include "msdeform/energies/rot_cost.h"
 
 #include <memory>
 

@@ -5,7 +5,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "core/procedural_meshes.h"
+#include "msdeform/core/procedural_meshes.h"
 
 
 namespace msdeform {

@@ -18,11 +18,11 @@
 
 #include <Eigen/Geometry>
 
-#include "core/handles.h"
-#include "core/mesh.h"
-#include "core/mesh_io.h"
-#include "core/procedural_meshes.h"
-#include "core/scenario.h"
+#include "msdeform/core/handles.h"
+#include "msdeform/core/mesh.h"
+#include "msdeform/core/mesh_io.h"
+#include "msdeform/core/procedural_meshes.h"
+#include "msdeform/core/scenario.h"
 
 namespace msdeform {
 namespace fuzz {

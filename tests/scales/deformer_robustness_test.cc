@@ -7,10 +7,10 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "core/drag_path.h"
-#include "core/handles.h"
-#include "core/procedural_meshes.h"
-#include "scales/deformer.h"
+#include "msdeform/core/drag_path.h"
+#include "msdeform/core/handles.h"
+#include "msdeform/core/procedural_meshes.h"
+#include "msdeform/scales/deformer.h"
 #include "tests/scales/deformer_test_util.h"
 
 namespace msdeform {

@@ -1,14 +1,14 @@
-#include "scales/deformer.h"
+#include "msdeform/scales/deformer.h"
 
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 #include <gtest/gtest.h>
 
-#include "core/drag_path.h"
-#include "core/handles.h"
-#include "core/mesh_io.h"
-#include "core/procedural_meshes.h"
-#include "core/scenario.h"
+#include "msdeform/core/drag_path.h"
+#include "msdeform/core/handles.h"
+#include "msdeform/core/mesh_io.h"
+#include "msdeform/core/procedural_meshes.h"
+#include "msdeform/core/scenario.h"
 #include "tests/scales/deformer_test_util.h"
 
 namespace msdeform {

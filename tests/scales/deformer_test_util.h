@@ -7,7 +7,7 @@
 
 #include <Eigen/Core>
 
-#include "scales/deformer.h"
+#include "msdeform/scales/deformer.h"
 
 namespace msdeform {
 

@@ -1,4 +1,4 @@
-#include "scales/gauss_newton_solver.h"
+#include "msdeform/scales/gauss_newton_solver.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,12 +10,12 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "core/drag_path.h"
-#include "core/handles.h"
-#include "core/mesh_io.h"
-#include "core/procedural_meshes.h"
-#include "energies/gauge_cost.h"
-#include "scales/deformer.h"
+#include "msdeform/core/drag_path.h"
+#include "msdeform/core/handles.h"
+#include "msdeform/core/mesh_io.h"
+#include "msdeform/core/procedural_meshes.h"
+#include "msdeform/energies/gauge_cost.h"
+#include "msdeform/scales/deformer.h"
 
 namespace msdeform {
 namespace {

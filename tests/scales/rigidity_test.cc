@@ -1,4 +1,4 @@
-#include "scales/rigidity.h"
+#include "msdeform/scales/rigidity.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,9 +12,9 @@
 #include <Eigen/SVD>
 #include <gtest/gtest.h>
 
-#include "core/lattice.h"
-#include "core/procedural_meshes.h"
-#include "scales/polar_decomposition.h"
+#include "msdeform/core/lattice.h"
+#include "msdeform/core/procedural_meshes.h"
+#include "msdeform/scales/polar_decomposition.h"
 #include "tests/core/lattice_test_util.h"
 
 namespace msdeform {

@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# msdeform as another project's dependency: builds tests/package/downstream,
+# a project outside msdeform's tree, against
+#   install       msdeform installed with `cmake --install BUILD --prefix TMP`
+#                 and found with find_package(msdeform CONFIG REQUIRED);
+#   subdirectory  msdeform's source tree added with add_subdirectory (only
+#                 the libraries are built: tests, apps, experiments are OFF);
+# then runs it. Everything happens in a temporary folder, removed at exit.
+#
+#   bash tests/package/package_test.sh install BUILD_DIR
+#   bash tests/package/package_test.sh subdirectory
+set -euo pipefail
+
+mode="${1:?usage: package_test.sh install BUILD_DIR | subdirectory}"
+source_dir="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+work="$(mktemp -d)"
+trap 'rm -rf "${work}"' EXIT
+cp -r "${source_dir}/tests/package/downstream" "${work}/downstream"
+
+case "${mode}" in
+  install)
+    build_dir="${2:?usage: package_test.sh install BUILD_DIR}"
+    cmake --install "${build_dir}" --prefix "${work}/prefix" > "${work}/install.log"
+    [[ -f "${work}/prefix/include/msdeform/scales/deformer.h" ]] \
+      || { echo "package_test: deformer.h not installed under include/msdeform/scales" >&2; exit 1; }
+    configure=(-DCMAKE_PREFIX_PATH="${work}/prefix")
+    ;;
+  subdirectory)
+    configure=(-DMSDEFORM_SOURCE_DIR="${source_dir}")
+    ;;
+  *)
+    echo "package_test: unknown mode '${mode}' (install or subdirectory)" >&2
+    exit 2
+    ;;
+esac
+
+cmake -S "${work}/downstream" -B "${work}/build" -DCMAKE_BUILD_TYPE=Release \
+  "${configure[@]}" > "${work}/configure.log" \
+  || { cat "${work}/configure.log"; exit 1; }
+if [[ "${mode}" == subdirectory ]]; then
+  # A subproject builds the libraries only.
+  for option in APPS EXPERIMENTS BENCHMARKS PYTHON TESTS INSTALL; do
+    grep -q "^MSDEFORM_BUILD_${option}:BOOL=OFF\|^MSDEFORM_${option}:BOOL=OFF" \
+      "${work}/build/CMakeCache.txt" \
+      || { echo "package_test: MSDEFORM_*${option} is not OFF in a subproject" >&2; exit 1; }
+  done
+fi
+cmake --build "${work}/build" -j2 > "${work}/build.log" || { cat "${work}/build.log"; exit 1; }
+"${work}/build/bend_bar"
