@@ -1,8 +1,10 @@
-# msdeform_library(<target> <export name>) makes <target> one of the installed
-# libraries: alias msdeform::<export name>, headers included as
-# <msdeform/<folder>/<name>.h> in the build tree and after installation, and
-# its folder's headers installed under include/msdeform/<folder>/.
+# msdeform_library(<target> <export name> [INTERNAL <header>...]) makes
+# <target> one of the installed libraries: alias msdeform::<export name>,
+# headers included as <msdeform/<folder>/<name>.h> in the build tree and after
+# installation, and its folder's headers, but the INTERNAL ones, installed
+# under include/msdeform/<folder>/.
 function(msdeform_library target export_name)
+  cmake_parse_arguments(ARG "" "" "INTERNAL" ${ARGN})
   add_library(msdeform::${export_name} ALIAS ${target})
   set_target_properties(${target} PROPERTIES EXPORT_NAME ${export_name})
   target_include_directories(${target} PUBLIC
@@ -10,6 +12,9 @@ function(msdeform_library target export_name)
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   file(RELATIVE_PATH folder ${PROJECT_SOURCE_DIR} ${CMAKE_CURRENT_SOURCE_DIR})
   file(GLOB headers CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.h)
+  foreach(internal IN LISTS ARG_INTERNAL)
+    list(REMOVE_ITEM headers ${CMAKE_CURRENT_SOURCE_DIR}/${internal})
+  endforeach()
   set_property(GLOBAL APPEND PROPERTY MSDEFORM_LIBRARIES ${target})
   set_property(TARGET ${target} PROPERTY MSDEFORM_HEADERS ${headers})
   set_property(TARGET ${target} PROPERTY MSDEFORM_FOLDER ${folder})

@@ -1,0 +1,82 @@
+// The pieces behind ReadMesh and WriteMesh (core/mesh_io.cc, the dispatcher),
+// internal to core:
+//   - one check per format, each in its own file (core/mesh_io_off.cc,
+//     mesh_io_obj.cc, mesh_io_ply.cc, mesh_io_stl.cc), walking the text with
+//     the shared TextLines (core/text_lines.h);
+//   - the OpenMesh pass that reads the vertices and polygons and writes
+//     meshes (core/mesh_io_openmesh.cc).
+// OpenMesh's readers trust what they read: after a number fails to parse or
+// the data ends they keep going with stale values, and some allocate what a
+// count says or crash on a malformed header (found by the fuzzers in
+// tests/fuzz/). So each file is checked first, with a message naming the
+// line, and the check says what OpenMesh must then hand over.
+// A format that parses its data itself (a fast binary PLY path, say) would
+// fill the PolygonSoup directly instead of going through ReadWithOpenMesh;
+// everything after it (fan split, welding, dropped faces) stays shared.
+
+#ifndef MSDEFORM_CORE_MESH_IO_FORMATS_H_
+#define MSDEFORM_CORE_MESH_IO_FORMATS_H_
+
+#include <ostream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "msdeform/core/mesh.h"
+
+namespace msdeform {
+
+// What a format's check found in the file.
+struct FormatCheck {
+  // What OpenMesh must hand over; -1: the format does not say.
+  int num_vertices = -1;
+  int num_faces = -1;
+  // Triangles that repeat a vertex which OpenMesh's OBJ and STL readers skip
+  // without a word; the notice counts them with those dropped later.
+  int dropped_degenerate_faces = 0;
+  // When not empty, OpenMesh reads this text instead of the file: the same
+  // geometry in a layout its reader follows (OFF only; see CheckOff).
+  std::string normalized_text;
+};
+
+// Each checks the whole (non-empty) text of a file in its format and fills
+// *check. On failure puts one line in *problem, without the file name: "line
+// N: ..." or what is wrong with the whole file.
+bool CheckOff(std::string_view text, FormatCheck* check, std::string* problem);
+bool CheckObj(std::string_view text, FormatCheck* check, std::string* problem);
+bool CheckPly(std::string_view text, FormatCheck* check, std::string* problem);
+bool CheckStl(std::string_view text, FormatCheck* check, std::string* problem);
+
+// A mesh format ReadMesh and WriteMesh know.
+struct MeshFormat {
+  const char* extension;  // lower case, without the dot: "off"
+  const char* name;       // in messages: "OFF"
+  bool (*check)(std::string_view text, FormatCheck* check, std::string* problem);
+  // STL has no shared vertices: corners at exactly equal positions are merged.
+  bool weld_equal_positions;
+  bool writable;  // OpenMesh writes it (as ASCII)
+};
+
+// A file's vertices and polygons, in the file's order.
+struct PolygonSoup {
+  std::vector<double> xyz;           // 3 #V
+  std::vector<int> face_offsets{0};  // #polygons + 1
+  std::vector<int> face_ids;         // vertex ids of all polygons
+  int num_vertices() const { return static_cast<int>(xyz.size() / 3); }
+  int num_polygons() const { return static_cast<int>(face_offsets.size()) - 1; }
+};
+
+// Reads `path` (or check.normalized_text in its place) with OpenMesh's reader
+// for `format` into *soup, and compares what it handed over with the counts
+// in `check`. On failure puts one line in *problem, without the file name.
+bool ReadWithOpenMesh(const std::string& path, const MeshFormat& format, FormatCheck check,
+                      PolygonSoup* soup, std::string* problem);
+
+// Writes `mesh` to `out` with OpenMesh's ASCII writer for `format`, floats
+// with 9 significant digits. On failure puts one line in *problem.
+bool WriteWithOpenMesh(const Mesh& mesh, const MeshFormat& format, std::ostream& out,
+                       std::string* problem);
+
+}  // namespace msdeform
+
+#endif  // MSDEFORM_CORE_MESH_IO_FORMATS_H_

@@ -1,0 +1,250 @@
+// The OFF check. OpenMesh's OFF reader trusts the header: on a truncated file
+// or an unparsable number it keeps calling add_vertex/add_face with stale
+// values. So the text is checked here line by line first, and the counts the
+// header announces are what OpenMesh must deliver. Valid OFF that OpenMesh's
+// reader would misread ('#' comments, counts on the header line, leading
+// blank lines, colours, normals) is rewritten in the plain layout.
+
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <string_view>
+
+#include "msdeform/core/mesh_io_formats.h"
+#include "msdeform/core/text_lines.h"
+
+namespace msdeform {
+namespace {
+
+using Tokens = TextLines::Tokens;
+
+// Header keyword [ST][C][N][4][n]OFF; sets *dimension_other_than_3.
+bool IsOffKeyword(std::string_view keyword, bool* dimension_other_than_3) {
+  *dimension_other_than_3 = false;
+  if (keyword.size() < 3 || keyword.substr(keyword.size() - 3) != "OFF") return false;
+  std::string_view prefix = keyword.substr(0, keyword.size() - 3);
+  auto take = [&prefix](std::string_view part) {
+    if (prefix.substr(0, part.size()) == part) {
+      prefix.remove_prefix(part.size());
+      return true;
+    }
+    return false;
+  };
+  take("ST");
+  take("C");
+  take("N");
+  if (take("4")) *dimension_other_than_3 = true;
+  if (take("n")) *dimension_other_than_3 = true;
+  return prefix.empty();
+}
+
+bool CheckBinaryOff(std::string_view text, size_t data_start, std::string_view keyword,
+                    FormatCheck* check, std::string* problem) {
+  // OpenMesh's binary reader takes colours, normals and texture coordinates
+  // from the keyword with a layout of its own; only plain OFF is checked
+  // (and so accepted) here.
+  if (keyword != "OFF") {
+    return SetProblem(problem, "line 1: binary ", Quote(keyword),
+                      " is not supported; use binary OFF or ASCII");
+  }
+  // Binary OFF: three little-endian uint32 counts follow the header line.
+  if (text.size() < data_start + 12) {
+    return SetProblem(problem, "truncated: binary OFF ends before the vertex/face/edge counts");
+  }
+  uint32_t counts[3];
+  std::memcpy(counts, text.data() + data_start, sizeof(counts));
+  if (counts[0] > static_cast<uint32_t>(std::numeric_limits<int>::max()) ||
+      counts[1] > static_cast<uint32_t>(std::numeric_limits<int>::max())) {
+    return SetProblem(problem, "binary OFF header announces an impossible vertex or face count");
+  }
+  check->num_vertices = static_cast<int>(counts[0]);
+  check->num_faces = static_cast<int>(counts[1]);
+  // At least 3 floats per vertex and 1 + 3 ints per face.
+  const uint64_t minimum = data_start + 12 + 12ull * counts[0] + 16ull * counts[1];
+  if (text.size() < minimum) {
+    return SetProblem(problem, "truncated: the binary OFF header announces ", counts[0],
+                      " vertices and ", counts[1], " faces, which need at least ", minimum,
+                      " bytes, but the file has ", text.size());
+  }
+  // Each face: an int32 vertex count, then that many int32 ids. OpenMesh
+  // sizes its id list by the count before reading, so a wild count would
+  // allocate gigabytes (found by tests/fuzz/off_fuzzer): walk them first.
+  uint64_t offset = data_start + 12 + 12ull * counts[0];
+  for (uint32_t face = 0; face < counts[1]; ++face) {
+    if (text.size() < offset + 4) {
+      return SetProblem(problem, "truncated: binary OFF ends in face ", face, " of ", counts[1]);
+    }
+    int32_t size = 0;
+    std::memcpy(&size, text.data() + offset, sizeof(size));
+    offset += 4;
+    if (size < 3 || text.size() < offset + 4ull * static_cast<uint64_t>(size)) {
+      return SetProblem(problem, "binary OFF face ", face, " announces ", size,
+                        " vertices; need at least 3, all in the file");
+    }
+    for (int32_t k = 0; k < size; ++k, offset += 4) {
+      int32_t id = 0;
+      std::memcpy(&id, text.data() + offset, sizeof(id));
+      if (id < 0 || static_cast<uint32_t>(id) >= counts[0]) {
+        return SetProblem(problem, "binary OFF face ", face, " refers to vertex ", id,
+                          ", outside 0..", static_cast<int64_t>(counts[0]) - 1);
+      }
+    }
+  }
+  return true;
+}
+
+// With `lines` on the header line, sets *counts to the "nV nF nE" tokens:
+// the rest of the header line, else the next line with content (false when
+// there is none).
+bool FindOffCounts(TextLines* lines, Tokens* counts) {
+  counts->assign(lines->tokens().begin() + 1, lines->tokens().end());
+  if (!counts->empty()) return true;
+  if (!lines->NextWithContent()) return false;
+  *counts = lines->tokens();
+  return true;
+}
+
+// Checks the OFF text; sets *needs_normalizing when it is valid OFF laid out
+// in a way OpenMesh's reader does not follow, so NormalizeOff must rewrite it.
+bool CheckOffText(std::string_view text, FormatCheck* check, bool* needs_normalizing,
+                  std::string* problem) {
+  TextLines lines(text);
+  // Header: first line with content.
+  if (!lines.NextWithContent()) {
+    return SetProblem(problem, "no OFF header: the file holds only blank or comment lines");
+  }
+  *needs_normalizing = lines.line_number() != 1;  // OpenMesh wants the keyword on line 1.
+  const std::string_view keyword = lines.tokens()[0];
+  bool other_dimension = false;
+  if (!IsOffKeyword(keyword, &other_dimension)) {
+    return lines.Fail(problem, "expected an OFF header such as 'OFF' or 'COFF', found ",
+                      Quote(keyword));
+  }
+  if (other_dimension) {
+    return lines.Fail(problem, Quote(keyword), " (4D or nD vertices) is not supported; use 3D OFF");
+  }
+  if (lines.tokens().size() >= 2 && lines.tokens()[1] == "BINARY") {
+    if (lines.line_number() != 1 || lines.had_comment()) {
+      return SetProblem(problem, "binary OFF must start with its header alone on line 1");
+    }
+    return CheckBinaryOff(text, lines.next_offset(), keyword, check, problem);
+  }
+  // Any '#' comment means OpenMesh needs a cleaned copy.
+  *needs_normalizing |= text.find('#') != std::string_view::npos;
+  // With ST, C or N in the keyword OpenMesh reads texture coordinates,
+  // colours and normals token by token across line ends, so a vertex line
+  // without them shifts everything after it: a coordinate becomes a face's
+  // vertex count, and a count of billions made OpenMesh allocate gigabytes
+  // (found by tests/fuzz/off_fuzzer). The plain copy has only what this check
+  // read line by line.
+  *needs_normalizing |= keyword != "OFF";
+  const bool has_colors = keyword.find('C') != std::string_view::npos;
+
+  // Counts "nV nF nE": on the header line after the keyword, or the next line.
+  const int header_line = lines.line_number();
+  Tokens counts;
+  if (!FindOffCounts(&lines, &counts)) {
+    return SetProblem(problem, "truncated: the file ends before the vertex/face/edge counts");
+  }
+  // OpenMesh skips the rest of the header line.
+  if (lines.line_number() == header_line) *needs_normalizing = true;
+  const int counts_line = lines.line_number();
+  long long num_vertices = -1, num_faces = -1, num_edges = -1;
+  if (counts.size() != 3 || !ParseInt(counts[0], &num_vertices) ||
+      !ParseInt(counts[1], &num_faces) || !ParseInt(counts[2], &num_edges) || num_vertices < 0 ||
+      num_faces < 0 || num_edges < 0 || num_vertices > std::numeric_limits<int>::max() ||
+      num_faces > std::numeric_limits<int>::max()) {
+    return lines.Fail(problem, "expected three counts 'vertices faces edges' after the header");
+  }
+  check->num_vertices = static_cast<int>(num_vertices);
+  check->num_faces = static_cast<int>(num_faces);
+
+  // The remaining lines: vertices, then faces. Only lines with content count.
+  const long long total = num_vertices + num_faces;
+  long long item = 0;
+  for (; item < total && lines.NextWithContent(); ++item) {
+    const Tokens& tokens = lines.tokens();
+    if (item < num_vertices) {
+      if (!CheckVertexCoordinates(lines, 0, item, problem)) return false;
+      continue;
+    }
+    const long long face = item - num_vertices;
+    long long size = 0;
+    if (!ParseInt(tokens[0], &size) || size < 3) {
+      return lines.Fail(problem, "face ", face, " starts with ", Quote(tokens[0]),
+                        "; expected its vertex count, at least 3");
+    }
+    if (static_cast<long long>(tokens.size()) < 1 + size) {
+      return lines.Fail(problem, "face ", face, " announces ", size, " vertices but lists ",
+                        tokens.size() - 1);
+    }
+    // Without 'C' in the header OpenMesh would read trailing colour values
+    // as the next face.
+    if (static_cast<long long>(tokens.size()) > 1 + size && !has_colors) {
+      *needs_normalizing = true;
+    }
+    for (long long k = 1; k <= size; ++k) {
+      long long id = 0;
+      if (!ParseInt(tokens[k], &id)) {
+        return lines.Fail(problem, "face ", face, " vertex id ", Quote(tokens[k]),
+                          " is not an integer");
+      }
+      if (id < 0 || id >= num_vertices) {
+        return lines.Fail(problem, "face ", face, " refers to vertex ", id, ", outside 0..",
+                          num_vertices - 1);
+      }
+    }
+  }
+  if (item < total) {
+    std::ostringstream message;
+    message << "truncated: the header (line " << counts_line << ") announces " << num_vertices
+            << " vertices and " << num_faces << " faces, but the file ends after ";
+    if (item < num_vertices) {
+      message << item << " of " << num_vertices << " vertices";
+    } else {
+      message << item - num_vertices << " of " << num_faces << " faces";
+    }
+    *problem = message.str();
+    return false;
+  }
+  return true;
+}
+
+// The geometry of an OFF text that passed CheckOffText, in the plain layout
+// OpenMesh reads: "OFF", the counts, 3 coordinates per vertex line and the
+// ids alone on each face line. Colours, normals and comments are dropped.
+std::string NormalizeOff(std::string_view text) {
+  TextLines lines(text);
+  lines.NextWithContent();  // the header
+  Tokens counts;
+  FindOffCounts(&lines, &counts);
+  std::ostringstream out;
+  out << "OFF\n" << counts[0] << " " << counts[1] << " " << counts[2] << "\n";
+  long long num_vertices = 0, num_faces = 0;
+  ParseInt(counts[0], &num_vertices);
+  ParseInt(counts[1], &num_faces);
+  for (long long item = 0; item < num_vertices + num_faces && lines.NextWithContent(); ++item) {
+    const Tokens& tokens = lines.tokens();
+    long long keep = 3;  // x y z
+    if (item >= num_vertices) {
+      ParseInt(tokens[0], &keep);
+      keep += 1;  // the count, then the ids
+    }
+    for (long long k = 0; k < keep; ++k) out << (k ? " " : "") << tokens[k];
+    out << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace
+
+bool CheckOff(std::string_view text, FormatCheck* check, std::string* problem) {
+  bool needs_normalizing = false;
+  if (!CheckOffText(text, check, &needs_normalizing, problem)) return false;
+  if (needs_normalizing) check->normalized_text = NormalizeOff(text);
+  return true;
+}
+
+}  // namespace msdeform

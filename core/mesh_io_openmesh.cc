@@ -1,0 +1,307 @@
+// The OpenMesh pass of ReadMesh and WriteMesh: OpenMesh's readers hand the
+// file's vertices and polygons over as they are (no halfedge structure), and
+// its writers get the Mesh arrays without attributes.
+
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <OpenMesh/Core/IO/IOManager.hh>
+#include <OpenMesh/Core/IO/exporter/BaseExporter.hh>
+#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+
+#include "msdeform/core/mesh_io_formats.h"
+
+namespace msdeform {
+namespace {
+
+namespace fs = std::filesystem;
+using OpenMesh::EdgeHandle;
+using OpenMesh::FaceHandle;
+using OpenMesh::HalfedgeHandle;
+using OpenMesh::Vec2f;
+using OpenMesh::Vec3d;
+using OpenMesh::Vec3f;
+using OpenMesh::Vec3uc;
+using OpenMesh::Vec3ui;
+using OpenMesh::Vec4f;
+using OpenMesh::Vec4uc;
+using OpenMesh::Vec4ui;
+using OpenMesh::VertexHandle;
+using StatusInfo = OpenMesh::Attributes::StatusInfo;
+
+// Turns OpenMesh's own omerr/omlog/omout printing off for its lifetime: our
+// errors are the one-line messages of ReadMesh and WriteMesh. (A few OpenMesh readers print to
+// std::cerr directly; those cannot be silenced here.)
+class ScopedOpenMeshSilence {
+ public:
+  ScopedOpenMeshSilence()
+      : err_(::omerr().is_enabled()), log_(::omlog().is_enabled()), out_(::omout().is_enabled()) {
+    ::omerr().disable();
+    ::omlog().disable();
+    ::omout().disable();
+  }
+  ~ScopedOpenMeshSilence() {
+    if (err_) ::omerr().enable();
+    if (log_) ::omlog().enable();
+    if (out_) ::omout().enable();
+  }
+  ScopedOpenMeshSilence(const ScopedOpenMeshSilence&) = delete;
+  ScopedOpenMeshSilence& operator=(const ScopedOpenMeshSilence&) = delete;
+
+ private:
+  bool err_, log_, out_;
+};
+
+// Records what a reader hands over in *soup, in order, and nothing else:
+// vertices as they are added and faces as raw index lists. No halfedge
+// structure is built, so nothing is dropped or duplicated for non-manifold
+// input.
+class RawImporter : public OpenMesh::IO::BaseImporter {
+ public:
+  explicit RawImporter(PolygonSoup* soup) : soup_(*soup) {}
+
+  VertexHandle add_vertex(const Vec3f& p) override { return AddVertex(p[0], p[1], p[2]); }
+  VertexHandle add_vertex(const Vec3d& p) override { return AddVertex(p[0], p[1], p[2]); }
+  VertexHandle add_vertex() override { return AddVertex(0.0, 0.0, 0.0); }
+  void set_point(VertexHandle vh, const Vec3f& p) override {
+    const int v = vh.idx();
+    if (v < 0 || 3 * static_cast<size_t>(v) >= soup_.xyz.size()) return;
+    for (int k = 0; k < 3; ++k) soup_.xyz[3 * v + k] = p[k];
+  }
+  FaceHandle add_face(const VHandles& ids) override {
+    for (const VertexHandle& vh : ids) soup_.face_ids.push_back(vh.idx());
+    soup_.face_offsets.push_back(static_cast<int>(soup_.face_ids.size()));
+    return FaceHandle(soup_.num_polygons() - 1);
+  }
+  size_t n_vertices() const override { return soup_.xyz.size() / 3; }
+  size_t n_faces() const override { return static_cast<size_t>(soup_.num_polygons()); }
+  size_t n_edges() const override { return 0; }
+  void reserve(unsigned int num_vertices, unsigned int, unsigned int num_faces) override {
+    // Headers may lie (truncated files); cap what we trust them for.
+    soup_.xyz.reserve(3 * std::min(num_vertices, 1u << 24));
+    soup_.face_offsets.reserve(std::min(num_faces, 1u << 24) + 1);
+  }
+
+  // Everything else a reader may offer is ignored.
+  HalfedgeHandle add_edge(VertexHandle, VertexHandle) override { return HalfedgeHandle(); }
+  FaceHandle add_face(HalfedgeHandle) override { return FaceHandle(); }
+  void add_face_texcoords(FaceHandle, VertexHandle, const std::vector<Vec2f>&) override {}
+  void add_face_texcoords(FaceHandle, VertexHandle, const std::vector<Vec3f>&) override {}
+  void set_face_texindex(FaceHandle, int) override {}
+  void set_halfedge(VertexHandle, HalfedgeHandle) override {}
+  void set_normal(VertexHandle, const Vec3f&) override {}
+  void set_normal(VertexHandle, const Vec3d&) override {}
+  void set_color(VertexHandle, const Vec3uc&) override {}
+  void set_color(VertexHandle, const Vec4uc&) override {}
+  void set_color(VertexHandle, const Vec3f&) override {}
+  void set_color(VertexHandle, const Vec4f&) override {}
+  void set_texcoord(VertexHandle, const Vec2f&) override {}
+  void set_status(VertexHandle, const StatusInfo&) override {}
+  void set_next(HalfedgeHandle, HalfedgeHandle) override {}
+  void set_face(HalfedgeHandle, FaceHandle) override {}
+  void request_face_texcoords2D() override {}
+  void set_texcoord(HalfedgeHandle, const Vec2f&) override {}
+  void set_texcoord(VertexHandle, const Vec3f&) override {}
+  void set_texcoord(HalfedgeHandle, const Vec3f&) override {}
+  void set_status(HalfedgeHandle, const StatusInfo&) override {}
+  void set_color(EdgeHandle, const Vec3uc&) override {}
+  void set_color(EdgeHandle, const Vec4uc&) override {}
+  void set_color(EdgeHandle, const Vec3f&) override {}
+  void set_color(EdgeHandle, const Vec4f&) override {}
+  void set_status(EdgeHandle, const StatusInfo&) override {}
+  void set_normal(FaceHandle, const Vec3f&) override {}
+  void set_normal(FaceHandle, const Vec3d&) override {}
+  void set_color(FaceHandle, const Vec3uc&) override {}
+  void set_color(FaceHandle, const Vec4uc&) override {}
+  void set_color(FaceHandle, const Vec3f&) override {}
+  void set_color(FaceHandle, const Vec4f&) override {}
+  void set_status(FaceHandle, const StatusInfo&) override {}
+  void add_texture_information(int, std::string) override {}
+
+ private:
+  VertexHandle AddVertex(double x, double y, double z) {
+    soup_.xyz.push_back(x);
+    soup_.xyz.push_back(y);
+    soup_.xyz.push_back(z);
+    return VertexHandle(soup_.num_vertices() - 1);
+  }
+
+  PolygonSoup& soup_;
+};
+
+// Presents the Mesh arrays to OpenMesh's writers: positions, triangles, and
+// no attributes.
+class RawExporter : public OpenMesh::IO::BaseExporter {
+ public:
+  explicit RawExporter(const Mesh& mesh) : mesh_(mesh) {}
+
+  Vec3f point(VertexHandle vh) const override {
+    const auto p = mesh_.vertices.col(vh.idx());
+    return Vec3f(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+  }
+  Vec3d pointd(VertexHandle vh) const override {
+    const auto p = mesh_.vertices.col(vh.idx());
+    return Vec3d(p.x(), p.y(), p.z());
+  }
+  bool is_point_double() const override { return true; }
+  unsigned int get_vhandles(FaceHandle fh, std::vector<VertexHandle>& ids) const override {
+    ids.clear();
+    for (int c = 0; c < 3; ++c) ids.emplace_back(mesh_.faces(c, fh.idx()));
+    return 3;
+  }
+  size_t n_vertices() const override { return static_cast<size_t>(mesh_.num_vertices()); }
+  size_t n_faces() const override { return static_cast<size_t>(mesh_.num_faces()); }
+  size_t n_edges() const override { return 0; }
+  bool is_triangle_mesh() const override { return true; }
+  // OpenMesh's PLY writer walks the kernel's custom properties without
+  // checking for null; an empty kernel has none.
+  const OpenMesh::BaseKernel* kernel() override { return &empty_kernel_; }
+
+  // No attributes: writers only ask for them when Options request them.
+  Vec3f normal(VertexHandle) const override { return Vec3f(0.f); }
+  Vec3d normald(VertexHandle) const override { return Vec3d(0.0); }
+  bool is_normal_double() const override { return false; }
+  Vec3uc color(VertexHandle) const override { return Vec3uc(0); }
+  Vec4uc colorA(VertexHandle) const override { return Vec4uc(0); }
+  Vec3ui colori(VertexHandle) const override { return Vec3ui(0); }
+  Vec4ui colorAi(VertexHandle) const override { return Vec4ui(0); }
+  Vec3f colorf(VertexHandle) const override { return Vec3f(0.f); }
+  Vec4f colorAf(VertexHandle) const override { return Vec4f(0.f); }
+  Vec2f texcoord(VertexHandle) const override { return Vec2f(0.f); }
+  Vec2f texcoord(HalfedgeHandle) const override { return Vec2f(0.f); }
+  StatusInfo status(VertexHandle) const override { return StatusInfo(); }
+  HalfedgeHandle getHeh(FaceHandle, VertexHandle) const override { return HalfedgeHandle(); }
+  unsigned int get_face_texcoords(std::vector<Vec2f>& texcoords) const override {
+    texcoords.clear();
+    return 0;
+  }
+  Vec3f normal(FaceHandle) const override { return Vec3f(0.f); }
+  Vec3d normald(FaceHandle) const override { return Vec3d(0.0); }
+  Vec3uc color(FaceHandle) const override { return Vec3uc(0); }
+  Vec4uc colorA(FaceHandle) const override { return Vec4uc(0); }
+  Vec3ui colori(FaceHandle) const override { return Vec3ui(0); }
+  Vec4ui colorAi(FaceHandle) const override { return Vec4ui(0); }
+  Vec3f colorf(FaceHandle) const override { return Vec3f(0.f); }
+  Vec4f colorAf(FaceHandle) const override { return Vec4f(0.f); }
+  StatusInfo status(FaceHandle) const override { return StatusInfo(); }
+  Vec3uc color(EdgeHandle) const override { return Vec3uc(0); }
+  Vec4uc colorA(EdgeHandle) const override { return Vec4uc(0); }
+  Vec3ui colori(EdgeHandle) const override { return Vec3ui(0); }
+  Vec4ui colorAi(EdgeHandle) const override { return Vec4ui(0); }
+  Vec3f colorf(EdgeHandle) const override { return Vec3f(0.f); }
+  Vec4f colorAf(EdgeHandle) const override { return Vec4f(0.f); }
+  StatusInfo status(EdgeHandle) const override { return StatusInfo(); }
+  int get_halfedge_id(VertexHandle) override { return -1; }
+  int get_halfedge_id(FaceHandle) override { return -1; }
+  int get_next_halfedge_id(HalfedgeHandle) override { return -1; }
+  int get_to_vertex_id(HalfedgeHandle) override { return -1; }
+  int get_face_id(HalfedgeHandle) override { return -1; }
+  StatusInfo status(HalfedgeHandle) const override { return StatusInfo(); }
+
+ private:
+  const Mesh& mesh_;
+  OpenMesh::BaseKernel empty_kernel_;
+};
+
+// A file in the system temporary folder holding `text`, removed on scope exit.
+class ScopedTemporaryCopy {
+ public:
+  bool Create(const std::string& text, const std::string& suffix, std::string* problem) {
+    std::string pattern = (fs::temp_directory_path() / ("msdeform-XXXXXX" + suffix)).string();
+    std::vector<char> buffer(pattern.begin(), pattern.end());
+    buffer.push_back('\0');
+    const int fd = ::mkstemps(buffer.data(), static_cast<int>(suffix.size()));
+    if (fd < 0) {
+      *problem =
+          "cannot create a temporary copy for OpenMesh (" + std::string(std::strerror(errno)) + ")";
+      return false;
+    }
+    ::close(fd);
+    name_ = buffer.data();
+    std::ofstream out(name_, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.close();
+    if (!out) {
+      *problem = "cannot write a temporary copy for OpenMesh";
+      return false;
+    }
+    return true;
+  }
+  ~ScopedTemporaryCopy() {
+    if (!name_.empty()) std::remove(name_.c_str());
+  }
+  const std::string& name() const { return name_; }
+
+ private:
+  std::string name_;
+};
+
+}  // namespace
+
+bool ReadWithOpenMesh(const std::string& path, const MeshFormat& format, FormatCheck check,
+                      PolygonSoup* soup, std::string* problem) {
+  ScopedTemporaryCopy normalized_copy;
+  std::string read_path = path;
+  if (!check.normalized_text.empty()) {
+    if (!normalized_copy.Create(check.normalized_text, std::string(".") + format.extension,
+                                problem)) {
+      return false;
+    }
+    read_path = normalized_copy.name();
+    check.normalized_text.clear();  // not needed while OpenMesh reads
+    check.normalized_text.shrink_to_fit();
+  }
+  *soup = PolygonSoup();
+  RawImporter importer(soup);
+  {
+    ScopedOpenMeshSilence silence;
+    OpenMesh::IO::Options options = OpenMesh::IO::Options::Default;
+    if (!OpenMesh::IO::IOManager().read(read_path, importer, options)) {
+      *problem = std::string("OpenMesh cannot read it as ") + format.name +
+                 " (wrong header or corrupt data)";
+      return false;
+    }
+  }
+  if ((check.num_vertices >= 0 && soup->num_vertices() != check.num_vertices) ||
+      (check.num_faces >= 0 && soup->num_polygons() != check.num_faces)) {
+    std::ostringstream message;
+    message << "expected";
+    if (check.num_vertices >= 0) message << " " << check.num_vertices << " vertices";
+    if (check.num_vertices >= 0 && check.num_faces >= 0) message << " and";
+    if (check.num_faces >= 0) message << " " << check.num_faces << " faces";
+    message << " from the file, but OpenMesh read " << soup->num_vertices() << " vertices and "
+            << soup->num_polygons() << " faces (corrupt file?)";
+    *problem = message.str();
+    return false;
+  }
+  return true;
+}
+
+bool WriteWithOpenMesh(const Mesh& mesh, const MeshFormat& format, std::ostream& out,
+                       std::string* problem) {
+  RawExporter exporter(mesh);
+  ScopedOpenMeshSilence silence;
+  // OpenMesh's writers print single-precision values; 9 significant digits
+  // reproduce every float exactly.
+  const std::streamsize precision = std::numeric_limits<float>::max_digits10;
+  if (!OpenMesh::IO::IOManager().write(out, format.extension, exporter,
+                                       OpenMesh::IO::Options::Default, precision)) {
+    *problem = std::string("OpenMesh's ") + format.name + " writer failed";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace msdeform

@@ -1,0 +1,104 @@
+// The line walker and token parsing shared by the text mesh readers.
+
+#include "msdeform/core/text_lines.h"
+
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <system_error>
+
+namespace msdeform {
+namespace {
+
+// Splits `line` into whitespace-separated tokens, dropping a '#' comment;
+// sets *had_comment when there was one.
+void Tokenize(std::string_view line, TextLines::Tokens* tokens, bool* had_comment) {
+  tokens->clear();
+  *had_comment = false;
+  const size_t hash = line.find('#');
+  if (hash != std::string_view::npos) {
+    line = line.substr(0, hash);
+    *had_comment = true;
+  }
+  size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    size_t j = i;
+    while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
+    if (j > i) tokens->push_back(line.substr(i, j - i));
+    i = j;
+  }
+}
+
+// strtod or strtof on the whole token.
+template <typename Real>
+bool ParseReal(std::string_view token, Real (*parse)(const char*, char**), Real* value) {
+  const std::string copy(token);
+  char* end = nullptr;
+  *value = parse(copy.c_str(), &end);
+  return end == copy.c_str() + copy.size() && !copy.empty();
+}
+
+}  // namespace
+
+bool TextLines::Next() {
+  if (next_ >= text_.size()) return false;
+  size_t end = text_.find('\n', next_);
+  if (end == std::string_view::npos) end = text_.size();
+  line_ = text_.substr(next_, end - next_);
+  if (!line_.empty() && line_.back() == '\r') line_.remove_suffix(1);
+  next_ = end + 1;
+  ++line_number_;
+  Tokenize(line_, &tokens_, &had_comment_);
+  return true;
+}
+
+bool TextLines::NextWithContent() {
+  while (Next()) {
+    if (!tokens_.empty()) return true;
+  }
+  return false;
+}
+
+std::string Quote(std::string_view token) {
+  constexpr size_t kMax = 24;
+  if (token.size() <= kMax) return "'" + std::string(token) + "'";
+  return "'" + std::string(token.substr(0, kMax)) + "...'";
+}
+
+bool ParseInt(std::string_view token, long long* value) {
+  const char* end = token.data() + token.size();
+  const auto result = std::from_chars(token.data(), end, *value);
+  return result.ec == std::errc() && result.ptr == end;
+}
+
+bool ParseDouble(std::string_view token, double* value) {
+  return ParseReal<double>(token, std::strtod, value);
+}
+
+bool ParseFloat(std::string_view token, float* value) {
+  return ParseReal<float>(token, std::strtof, value);
+}
+
+bool CheckVertexCoordinates(const TextLines& lines, size_t first, long long vertex,
+                            std::string* problem) {
+  const TextLines::Tokens& tokens = lines.tokens();
+  if (tokens.size() < first + 3) {
+    return lines.Fail(problem, "vertex ", vertex, " has fewer than 3 coordinates");
+  }
+  for (size_t k = first; k < first + 3; ++k) {
+    double value = 0.0;
+    if (!ParseDouble(tokens[k], &value)) {
+      return lines.Fail(problem, "vertex ", vertex, " coordinate ", Quote(tokens[k]),
+                        " is not a number");
+    }
+    if (!std::isfinite(value)) {
+      return lines.Fail(problem, "vertex ", vertex, " coordinate ", Quote(tokens[k]),
+                        " is not finite");
+    }
+  }
+  return true;
+}
+
+}  // namespace msdeform
