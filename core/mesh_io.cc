@@ -270,7 +270,7 @@ bool WriteMesh(const std::string& path, const Mesh& mesh, std::string* error) {
   return WriteFileAtomically(
       path,
       [&mesh, format](std::ostream& out, std::string* write_error) {
-        return WriteWithOpenMesh(mesh, *format, out, write_error);
+        return WriteMeshText(mesh, *format, out, write_error);
       },
       error);
 }

@@ -1,10 +1,12 @@
-// Reading and writing triangle meshes through OpenMesh's file readers and
-// writers, keeping the file's vertex order exactly.
+// Reading triangle meshes through OpenMesh's file readers, keeping the file's
+// vertex order exactly, and writing them with every coordinate exact.
 //
 // Formats, chosen by extension (case-insensitive):
 //   in:  .off (also COFF, NOFF, STOFF, ... and binary OFF in OpenMesh's layout,
 //        i.e. without the per-face colour count of the OFF spec), .obj, .ply, .stl
-//   out: .off, .obj, .ply (ASCII)
+//   out: .off, .obj, .ply (ASCII), each coordinate the shortest decimal that
+//        reads back as the same double; reading takes coordinates through
+//        single precision, as OpenMesh's readers do
 //
 // Vertex i of the Mesh is the i-th vertex of the file: Botsch-Sorkine .sel
 // files and scenario vertex ids index it. Non-manifold input (an edge shared

@@ -3,8 +3,9 @@
 //   - one check per format, each in its own file (core/mesh_io_off.cc,
 //     mesh_io_obj.cc, mesh_io_ply.cc, mesh_io_stl.cc), walking the text with
 //     the shared TextLines (core/text_lines.h);
-//   - the OpenMesh pass that reads the vertices and polygons and writes
-//     meshes (core/mesh_io_openmesh.cc).
+//   - the OpenMesh pass that reads the vertices and polygons
+//     (core/mesh_io_openmesh.cc);
+//   - the writers, which print exact doubles (core/mesh_io_write.cc).
 // OpenMesh's readers trust what they read: after a number fails to parse or
 // the data ends they keep going with stale values, and some allocate what a
 // count says or crash on a malformed header (found by the fuzzers in
@@ -54,7 +55,7 @@ struct MeshFormat {
   bool (*check)(std::string_view text, FormatCheck* check, std::string* problem);
   // STL has no shared vertices: corners at exactly equal positions are merged.
   bool weld_equal_positions;
-  bool writable;  // OpenMesh writes it (as ASCII)
+  bool writable;  // WriteMeshText writes it (as text)
 };
 
 // A file's vertices and polygons, in the file's order.
@@ -72,10 +73,11 @@ struct PolygonSoup {
 bool ReadWithOpenMesh(const std::string& path, const MeshFormat& format, FormatCheck check,
                       PolygonSoup* soup, std::string* problem);
 
-// Writes `mesh` to `out` with OpenMesh's ASCII writer for `format`, floats
-// with 9 significant digits. On failure puts one line in *problem.
-bool WriteWithOpenMesh(const Mesh& mesh, const MeshFormat& format, std::ostream& out,
-                       std::string* problem);
+// Writes `mesh` to `out` as `format`'s text (OFF, OBJ or ASCII PLY), each
+// coordinate the shortest decimal that reads back as the same double. On
+// failure puts one line in *problem.
+bool WriteMeshText(const Mesh& mesh, const MeshFormat& format, std::ostream& out,
+                   std::string* problem);
 
 }  // namespace msdeform
 

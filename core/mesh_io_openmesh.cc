@@ -1,6 +1,5 @@
-// The OpenMesh pass of ReadMesh and WriteMesh: OpenMesh's readers hand the
-// file's vertices and polygons over as they are (no halfedge structure), and
-// its writers get the Mesh arrays without attributes.
+// The OpenMesh pass of ReadMesh: OpenMesh's readers hand the file's vertices
+// and polygons over as they are (no halfedge structure).
 
 #include <stdlib.h>
 #include <unistd.h>
@@ -17,7 +16,6 @@
 #include <vector>
 
 #include <OpenMesh/Core/IO/IOManager.hh>
-#include <OpenMesh/Core/IO/exporter/BaseExporter.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 
@@ -42,7 +40,7 @@ using OpenMesh::VertexHandle;
 using StatusInfo = OpenMesh::Attributes::StatusInfo;
 
 // Turns OpenMesh's own omerr/omlog/omout printing off for its lifetime: our
-// errors are the one-line messages of ReadMesh and WriteMesh. (A few OpenMesh readers print to
+// errors are the one-line messages of ReadMesh. (A few OpenMesh readers print to
 // std::cerr directly; those cannot be silenced here.)
 class ScopedOpenMeshSilence {
  public:
@@ -141,80 +139,6 @@ class RawImporter : public OpenMesh::IO::BaseImporter {
   PolygonSoup& soup_;
 };
 
-// Presents the Mesh arrays to OpenMesh's writers: positions, triangles, and
-// no attributes.
-class RawExporter : public OpenMesh::IO::BaseExporter {
- public:
-  explicit RawExporter(const Mesh& mesh) : mesh_(mesh) {}
-
-  Vec3f point(VertexHandle vh) const override {
-    const auto p = mesh_.vertices.col(vh.idx());
-    return Vec3f(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
-  }
-  Vec3d pointd(VertexHandle vh) const override {
-    const auto p = mesh_.vertices.col(vh.idx());
-    return Vec3d(p.x(), p.y(), p.z());
-  }
-  bool is_point_double() const override { return true; }
-  unsigned int get_vhandles(FaceHandle fh, std::vector<VertexHandle>& ids) const override {
-    ids.clear();
-    for (int c = 0; c < 3; ++c) ids.emplace_back(mesh_.faces(c, fh.idx()));
-    return 3;
-  }
-  size_t n_vertices() const override { return static_cast<size_t>(mesh_.num_vertices()); }
-  size_t n_faces() const override { return static_cast<size_t>(mesh_.num_faces()); }
-  size_t n_edges() const override { return 0; }
-  bool is_triangle_mesh() const override { return true; }
-  // OpenMesh's PLY writer walks the kernel's custom properties without
-  // checking for null; an empty kernel has none.
-  const OpenMesh::BaseKernel* kernel() override { return &empty_kernel_; }
-
-  // No attributes: writers only ask for them when Options request them.
-  Vec3f normal(VertexHandle) const override { return Vec3f(0.f); }
-  Vec3d normald(VertexHandle) const override { return Vec3d(0.0); }
-  bool is_normal_double() const override { return false; }
-  Vec3uc color(VertexHandle) const override { return Vec3uc(0); }
-  Vec4uc colorA(VertexHandle) const override { return Vec4uc(0); }
-  Vec3ui colori(VertexHandle) const override { return Vec3ui(0); }
-  Vec4ui colorAi(VertexHandle) const override { return Vec4ui(0); }
-  Vec3f colorf(VertexHandle) const override { return Vec3f(0.f); }
-  Vec4f colorAf(VertexHandle) const override { return Vec4f(0.f); }
-  Vec2f texcoord(VertexHandle) const override { return Vec2f(0.f); }
-  Vec2f texcoord(HalfedgeHandle) const override { return Vec2f(0.f); }
-  StatusInfo status(VertexHandle) const override { return StatusInfo(); }
-  HalfedgeHandle getHeh(FaceHandle, VertexHandle) const override { return HalfedgeHandle(); }
-  unsigned int get_face_texcoords(std::vector<Vec2f>& texcoords) const override {
-    texcoords.clear();
-    return 0;
-  }
-  Vec3f normal(FaceHandle) const override { return Vec3f(0.f); }
-  Vec3d normald(FaceHandle) const override { return Vec3d(0.0); }
-  Vec3uc color(FaceHandle) const override { return Vec3uc(0); }
-  Vec4uc colorA(FaceHandle) const override { return Vec4uc(0); }
-  Vec3ui colori(FaceHandle) const override { return Vec3ui(0); }
-  Vec4ui colorAi(FaceHandle) const override { return Vec4ui(0); }
-  Vec3f colorf(FaceHandle) const override { return Vec3f(0.f); }
-  Vec4f colorAf(FaceHandle) const override { return Vec4f(0.f); }
-  StatusInfo status(FaceHandle) const override { return StatusInfo(); }
-  Vec3uc color(EdgeHandle) const override { return Vec3uc(0); }
-  Vec4uc colorA(EdgeHandle) const override { return Vec4uc(0); }
-  Vec3ui colori(EdgeHandle) const override { return Vec3ui(0); }
-  Vec4ui colorAi(EdgeHandle) const override { return Vec4ui(0); }
-  Vec3f colorf(EdgeHandle) const override { return Vec3f(0.f); }
-  Vec4f colorAf(EdgeHandle) const override { return Vec4f(0.f); }
-  StatusInfo status(EdgeHandle) const override { return StatusInfo(); }
-  int get_halfedge_id(VertexHandle) override { return -1; }
-  int get_halfedge_id(FaceHandle) override { return -1; }
-  int get_next_halfedge_id(HalfedgeHandle) override { return -1; }
-  int get_to_vertex_id(HalfedgeHandle) override { return -1; }
-  int get_face_id(HalfedgeHandle) override { return -1; }
-  StatusInfo status(HalfedgeHandle) const override { return StatusInfo(); }
-
- private:
-  const Mesh& mesh_;
-  OpenMesh::BaseKernel empty_kernel_;
-};
-
 // A file in the system temporary folder holding `text`, removed on scope exit.
 class ScopedTemporaryCopy {
  public:
@@ -284,21 +208,6 @@ bool ReadWithOpenMesh(const std::string& path, const MeshFormat& format, FormatC
     message << " from the file, but OpenMesh read " << soup->num_vertices() << " vertices and "
             << soup->num_polygons() << " faces (corrupt file?)";
     *problem = message.str();
-    return false;
-  }
-  return true;
-}
-
-bool WriteWithOpenMesh(const Mesh& mesh, const MeshFormat& format, std::ostream& out,
-                       std::string* problem) {
-  RawExporter exporter(mesh);
-  ScopedOpenMeshSilence silence;
-  // OpenMesh's writers print single-precision values; 9 significant digits
-  // reproduce every float exactly.
-  const std::streamsize precision = std::numeric_limits<float>::max_digits10;
-  if (!OpenMesh::IO::IOManager().write(out, format.extension, exporter,
-                                       OpenMesh::IO::Options::Default, precision)) {
-    *problem = std::string("OpenMesh's ") + format.name + " writer failed";
     return false;
   }
   return true;

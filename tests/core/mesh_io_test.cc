@@ -112,6 +112,38 @@ TEST_P(MeshRoundTripTest, DoublesComeBackWithinFloatPrecisionAndThenExactly) {
   EXPECT_EQ(read_again.faces, read.faces);
 }
 
+// The file holds every double exactly: its numbers, read as doubles, are the
+// mesh's coordinates bit for bit (msdeform's own reader takes them through
+// float; other programs need not).
+TEST_P(MeshRoundTripTest, TextHoldsEveryCoordinateAsTheSameDouble) {
+  const std::string path = FreshFolder() + "/exact." + GetParam();
+  const Mesh mesh = RandomMesh(50, 40, 11);
+  std::string error;
+  ASSERT_TRUE(WriteMesh(path, mesh, &error)) << error;
+  std::ifstream in(path);
+  std::string line;
+  std::vector<double> coordinates;
+  bool in_vertices = GetParam() == "obj";
+  int header_lines = GetParam() == "off" ? 2 : GetParam() == "obj" ? 1 : 0;
+  while (std::getline(in, line) && static_cast<int>(coordinates.size()) < 3 * 50) {
+    if (header_lines > 0) {
+      --header_lines;
+      continue;
+    }
+    if (GetParam() == "ply" && !in_vertices) {
+      in_vertices = line == "end_header";
+      continue;
+    }
+    std::istringstream fields(GetParam() == "obj" ? line.substr(2) : line);
+    std::string field;
+    while (fields >> field) coordinates.push_back(std::strtod(field.c_str(), nullptr));
+  }
+  ASSERT_EQ(coordinates.size(), 3u * 50u);
+  for (int v = 0; v < 50; ++v) {
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(coordinates[3 * v + k], mesh.vertices(k, v));
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Formats, MeshRoundTripTest, testing::Values("off", "obj", "ply"));
 
 // Edge (0, 1) is shared by three triangles, vertex 5 is a bowtie (two fans
