@@ -16,6 +16,8 @@ packages=(
   nlohmann-json3-dev               # scenario and report JSON
   libgtest-dev libbenchmark-dev    # tests and benchmarks
   libcgal-dev                      # CGAL headers
+  pybind11-dev python3-dev         # the Python module
+  python3-numpy python3-pytest     # its arrays and its tests
 )
 
 step() { echo "install_deps: $*"; }
