@@ -39,6 +39,7 @@ void BindIo(py::module_& m);
 void BindOptions(py::module_& m);
 void BindDeformer(py::module_& m);
 void BindExperiments(py::module_& m);
+void BindFlags(py::module_& m);
 
 // Raise the Python exception with `message` as it is.
 [[noreturn]] void ThrowValueError(const std::string& message);

@@ -16,4 +16,5 @@ PYBIND11_MODULE(_msdeform, m) {
   python::BindOptions(m);
   python::BindDeformer(m);
   python::BindExperiments(m);
+  python::BindFlags(m);
 }
