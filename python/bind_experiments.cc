@@ -2,7 +2,9 @@
 // arrays. Runs come back as dicts keyed by the experiment tables' column
 // names (experiments/runner.cc; experiments/results/README.md explains them).
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -12,7 +14,9 @@
 #include "experiments/experiment_scenario.h"
 #include "experiments/metrics.h"
 #include "experiments/runner.h"
+#include "msdeform/core/handles.h"
 #include "msdeform/core/mesh.h"
+#include "msdeform/core/scenario.h"
 #include "python/bindings.h"
 
 namespace msdeform {
@@ -163,11 +167,61 @@ ArapTerms ArapTermsFrom(const py::object& energy, const py::object& normaliser) 
   return terms;
 }
 
+// A scenario from arrays: the mesh, a status array (0 fixed, 1 free, 2
+// handle) and the drag path, one (4, 4) transform or (frames, 4, 4).
+std::unique_ptr<ExperimentScenario> ScenarioFromArrays(const py::object& vertices,
+                                                       const py::object& faces,
+                                                       const py::object& status,
+                                                       const py::object& path,
+                                                       const py::object& watch,
+                                                       const std::string& name) {
+  auto scenario = std::make_unique<ExperimentScenario>();
+  scenario->name = name;
+  scenario->mesh = MeshFromArrays(vertices, faces);
+  ValidateOrThrow(scenario->mesh);
+  const int num_vertices = scenario->mesh.num_vertices();
+  scenario->layout = LayoutFromStatus(status, num_vertices, "status");
+  std::string error;
+  if (!ValidateHandles(scenario->layout, num_vertices, &error)) {
+    ThrowValueError("status: " + error);
+  }
+  const py::array transforms = py::array::ensure(path);
+  if (!transforms) PyErr_Clear();
+  if (transforms && transforms.ndim() == 3) {
+    for (py::ssize_t f = 0; f < transforms.shape(0); ++f) {
+      const std::string field = "path[" + std::to_string(f) + "]";
+      scenario->path.push_back(TransformFromArray(transforms[py::int_(f)], field.c_str()));
+    }
+  } else {
+    scenario->path.push_back(TransformFromArray(path, "path"));
+  }
+  if (scenario->path.empty()) ThrowValueError("path: no transform");
+  if (static_cast<int>(scenario->path.size()) > kMaxScenarioFrames) {
+    ThrowValueError("path: more than " + std::to_string(kMaxScenarioFrames) + " frames");
+  }
+  if (!watch.is_none()) {
+    scenario->watch = IdsFromArray(watch, num_vertices, "watch");
+    std::sort(scenario->watch.begin(), scenario->watch.end());
+    scenario->watch.erase(std::unique(scenario->watch.begin(), scenario->watch.end()),
+                          scenario->watch.end());
+    scenario->has_watch = true;
+  }
+  return scenario;
+}
+
 void BindScenario(py::module_& m) {
   py::class_<ExperimentScenario> c(
       m, "Scenario",
       "An experiment's edit loaded from a scenario file (docs/formats.md): the mesh, the "
-      "handle layout, the optional watch region and the drag path. Made by load_scenario.");
+      "handle layout, the optional watch region and the drag path. Made by load_scenario, or "
+      "from arrays with Scenario(V, F, status, path, watch=None, name='arrays').");
+  c.def(py::init(&ScenarioFromArrays), py::arg("V"), py::arg("F"), py::arg("status"),
+        py::arg("path"), py::arg("watch") = py::none(), py::arg("name") = "arrays",
+        "A scenario from arrays, for run_deformer and run_cgal_arap: V (#V, 3), F (#F, 3), "
+        "status per vertex (0 fixed, 1 free, 2 handle), path the handle's transforms, one "
+        "(4, 4) or (frames, 4, 4) (msdeform.drag_path makes one), watch optional vertex ids "
+        "whose displacement is the leakage. Raises ValueError (the C++ message) for bad "
+        "arrays or a layout without a handle vertex.");
   c.def_readonly("name", &ExperimentScenario::name, "The scenario's name.");
   c.def_readonly("file", &ExperimentScenario::file, "The scenario file.");
   c.def_readonly("mesh_path", &ExperimentScenario::mesh_path, "The mesh file, resolved.");

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <string>
+#include <utility>
 
 #include <glog/logging.h>
 
@@ -255,9 +257,10 @@ bool DeformerOptions::Check(std::string* error) const {
     *error = "length_unit must be a finite number >= 0 (0: the bounding-box diagonal)";
     return false;
   }
-  for (double weight : {w_rot, w_coh, w_con}) {
+  for (const auto& [name, weight] :
+       {std::pair<const char*, double>{"w_rot", w_rot}, {"w_coh", w_coh}, {"w_con", w_con}}) {
     if (!(weight >= 0.0) || !std::isfinite(weight)) {
-      *error = "energy weights must be finite and >= 0";
+      *error = std::string(name) + " (energy weight of Eq. 17) must be finite and >= 0";
       return false;
     }
   }

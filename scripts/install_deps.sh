@@ -18,6 +18,11 @@ packages=(
   libcgal-dev                      # CGAL headers
   pybind11-dev python3-dev         # the Python module
   python3-numpy python3-pytest     # its arrays and its tests
+  python3-dask python3-distributed # sweeps over many runs (python/msdeform/sweep)
+  python3-matplotlib               # the charts of paper_figures/ and of sweeps
+  libglfw3-dev libimgui-dev        # the editor's window and interface (apps/msdeform_editor)
+  libstb-dev                       # its PNG screenshots
+  xvfb xauth libgl1-mesa-dri       # the editor headless (tests, figures): X server, Mesa's renderer
 )
 
 step() { echo "install_deps: $*"; }

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds everything (scripts/build.sh) and runs the whole test suite with
-# ctest: the C++ tests, the command line, and msdeform as another project's dependency (installed, and added as a
+# ctest: the C++ tests, the command line, the Python module (pytest) and
+# msdeform as another project's dependency (installed, and added as a
 # subdirectory). Then builds the C++ tests again with AddressSanitizer and
 # UndefinedBehaviorSanitizer in build-asan/ (-O1, assertions on; only what
 # ctest needs: target msdeform_test_deps) and runs them there too.
@@ -24,7 +25,7 @@ asan="${root}/build-asan"
 echo "run_tests: configuring ${asan} (-DMSDEFORM_SANITIZE=ON, -O1)"
 cmake -S "${root}" -B "${asan}" -DMSDEFORM_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" \
-  -DMSDEFORM_BUILD_BENCHMARKS=OFF -DMSDEFORM_INSTALL=OFF
+  -DMSDEFORM_BUILD_PYTHON=OFF -DMSDEFORM_BUILD_BENCHMARKS=OFF -DMSDEFORM_INSTALL=OFF
 echo "run_tests: compiling the tests with sanitizers (-j2)"
 cmake --build "${asan}" -j2 --target msdeform_test_deps
 # ASan's defaults (leaks reported too); UBSan findings stop the test

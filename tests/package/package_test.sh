@@ -24,6 +24,22 @@ case "${mode}" in
     [[ -f "${work}/prefix/include/msdeform/scales/deformer.h" ]] \
       || { echo "package_test: deformer.h not installed under include/msdeform/scales" >&2; exit 1; }
     configure=(-DCMAKE_PREFIX_PATH="${work}/prefix")
+    # The Python module, when the build has it, imports from where it was
+    # installed with nothing but PYTHONPATH (README.md, "Python").
+    if grep -q "^MSDEFORM_BUILD_PYTHON:BOOL=ON" "${build_dir}/CMakeCache.txt"; then
+      python_dir="$(grep "^MSDEFORM_PYTHON_INSTALL_DIR:" "${build_dir}/CMakeCache.txt" | cut -d= -f2)"
+      python="$(grep "^Python3_EXECUTABLE:" "${build_dir}/CMakeCache.txt" | cut -d= -f2)"
+      (cd "${work}" && PYTHONPATH="${work}/prefix/${python_dir}" "${python}" -c '
+import numpy as np, msdeform
+V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
+F = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+d = msdeform.Deformer(V, F)
+d.set_handles(np.full(4, 2))
+M = np.eye(4); M[:3, 3] = [1, 2, 3]
+assert np.abs(d.drag(M) - (V + [1, 2, 3])).max() < 1e-9
+assert msdeform.__file__.startswith("'"${work}"'/prefix/"), msdeform.__file__
+') || { echo "package_test: the installed Python module does not import and drag" >&2; exit 1; }
+    fi
     ;;
   subdirectory)
     configure=(-DMSDEFORM_SOURCE_DIR="${source_dir}")

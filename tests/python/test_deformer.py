@@ -1,0 +1,164 @@
+"""The Deformer from Python: the command line's result, known answers, views, the GIL."""
+
+import subprocess
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import msdeform
+from conftest import read_off_exact
+
+
+def run_cli(cli, tmp_path, *arguments):
+    """Runs msdeform with `arguments`, returns the deformed vertices it wrote (exact doubles)."""
+    out = tmp_path / "cli.off"
+    subprocess.run([str(cli), *arguments, f"--out={out}", "--quiet"], check=True)
+    V, _ = read_off_exact(out)
+    return V
+
+
+def test_drag_equals_the_command_lines_for_a_sel_def_pair(cli, meshes, tmp_path):
+    V_cli = run_cli(cli, tmp_path, f"--mesh={meshes / 'cactus.off'}",
+                    f"--sel={meshes / 'cactus.sel'}", f"--def={meshes / 'cactus.def'}",
+                    "--frames=5")
+    V, F = msdeform.read_mesh(meshes / "cactus.off")
+    d = msdeform.Deformer(V, F, method="multiscale")
+    d.set_handles(meshes / "cactus.sel")
+    V2 = d.drag_along(msdeform.read_def(meshes / "cactus.def"), frames=5)
+    assert np.abs(V2 - V_cli).max() <= 1e-12 * d.diagonal
+    assert np.abs(V2 - V).max() > 0.1 * d.diagonal  # the trunk did bend
+
+
+def test_drag_equals_the_command_lines_for_a_scenario(cli, scenarios, tmp_path):
+    scenario_file = scenarios / "hand_finger.json"
+    V_cli = run_cli(cli, tmp_path, f"--scenario={scenario_file}", "--frames=4",
+                    "--method=static", "--w_con=1000")
+    scenario = msdeform.load_scenario(scenario_file, frames=4)
+    options = msdeform.options_from_flags({"method": "static", "w_con": 1000})
+    d = msdeform.Deformer(scenario.V, scenario.F, options)
+    d.set_handles(scenario.status)
+    V2 = d.drag_along(scenario.path)
+    assert np.abs(V2 - V_cli).max() <= 1e-12 * d.diagonal
+
+
+def whole_mesh_handle(num_vertices):
+    return np.full(num_vertices, 2, dtype=np.int32)
+
+
+def rigid_motion():
+    angle = 0.7
+    M = np.eye(4)
+    M[:3, :3] = [[np.cos(angle), -np.sin(angle), 0.0], [np.sin(angle), np.cos(angle), 0.0],
+                 [0.0, 0.0, 1.0]]
+    M[:3, 3] = [0.3, -0.2, 0.5]
+    return M
+
+
+@pytest.mark.parametrize("method", ["multiscale", "static", "static_dense"])
+def test_a_whole_mesh_handle_moves_rigidly(meshes, method):
+    V, F = msdeform.read_mesh(meshes / "cactus.off")
+    d = msdeform.Deformer(V, F, method=method)
+    d.set_handles(whole_mesh_handle(len(V)))
+    M = rigid_motion()
+    V2 = d.drag(M)
+    expected = V @ M[:3, :3].T + M[:3, 3]
+    assert np.abs(V2 - expected).max() <= 1e-6 * d.diagonal
+
+
+def test_identity_drag_leaves_the_mesh_at_rest(meshes):
+    V, F = msdeform.read_mesh(meshes / "cactus.off")
+    d = msdeform.Deformer(V, F)
+    d.set_handles(meshes / "cactus.sel")
+    V2 = d.drag(np.eye(4))
+    assert np.abs(V2 - V).max() <= 1e-9 * d.diagonal
+
+
+def test_drag_returns_a_read_only_view_updated_in_place(meshes):
+    V, F = msdeform.read_mesh(meshes / "cactus.off")
+    d = msdeform.Deformer(V, F)
+    d.set_handles(meshes / "cactus.sel")
+    M = msdeform.read_def(meshes / "cactus.def")
+    first = d.drag(M)
+    kept = first.copy()
+    assert not first.flags.writeable
+    with pytest.raises(ValueError):
+        first[0, 0] = 1.0
+    assert np.shares_memory(first, d.deformed_vertices)
+    second = d.drag(np.eye(4))
+    assert np.shares_memory(first, second)
+    assert np.array_equal(first, second)  # the same storage, now the second frame
+    assert not np.array_equal(kept, second)
+    del d
+    assert second.sum() == second.sum()  # the view keeps the Deformer alive
+
+
+def test_method_intermediates_follow_the_paper(meshes):
+    V, F = msdeform.read_mesh(meshes / "cactus.off")
+    d = msdeform.Deformer(V, F)
+    d.set_handles(meshes / "cactus.sel")
+    classes = d.node_classes
+    assert set(np.unique(classes)) <= {0, 1, 2}
+    assert msdeform.NODE_CLASSES == ("fixed", "half_free", "totally_free")
+    # Node classes decide the variables: 12 per Totally Free node, 9 per Half Free one.
+    assert d.num_variables == 12 * np.count_nonzero(classes == 2) + 9 * np.count_nonzero(classes == 1)
+    assert 1 <= d.selected_scale <= d.num_scales
+    assert d.selection["scale"] == d.selected_scale
+    assert np.array_equal(d.node_positions, d.graph_node_positions(d.selected_scale))
+    assert len(d.node_classes) == len(d.node_positions) == len(d.node_extent)
+    # e' is per lattice particle; normalised by the handle's extent (Eq. 5).
+    assert d.relative_extent.shape == (len(d.particle_positions),)
+    assert np.allclose(d.relative_extent, d.extent / d.handle_extent, rtol=1e-14, atol=0)
+    d.drag_along(msdeform.read_def(meshes / "cactus.def"), frames=3)
+    stats = d.frame_stats
+    assert len(stats) == 3 and d.last_stats["frame_ms"] == stats[-1]["frame_ms"]
+    assert all(s["final_cost"] <= s["initial_cost"] for s in stats)
+    assert stats[-1]["trace"].shape[1] == 2
+
+
+def test_static_baseline_has_one_scale_and_no_rigidity(meshes):
+    V, F = msdeform.read_mesh(meshes / "cactus.off")
+    d = msdeform.Deformer(V, F, method="static", static_nodes=150)
+    d.set_handles(meshes / "cactus.sel")
+    assert d.num_scales == 1
+    assert d.relative_extent.size == 0
+    assert d.options.static_nodes == 150
+
+
+def test_keywords_are_the_options_fields_with_the_cpp_defaults():
+    defaults = dict(msdeform.describe_options())
+    options = msdeform.DeformerOptions()
+    assert defaults["w_con"] == "100" and options.w_con == 100.0
+    assert defaults["stopping.max_iterations"] == str(options.stopping.max_iterations)
+    changed = msdeform.DeformerOptions(w_con=1e3, stopping={"max_iterations": 5})
+    described = dict(msdeform.describe_options(changed))
+    assert described["w_con"] == "1000" and described["stopping.max_iterations"] == "5"
+    assert msdeform.options_from_flags({"w_con": 1000, "max_iterations": 5}) == changed
+
+
+def test_the_gil_is_released_while_dragging(meshes):
+    """A Python thread keeps running while another thread drags.
+
+    If the solve held the GIL, the main thread's loop would stall for the whole drag_along
+    call; with it released, the longest pause is a small part of the call.
+    """
+    V, F = msdeform.read_mesh(meshes / "armadillo.off")
+    d = msdeform.Deformer(V, F, num_threads=1)
+    status = np.ones(len(V), dtype=np.int32)
+    status[V[:, 1] < np.quantile(V[:, 1], 0.2)] = 0
+    status[V[:, 1] > np.quantile(V[:, 1], 0.9)] = 2
+    d.set_handles(status)
+    M = np.eye(4)
+    M[:3, 3] = [0.0, 0.0, 0.1 * d.diagonal]
+    worker = threading.Thread(target=d.drag_along, args=(M,), kwargs={"frames": 40})
+    started = time.perf_counter()
+    worker.start()
+    longest_pause, last = 0.0, time.perf_counter()
+    while worker.is_alive():
+        now = time.perf_counter()
+        longest_pause, last = max(longest_pause, now - last), now
+    duration = time.perf_counter() - started
+    worker.join()
+    assert len(d.frame_stats) == 40
+    assert longest_pause < 0.25 * duration, (longest_pause, duration)

@@ -1,0 +1,127 @@
+"""Bad input raises a Python exception carrying the C++ message; nothing crashes.
+
+The files are the command line's bad-input corpus (tests/data/bad/MANIFEST.tsv): each entry
+that names a mesh, .sel, .def or scenario file and an error must raise that same error here.
+"""
+
+import os
+import pathlib
+
+import numpy as np
+import pytest
+
+import msdeform
+
+BAD = pathlib.Path(os.environ.get("MSDEFORM_SOURCE_DIR", ".")) / "tests" / "data" / "bad"
+
+
+def corpus():
+    """(name, expected substring, kind) of every failing corpus entry of one file."""
+    entries = []
+    for line in open(BAD / "MANIFEST.tsv"):
+        if line.startswith("#") or not line.strip():
+            continue
+        name, _, expected, arguments = line.rstrip("\n").split("\t")
+        if expected == "-":
+            continue
+        for kind in ("mesh", "sel", "def", "scenario"):
+            if f"--{kind}=@BAD@/{name}" in arguments.split():
+                entries.append(pytest.param(name, expected, kind, id=name))
+    return entries
+
+
+@pytest.fixture(scope="module")
+def bar():
+    V, F = msdeform.read_mesh(BAD / "bar.off")
+    return V, F
+
+
+def test_the_corpus_is_there():
+    assert len(corpus()) > 50
+
+
+@pytest.mark.parametrize("name,expected,kind", corpus())
+def test_corpus_entry_raises_the_command_lines_message(name, expected, kind, bar):
+    path = BAD / name
+    if kind == "mesh":
+        with pytest.raises(OSError, match=None) as raised:
+            msdeform.read_mesh(path)
+    elif kind == "sel":
+        with pytest.raises(OSError) as raised:
+            msdeform.read_sel(path, len(bar[0]))
+    elif kind == "def":
+        if "the solve failed" in expected:  # a valid file whose drag cannot be solved
+            d = msdeform.Deformer(*bar)
+            d.set_handles(BAD / "bar.sel")
+            with pytest.raises(RuntimeError) as raised:
+                d.drag(msdeform.read_def(path))
+            expected = "the solve failed"
+        else:
+            with pytest.raises(OSError) as raised:
+                msdeform.read_def(path)
+    else:
+        with pytest.raises(OSError) as raised:
+            msdeform.load_scenario(path)
+    assert expected in str(raised.value)
+
+
+def test_arrays_of_the_wrong_shape_or_type(bar):
+    V, F = bar
+    with pytest.raises(ValueError, match=r"F: expected an array of shape \(m, 3\), got shape \(144, 2\)"):
+        msdeform.Deformer(V, F[:, :2])
+    with pytest.raises(TypeError, match="V: expected an array of real numbers, got dtype"):
+        msdeform.Deformer(V.astype(str), F)
+    with pytest.raises(TypeError, match="F: expected an array of integers"):
+        msdeform.Deformer(V, F.astype(np.float64))
+    out_of_range = F.copy()
+    out_of_range[3, 1] = len(V)
+    with pytest.raises(ValueError, match="face 3"):
+        msdeform.Deformer(V, out_of_range)
+    with pytest.raises(ValueError, match="vertex 0 has a non-finite coordinate"):
+        msdeform.write_mesh("never_written.off", np.full_like(V, np.nan), F)
+    assert not os.path.exists("never_written.off")
+
+
+def test_bad_options():
+    V, F = msdeform.read_mesh(BAD / "bar.off")
+    with pytest.raises(TypeError, match="w_cn"):
+        msdeform.Deformer(V, F, w_cn=3.0)
+    with pytest.raises(ValueError, match=r"w_con \(energy weight of Eq. 17\) must be finite"):
+        msdeform.Deformer(V, F, w_con=-1.0)
+    with pytest.raises(ValueError, match="method"):
+        msdeform.Deformer(V, F, method="multi")
+    with pytest.raises(ValueError, match=r"unknown flag --w_cn \(did you mean --w_con\?\)"):
+        msdeform.options_from_flags({"w_cn": 1})
+
+
+def test_bad_handles_and_drags(bar):
+    V, F = bar
+    d = msdeform.Deformer(V, F)
+    with pytest.raises(RuntimeError, match="set_handles"):
+        d.drag(np.eye(4))
+    with pytest.raises(ValueError, match="status"):
+        d.set_handles(np.ones(len(V) - 1, dtype=np.int32))
+    with pytest.raises(ValueError, match="no vertex|no handle"):
+        d.set_handles(np.ones(len(V), dtype=np.int32))
+    with pytest.raises(OSError, match="cannot open"):
+        d.set_handles(BAD / "no_such.sel")
+    d.set_handles(BAD / "bar.sel")
+    not_affine = np.eye(4)
+    not_affine[3, 0] = 1.0
+    with pytest.raises(ValueError, match="M"):
+        d.drag(not_affine)
+    with pytest.raises(ValueError, match="M"):
+        d.drag(np.eye(3))
+    # The Deformer still works after every failure above.
+    assert np.array_equal(d.drag(np.eye(4)).shape, V.shape)
+
+
+def test_files_that_cannot_be_written(tmp_path, bar):
+    V, F = bar
+    with pytest.raises(OSError, match="cannot write format"):
+        msdeform.write_mesh(tmp_path / "out.stl", V, F)
+    with pytest.raises(OSError, match=str(tmp_path / "no" / "folder")):
+        msdeform.write_mesh(tmp_path / "no" / "folder" / "out.off", V, F)
+    with pytest.raises(TypeError, match="path"):
+        msdeform.read_mesh(42)
+    assert list(tmp_path.iterdir()) == []
