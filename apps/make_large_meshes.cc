@@ -30,6 +30,10 @@ DEFINE_string(mesh_dir, "",
               "source tree (core/build_info.h, DataDir).");
 DEFINE_bool(force, false,
             "Remake the meshes even when their files already exist.");
+DEFINE_bool(huge, false,
+            "Also the scaling meshes of bench/scaling_table.sh: armadillo_416k.off Loop-subdivided "
+            "once (armadillo_1664k.ply, 1,664,002 vertices) and twice (armadillo_6656k.ply, "
+            "6,656,002 vertices), as binary PLY (about 83 MB and 333 MB).");
 
 namespace msdeform {
 namespace {
@@ -119,10 +123,50 @@ int MakeArmadilloVariants() {
   return 0;
 }
 
+// The scaling meshes: one and two Loop steps on the 416K armadillo as read
+// from its file (the recipe), binary PLY.
+int MakeHugeVariants() {
+  const std::string input = FLAGS_mesh_dir + "/armadillo_416k.off";
+  const std::string outputs[2] = {FLAGS_mesh_dir + "/armadillo_1664k.ply",
+                                  FLAGS_mesh_dir + "/armadillo_6656k.ply"};
+  if (!FLAGS_force && FileExists(outputs[0]) && FileExists(outputs[1])) {
+    std::printf("msdeform_make_large: %s and %s exist; nothing to do (--force remakes them)\n",
+                outputs[0].c_str(), outputs[1].c_str());
+    return 0;
+  }
+  Mesh mesh;
+  std::string error;
+  if (!ReadMesh(input, &mesh, &error)) {
+    std::fprintf(stderr, "msdeform_make_large: %s\n", error.c_str());
+    return 1;
+  }
+  for (const std::string& output : outputs) {
+    auto start = std::chrono::steady_clock::now();
+    Mesh finer;
+    if (!LoopSubdivide(mesh, 1, &finer, &error)) {
+      std::fprintf(stderr, "msdeform_make_large: cannot subdivide: %s\n", error.c_str());
+      return 1;
+    }
+    const double subdivide_seconds = SecondsSince(start);
+    start = std::chrono::steady_clock::now();
+    if (!WriteMesh(output, finer, &error)) {
+      std::fprintf(stderr, "msdeform_make_large: %s\n", error.c_str());
+      return 1;
+    }
+    std::printf(
+        "msdeform_make_large: wrote %s: %d vertices, %d faces (subdivide %.2f s, write %.2f s)\n",
+        output.c_str(), finer.num_vertices(), finer.num_faces(), subdivide_seconds,
+        SecondsSince(start));
+    mesh = std::move(finer);
+  }
+  return 0;
+}
+
 int Run() {
   const int armadillo = MakeArmadilloVariants();
   const int cylinder = MakeCylinderFile();
-  return armadillo != 0 ? armadillo : cylinder;
+  const int huge = armadillo == 0 && FLAGS_huge ? MakeHugeVariants() : 0;
+  return armadillo != 0 ? armadillo : cylinder != 0 ? cylinder : huge;
 }
 
 }  // namespace

@@ -116,14 +116,15 @@ bool SplitIntoTriangles(const PolygonSoup& soup, Mesh* mesh, std::string* proble
   for (int p = 0; p < soup.num_polygons(); ++p) {
     const int* ids = soup.face_ids.data() + soup.face_offsets[p];
     const int size = soup.face_offsets[p + 1] - soup.face_offsets[p];
-    std::ostringstream message;
     if (size < 3) {
+      std::ostringstream message;
       message << "face " << p << " has " << size << " vertices; need at least 3";
       *problem = message.str();
       return false;
     }
     for (int k = 0; k < size; ++k) {
       if (ids[k] < 0 || ids[k] >= num_vertices) {
+        std::ostringstream message;
         message << "face " << p << " refers to vertex " << ids[k] << ", outside 0.."
                 << num_vertices - 1;
         *problem = message.str();
@@ -236,10 +237,12 @@ bool ReadMesh(const std::string& path, Mesh* mesh, MeshReadReport* report, std::
   report->dropped_degenerate_faces = check.dropped_degenerate_faces;
 
   PolygonSoup soup;
-  if (!ReadWithOpenMesh(path, *format, std::move(check), &soup, &problem) ||
-      !SplitIntoTriangles(soup, mesh, &problem)) {
+  if (check.read_data) {
+    soup = std::move(check.soup);
+  } else if (!ReadWithOpenMesh(path, *format, std::move(check), &soup, &problem)) {
     return Fail(path, problem, error);
   }
+  if (!SplitIntoTriangles(soup, mesh, &problem)) return Fail(path, problem, error);
   if (format->weld_equal_positions) WeldExactDuplicates(mesh);
 
   DropDegenerateAndDuplicateFaces(mesh, report);
@@ -270,7 +273,7 @@ bool WriteMesh(const std::string& path, const Mesh& mesh, std::string* error) {
   return WriteFileAtomically(
       path,
       [&mesh, format](std::ostream& out, std::string* write_error) {
-        return WriteMeshText(mesh, *format, out, write_error);
+        return WriteMeshFile(mesh, *format, out, write_error);
       },
       error);
 }

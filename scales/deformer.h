@@ -108,6 +108,11 @@ struct DeformerOptions {
   bool fix_fixed_handle_nodes = false;
   // Threads for skinning and the Ceres solve.
   int num_threads = 2;
+  // Multi-scale: coarse scales whose skinning data (nearest nodes, weights,
+  // edges: a pass over every vertex each) is kept once built. A scale's data
+  // is built when SetHandles first selects (or tries) it, not in Init; beyond
+  // this many the least recently used is dropped. DG1's is always kept.
+  int cached_scales = 4;
 
   // The per-frame solve. Both backends minimise the same energy and stop on
   // the same rule (scales/frame_solver.h): at most 20 iterations, function
@@ -182,8 +187,13 @@ class Deformer {
   const Eigen::Matrix3Xd& deformed_normals() const { return deformed_normals_; }
   const DeformerOptions& options() const { return options_; }
   const Lattice& lattice() const { return lattice_; }
-  // graphs()[i] is DG_{i+1}; the static baselines add their graph last.
+  // graphs()[i] is DG_{i+1}; the static baselines add their graph last. The
+  // multi-scale method's coarse graphs have their nodes from Init, and their
+  // edges and weights only while connected (is_connected(); cached_scales).
   const std::vector<DeformationGraph>& graphs() const { return graphs_; }
+  // graphs()[index], connected first if it is not (then cached as by
+  // SetHandles).
+  const DeformationGraph& ConnectedGraph(int index);
   // The graph being solved on, and its index in graphs().
   int active_graph() const { return active_graph_; }
   const DeformationGraph& active() const { return graphs_[active_graph_]; }
@@ -222,6 +232,8 @@ class Deformer {
   double diagonal_ = 0.0;
   Lattice lattice_;
   std::vector<DeformationGraph> graphs_;
+  // Connected coarse graphs (index > 0), least recently used first.
+  std::vector<int> connected_coarse_;
   int static_graph_ = -1;  // index of the static baselines' graph
   std::unique_ptr<RigidityEstimator> rigidity_estimator_;
 
