@@ -186,12 +186,40 @@ void DropDegenerateAndDuplicateFaces(Mesh* mesh, MeshReadReport* report) {
                mesh->faces((first + 2) % 3, f)};
     order.push_back(f);
   }
-  // Equal keys end up next to each other, the earliest triangle first.
-  std::stable_sort(order.begin(), order.end(), [&keys](int f, int g) { return keys[f] < keys[g]; });
-  for (size_t i = 1; i < order.size(); ++i) {
-    if (keys[order[i]] == keys[order[i - 1]]) {
-      drop[order[i]] = 1;
-      ++report->dropped_duplicate_faces;
+  // Triangles grouped by their lowest id (a counting sort, file order within
+  // a group); duplicates are within a group. A group is scanned pairwise when
+  // small and sorted by the other two ids (stable: the earliest first) when
+  // large, so a vertex in a huge fan costs n log n, not n^2.
+  const int num_vertices = mesh->num_vertices();
+  std::vector<int> start(num_vertices + 1, 0);
+  for (int f : order) ++start[keys[f][0] + 1];
+  for (int v = 0; v < num_vertices; ++v) start[v + 1] += start[v];
+  std::vector<int> grouped(order.size());
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int f : order) grouped[fill[keys[f][0]]++] = f;
+  }
+  constexpr int kScanLimit = 16;
+  for (int v = 0; v < num_vertices; ++v) {
+    const auto first = grouped.begin() + start[v], last = grouped.begin() + start[v + 1];
+    if (last - first > kScanLimit) {
+      std::stable_sort(first, last, [&keys](int f, int g) { return keys[f] < keys[g]; });
+      for (auto it = first + 1; it < last; ++it) {
+        if (keys[*it] == keys[*(it - 1)]) {
+          drop[*it] = 1;
+          ++report->dropped_duplicate_faces;
+        }
+      }
+      continue;
+    }
+    for (auto it = first + 1; it < last; ++it) {
+      for (auto earlier = first; earlier < it; ++earlier) {
+        if (!drop[*earlier] && keys[*it] == keys[*earlier]) {
+          drop[*it] = 1;
+          ++report->dropped_duplicate_faces;
+          break;
+        }
+      }
     }
   }
   int kept = 0;

@@ -575,6 +575,26 @@ TEST(MeshIoTest, BinaryPlyTruncationAndBadIdsAreCaught) {
   EXPECT_EQ(error, folder + "/bad_id.ply: binary face 1: a vertex id is not in 0..4");
 }
 
+// Many triangles around one vertex (a fan, each listed twice, the copy
+// rotated): the duplicates are found the same way in a large group.
+TEST(MeshIoTest, DuplicatesInALargeFanAreDroppedInOrder) {
+  const int kFan = 40;
+  std::ostringstream off;
+  off << "OFF\n" << kFan + 2 << " " << 2 * kFan << " 0\n0 0 0\n";
+  for (int i = 0; i <= kFan; ++i) off << std::cos(0.1 * i) << " " << std::sin(0.1 * i) << " 0\n";
+  for (int i = 1; i <= kFan; ++i) off << "3 0 " << i << " " << i + 1 << "\n";
+  for (int i = kFan; i >= 1; --i) off << "3 " << i << " " << i + 1 << " 0\n";
+  const std::string path = FreshFolder() + "/fan.off";
+  WriteText(path, off.str());
+  Mesh mesh;
+  MeshReadReport report;
+  std::string error;
+  ASSERT_TRUE(ReadMesh(path, &mesh, &report, &error)) << error;
+  EXPECT_EQ(report.dropped_duplicate_faces, kFan);
+  ASSERT_EQ(mesh.num_faces(), kFan);
+  for (int i = 1; i <= kFan; ++i) EXPECT_EQ(mesh.faces.col(i - 1), Eigen::Vector3i(0, i, i + 1));
+}
+
 INSTANTIATE_TEST_SUITE_P(Formats, DroppedFacesTest,
                          testing::Values("off", "obj", "ply", "binary_ply"));
 
