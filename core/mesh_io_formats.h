@@ -11,7 +11,7 @@
 // count says or crash on a malformed header (found by the fuzzers in
 // tests/fuzz/). So each file is checked first, with a message naming the
 // line, and the check says what OpenMesh must then hand over.
-// A format that parses its data itself (binary PLY, CheckPly) fills the
+// A format that parses its data itself (text OFF, binary PLY) fills the
 // PolygonSoup directly instead of going through ReadWithOpenMesh; everything
 // after it (fan split, welding, dropped faces) stays shared.
 
@@ -44,13 +44,10 @@ struct FormatCheck {
   // Triangles that repeat a vertex which OpenMesh's OBJ and STL readers skip
   // without a word; the notice counts them with those dropped later.
   int dropped_degenerate_faces = 0;
-  // When not empty, OpenMesh reads this text instead of the file: the same
-  // geometry in a layout its reader follows (OFF only; see CheckOff).
-  std::string normalized_text;
   // True when the check read the data into `soup` itself, in the same pass
-  // (binary little-endian PLY of the common layout: CheckPly), so OpenMesh is
-  // not run; coordinates are taken through single precision, as OpenMesh's
-  // readers take them.
+  // (text OFF: CheckOff; binary little-endian PLY of the common layout:
+  // CheckPly), so OpenMesh is not run; coordinates are taken through single
+  // precision, as OpenMesh's readers take them.
   bool read_data = false;
   PolygonSoup soup;
 };
@@ -73,7 +70,7 @@ struct MeshFormat {
   bool writable;  // WriteMeshFile writes it
 };
 
-// Reads `path` (or check.normalized_text in its place) with OpenMesh's reader
+// Reads `path` with OpenMesh's reader
 // for `format` into *soup, and compares what it handed over with the counts
 // in `check`. On failure puts one line in *problem, without the file name.
 bool ReadWithOpenMesh(const std::string& path, const MeshFormat& format, FormatCheck check,
