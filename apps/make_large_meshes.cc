@@ -3,6 +3,10 @@
 // data/meshes/armadillo.off (26K vertices),
 //   armadillo_104k.off  1 step,  #V + #E          = 104,002 vertices
 //   armadillo_416k.off  2 steps, 104,002 + 312,000 = 416,002 vertices
+// and with --huge, for bench/scaling_table.sh, from armadillo_416k.off as read
+// (binary PLY, exact doubles),
+//   armadillo_1664k.ply 3 steps, 1,664,002 vertices
+//   armadillo_6656k.ply 4 steps, 6,656,002 vertices
 // (input vertex ids are kept first, so selections on the original still
 // apply; run data/fetch_meshes.sh first), and the capped cylinder of the
 // Botsch-Sorkine bending test (experiments/scenarios/cylinder_bend.json),
