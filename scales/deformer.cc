@@ -320,6 +320,7 @@ bool Deformer::Init(const Mesh& mesh, const DeformerOptions& options, std::strin
   }
   deformed_vertices_ = mesh_.vertices;
   deformed_normals_ = rest_normals_;
+  normals_stale_ = false;
   precompute_ms_ = MillisecondsSince(start);
   return true;
 }
@@ -370,6 +371,7 @@ bool Deformer::SetHandles(const HandleLayout& layout, std::string* error) {
   }
   deformed_vertices_ = mesh_.vertices;
   deformed_normals_ = rest_normals_;
+  normals_stale_ = false;
   return true;
 }
 
@@ -567,10 +569,23 @@ bool Deformer::Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats,
   skinning.num_threads = options_.num_threads;
   SkinPositionsAndNormals(mesh_.vertices, rest_normals_, graphs_[active_graph_], transforms_,
                           skin_all_ ? nullptr : &skinned_vertices_, &deformed_vertices_,
-                          &deformed_normals_, skinning);
+                          /*deformed_normals=*/nullptr, skinning);
+  normals_stale_ = true;
   frame.skin_ms = MillisecondsSince(skin_start);
   frame.frame_ms = MillisecondsSince(frame_start);
   return true;
+}
+
+const Eigen::Matrix3Xd& Deformer::deformed_normals() const {
+  if (normals_stale_) {
+    SkinningOptions skinning;
+    skinning.num_threads = options_.num_threads;
+    SkinPositionsAndNormals(mesh_.vertices, rest_normals_, graphs_[active_graph_], transforms_,
+                            skin_all_ ? nullptr : &skinned_vertices_, /*deformed=*/nullptr,
+                            &deformed_normals_, skinning);
+    normals_stale_ = false;
+  }
+  return deformed_normals_;
 }
 
 bool DragAlong(Deformer* deformer, const std::vector<Eigen::Affine3d>& path,

@@ -151,7 +151,7 @@ DeformerOptions PaperProcedure(DeformerOptions options);
 struct DragStats {
   double frame_ms = 0.0;  // the whole Drag
   double solve_ms = 0.0;
-  double skin_ms = 0.0;
+  double skin_ms = 0.0;  // positions; normals are skinned when asked for
   int iterations = 0;
   int factorizations = 0;
   double initial_cost = 0.0;  // at the initial guess
@@ -184,7 +184,11 @@ class Deformer {
 
   const Mesh& rest_mesh() const { return mesh_; }
   const Eigen::Matrix3Xd& deformed_vertices() const { return deformed_vertices_; }
-  const Eigen::Matrix3Xd& deformed_normals() const { return deformed_normals_; }
+  // The deformed unit normals (Eq. 10) of the last Drag, skinned on the first
+  // call after it: a Drag skins positions only, so a program that never asks
+  // (the command line, the experiments) does not pay for normals. Not to be
+  // called during a Drag from another thread.
+  const Eigen::Matrix3Xd& deformed_normals() const;
   const DeformerOptions& options() const { return options_; }
   const Lattice& lattice() const { return lattice_; }
   // graphs()[i] is DG_{i+1}; the static baselines add their graph last. The
@@ -252,7 +256,8 @@ class Deformer {
   int num_position_terms_ = 0;
   int num_coherence_terms_ = 0;
   Eigen::Matrix3Xd deformed_vertices_;
-  Eigen::Matrix3Xd deformed_normals_;
+  mutable Eigen::Matrix3Xd deformed_normals_;
+  mutable bool normals_stale_ = false;  // a Drag moved the positions since
   double precompute_ms_ = 0.0;
   double rigidity_ms_ = 0.0;
   double setup_ms_ = 0.0;
