@@ -1,0 +1,296 @@
+#include "apps/editor/edit_session.h"
+
+#include <chrono>
+#include <sstream>
+#include <utility>
+
+#include "msdeform/core/timing.h"
+
+namespace msdeform {
+namespace editor {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+bool SameLayout(const HandleLayout& a, const HandleLayout& b) {
+  return a.fixed == b.fixed && a.moveable == b.moveable;
+}
+
+}  // namespace
+
+struct EditSession::Job {
+  // In.
+  bool init = false;
+  bool set_handles = false;
+  DeformerOptions options;
+  const Mesh* mesh = nullptr;  // the session's, unchanged while the job runs
+  std::string mesh_path;
+  HandleLayout layout;
+  std::vector<Eigen::Affine3d> path;
+  std::unique_ptr<Deformer> deformer;  // reused unless init
+  Clock::time_point requested;
+  std::function<void()> on_done;
+  // Out.
+  bool configured = false;
+  std::string error;
+  bool path_failed = false;
+  DragStats last_frame;  // of the path, when one ran
+  LayoutTiming timing;
+};
+
+namespace {
+
+// The job's work, on the worker thread; the same steps and messages as the
+// msdeform CLI (apps/msdeform_main.cc).
+template <typename Job>
+std::unique_ptr<Job> RunJob(std::unique_ptr<Job> job) {
+  std::string error;
+  if (job->init) {
+    const auto start = Clock::now();
+    job->deformer = std::make_unique<Deformer>();
+    if (!job->deformer->Init(*job->mesh, job->options, &error)) {
+      job->error = job->mesh_path + ": " + error;
+      job->deformer.reset();
+    }
+    job->timing.init = true;
+    job->timing.init_ms = MillisecondsSince(start);
+  }
+  if (job->deformer != nullptr && job->set_handles) {
+    if (!job->deformer->SetHandles(job->layout, &error)) {
+      job->error = "handles: " + error;
+    } else {
+      job->configured = true;
+      job->timing.rigidity_ms = job->deformer->rigidity_ms();
+      job->timing.setup_ms = job->deformer->setup_ms();
+    }
+  }
+  if (job->configured && !job->path.empty()) {
+    const auto start = Clock::now();
+    DragAlongOptions drag_options;
+    drag_options.continue_after_failure = true;  // as msdeform: only the last frame counts
+    DragLog log;
+    if (!DragAlong(job->deformer.get(), job->path, drag_options, &log, &error)) {
+      job->error = job->mesh_path + ": " + error + "; " + std::to_string(log.failed_frames.size()) +
+                   " failed frame(s)";
+      job->path_failed = true;
+    }
+    if (!log.frames.empty()) job->last_frame = std::move(log.frames.back());
+    job->timing.path_ms = MillisecondsSince(start);
+  }
+  job->timing.wall_ms = MillisecondsSince(job->requested);
+  if (job->on_done) job->on_done();
+  return job;
+}
+
+}  // namespace
+
+EditSession::EditSession() = default;
+
+EditSession::~EditSession() {
+  if (job_.valid()) job_.wait();
+}
+
+void EditSession::Open(EditInputs inputs, const DeformerOptions& options) {
+  Wait();
+  pending_init_ = pending_layout_ = false;
+  inputs_ = std::move(inputs);
+  mesh_ = std::move(inputs_.mesh);
+  inputs_.mesh = Mesh();
+  rest_normals_ = VertexNormals(mesh_);
+  options_ = options;
+  deformer_.reset();
+  configured_ = false;
+  error_.clear();
+  transform_ = Eigen::Affine3d::Identity();
+  committed_layout_ = inputs_.has_layout ? inputs_.layout : HandleLayout();
+  labels_ = LabelsFromLayout(committed_layout_, mesh_.num_vertices());
+  labels_changed_ = false;
+  ++labels_version_;
+  ++geometry_version_;
+  layout_timings_.clear();
+  move_timings_.clear();
+  last_drag_ = DragStats();
+  StartJob(/*init=*/true, /*set_handles=*/inputs_.has_layout, inputs_.path);
+}
+
+void EditSession::SetOptions(const DeformerOptions& options) {
+  options_ = options;
+  if (!has_mesh()) return;
+  if (busy()) {
+    pending_init_ = true;
+    return;
+  }
+  std::vector<Eigen::Affine3d> path;
+  if (!transform_.matrix().isIdentity(0.0)) path.push_back(transform_);
+  StartJob(/*init=*/true, /*set_handles=*/!committed_layout_.moveable.empty(), std::move(path));
+}
+
+void EditSession::Label(const std::vector<int>& vertices, VertexLabel label) {
+  bool changed = false;
+  for (int v : vertices) {
+    if (v < 0 || v >= static_cast<int>(labels_.size()) || labels_[v] == label) continue;
+    labels_[v] = label;
+    changed = true;
+  }
+  if (!changed) return;
+  labels_changed_ = true;
+  ++labels_version_;
+}
+
+void EditSession::ClearLabels() {
+  labels_.assign(mesh_.num_vertices(), VertexLabel::kFree);
+  labels_changed_ = true;
+  ++labels_version_;
+}
+
+bool EditSession::CommitLayout(std::string* why) {
+  if (!has_mesh()) return false;
+  const HandleLayout layout = LayoutFromLabels(labels_);
+  labels_changed_ = false;
+  if (SameLayout(layout, committed_layout_) && (configured_ || busy())) return true;
+  committed_layout_ = layout;
+  transform_ = Eigen::Affine3d::Identity();
+  if (layout.moveable.empty()) {
+    configured_ = false;
+    ++geometry_version_;
+    if (why != nullptr) *why = "no moveable handle: paint one (tool Handle) to drag";
+    return false;
+  }
+  if (busy()) {
+    pending_layout_ = true;
+    return true;
+  }
+  StartJob(/*init=*/deformer_ == nullptr, /*set_handles=*/true, {});
+  return true;
+}
+
+void EditSession::ResetPose() {
+  if (committed_layout_.moveable.empty()) return;
+  transform_ = Eigen::Affine3d::Identity();
+  if (busy()) {
+    pending_layout_ = true;
+    return;
+  }
+  StartJob(/*init=*/deformer_ == nullptr, /*set_handles=*/true, {});
+}
+
+void EditSession::StartJob(bool init, bool set_handles, std::vector<Eigen::Affine3d> path) {
+  auto job = std::make_unique<Job>();
+  job->requested = Clock::now();
+  job->init = init;
+  job->set_handles = set_handles;
+  job->options = options_;
+  job->mesh = &mesh_;
+  job->mesh_path = inputs_.mesh_path;
+  job->layout = committed_layout_;
+  job->path = std::move(path);
+  job->on_done = on_job_done_;
+  if (!init) job->deformer = std::move(deformer_);
+  deformer_.reset();
+  configured_ = false;
+  ++geometry_version_;  // the rest pose is shown while the job runs
+  job_ = std::async(std::launch::async, RunJob<Job>, std::move(job));
+}
+
+void EditSession::TakeJob() {
+  std::unique_ptr<Job> job = job_.get();
+  deformer_ = std::move(job->deformer);
+  configured_ = job->configured;
+  error_ = job->error;
+  error_in_path_ = job->path_failed;
+  last_drag_ = std::move(job->last_frame);
+  if (job->configured && !job->path.empty()) transform_ = job->path.back();
+  if (!job->configured) transform_ = Eigen::Affine3d::Identity();
+  layout_timings_.push_back(job->timing);
+  ++geometry_version_;
+  if (pending_init_ || pending_layout_) {
+    std::vector<Eigen::Affine3d> path;
+    // New options keep the pose; a new layout starts from rest.
+    if (!pending_layout_ && !transform_.matrix().isIdentity(0.0)) path.push_back(transform_);
+    if (pending_layout_) transform_ = Eigen::Affine3d::Identity();
+    const bool init = pending_init_ || deformer_ == nullptr;
+    pending_init_ = pending_layout_ = false;
+    StartJob(init, !committed_layout_.moveable.empty(), std::move(path));
+  }
+}
+
+bool EditSession::Poll() {
+  if (!job_.valid() || job_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+    return false;
+  }
+  TakeJob();
+  return true;
+}
+
+void EditSession::Wait() {
+  while (job_.valid()) TakeJob();  // TakeJob blocks in get() and may start a follow-up
+}
+
+bool EditSession::WaitFor(std::chrono::milliseconds timeout) const {
+  return !job_.valid() || job_.wait_for(timeout) == std::future_status::ready;
+}
+
+bool EditSession::ready() const { return !busy() && deformer_ != nullptr && configured_; }
+
+bool EditSession::Drag(const Eigen::Affine3d& deformed_from_rest, std::string* error) {
+  if (!ready()) {
+    *error = busy() ? "the deformer is being set up" : "no moveable handle set up";
+    return false;
+  }
+  DragStats stats;
+  if (!deformer_->Drag(deformed_from_rest, &stats, error)) {
+    error_ = *error;
+    error_in_path_ = false;
+    return false;
+  }
+  error_.clear();
+  transform_ = deformed_from_rest;
+  move_timings_.push_back({stats.solve_ms, stats.skin_ms, stats.frame_ms, stats.iterations});
+  last_drag_ = std::move(stats);
+  ++geometry_version_;
+  return true;
+}
+
+const Eigen::Matrix3Xd& EditSession::positions() const {
+  return ready() ? deformer_->deformed_vertices() : mesh_.vertices;
+}
+
+const Eigen::Matrix3Xd& EditSession::normals() const {
+  return ready() ? deformer_->deformed_normals() : rest_normals_;
+}
+
+Eigen::Vector3d EditSession::HandleCentroid() const {
+  const Eigen::Matrix3Xd& points = positions();
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  int count = 0;
+  for (int v = 0; v < static_cast<int>(labels_.size()); ++v) {
+    if (labels_[v] != VertexLabel::kHandle) continue;
+    sum += points.col(v);
+    ++count;
+  }
+  return count > 0 ? Eigen::Vector3d(sum / count) : Eigen::Vector3d(BoundingBox(mesh_).center());
+}
+
+std::string EditSession::Status() const {
+  std::ostringstream text;
+  if (!has_mesh()) return "no mesh: open one (File)";
+  text << inputs_.name << ": " << mesh_.num_vertices() << " vertices, "
+       << MethodName(options_.method) << " / " << SolverName(options_.backend) << "; ";
+  if (!error_.empty()) {
+    text << "error: " << error_;
+  } else if (busy()) {
+    text << "setting up (rigidity, scale, classes)...";
+  } else if (committed_layout_.moveable.empty()) {
+    text << "paint the moveable handle (H) and the fixed region (F)";
+  } else if (labels_changed_) {
+    text << "selection changed: release the mouse to apply it";
+  } else if (ready()) {
+    const Deformer& d = *deformer_;
+    text << "scale " << d.active_graph() + 1 << " of " << d.graphs().size() << ", "
+         << d.num_variables() << " variables";
+  }
+  return text.str();
+}
+
+}  // namespace editor
+}  // namespace msdeform

@@ -1,0 +1,200 @@
+// The editor's model without a window: it opens inputs as msdeform does and
+// gives msdeform's result, its layout changes run SetHandles, its saved
+// scenario reads back as the same edit, and inline regions are the scenario's.
+
+#include "apps/editor/edit_session.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "apps/editor/edit_inputs.h"
+#include "apps/editor/inline_scenario.h"
+#include "apps/editor/saved_edit.h"
+#include "msdeform/core/scenario.h"
+
+namespace msdeform {
+namespace editor {
+namespace {
+
+const std::string kMeshes = std::string(MSDEFORM_DATA_DIR) + "/meshes/";
+
+OpenRequest CactusSelDef() {
+  OpenRequest request;
+  request.mesh = kMeshes + "cactus.off";
+  request.sel = kMeshes + "cactus.sel";
+  request.def = kMeshes + "cactus.def";
+  return request;
+}
+
+TEST(EditSessionTest, OpensASelDefPairAsMsdeformDoes) {
+  EditInputs inputs;
+  std::string error;
+  ASSERT_TRUE(LoadEditInputs(CactusSelDef(), &inputs, &error)) << error;
+  ASSERT_TRUE(inputs.has_layout);
+  ASSERT_EQ(inputs.path.size(), 1u);
+
+  // msdeform's steps (apps/msdeform_main.cc): Init, SetHandles, DragAlong.
+  Deformer reference;
+  ASSERT_TRUE(reference.Init(inputs.mesh, DeformerOptions(), &error)) << error;
+  ASSERT_TRUE(reference.SetHandles(inputs.layout, &error)) << error;
+  DragAlongOptions drag;
+  drag.continue_after_failure = true;
+  DragLog log;
+  ASSERT_TRUE(DragAlong(&reference, inputs.path, drag, &log, &error)) << error;
+
+  EditSession session;
+  session.Open(inputs, DeformerOptions());
+  session.Wait();
+  ASSERT_TRUE(session.error().empty()) << session.error();
+  ASSERT_TRUE(session.ready());
+  EXPECT_EQ(session.positions(), reference.deformed_vertices());  // bit for bit
+  EXPECT_TRUE(session.transform().matrix() == inputs.path.back().matrix());
+  EXPECT_EQ(session.layout_timings().size(), 1u);
+  EXPECT_TRUE(session.layout_timings()[0].init);
+}
+
+TEST(EditSessionTest, LabelsBecomeALayoutAtCommit) {
+  OpenRequest request;
+  request.mesh = kMeshes + "cactus.off";
+  EditInputs inputs;
+  std::string error;
+  ASSERT_TRUE(LoadEditInputs(request, &inputs, &error)) << error;
+  EXPECT_FALSE(inputs.has_layout);
+  EditSession session;
+  session.Open(std::move(inputs), DeformerOptions());
+  session.Wait();
+  EXPECT_FALSE(session.ready());
+  EXPECT_EQ(session.positions(), session.mesh().vertices);
+
+  // Fixed only: no handle, nothing to set up.
+  std::vector<int> fixed, handle;
+  ASSERT_TRUE(SelectInlineRegion({{"slab", {{"axis", "y"}, {"from", 0}, {"to", 0.1}}}},
+                                 session.mesh(), "t", &fixed, &error))
+      << error;
+  session.Label(fixed, VertexLabel::kFixed);
+  EXPECT_TRUE(session.layout_pending());
+  std::string why;
+  EXPECT_FALSE(session.CommitLayout(&why));
+  EXPECT_NE(why.find("no moveable handle"), std::string::npos);
+
+  ASSERT_TRUE(SelectInlineRegion({{"sphere", {{"center_vertex", 95}, {"radius_rel", 0.1}}}},
+                                 session.mesh(), "t", &handle, &error))
+      << error;
+  session.Label(handle, VertexLabel::kHandle);
+  EXPECT_TRUE(session.CommitLayout(&why));
+  session.Wait();
+  ASSERT_TRUE(session.ready()) << session.error();
+  EXPECT_EQ(session.committed_layout().fixed, fixed);
+  EXPECT_EQ(session.committed_layout().moveable, handle);
+  EXPECT_EQ(session.layout_timings().size(), 2u);
+  EXPECT_FALSE(session.layout_timings()[1].init);  // the deformer was reused
+
+  const Eigen::Vector3d before = session.HandleCentroid();
+  Eigen::Affine3d lift = Eigen::Affine3d::Identity();
+  lift.translate(Eigen::Vector3d(0, 0.05, 0));
+  ASSERT_TRUE(session.Drag(lift, &error)) << error;
+  EXPECT_NEAR((session.HandleCentroid() - before).y(), 0.05, 0.005);
+  EXPECT_EQ(session.move_timings().size(), 1u);
+  // Fixed vertices stay, up to the softness of their Position terms (a tenth
+  // of the handle's motion at most).
+  for (int v : fixed) {
+    EXPECT_LT((session.positions().col(v) - session.mesh().vertices.col(v)).norm(), 0.005);
+  }
+  // Back to rest: SetHandles again.
+  session.ResetPose();
+  session.Wait();
+  EXPECT_EQ(session.positions(), session.mesh().vertices);
+  EXPECT_TRUE(session.transform().matrix().isIdentity(0.0));
+}
+
+TEST(EditSessionTest, SavedScenarioReadsBackAsTheSameEdit) {
+  EditInputs inputs;
+  std::string error;
+  ASSERT_TRUE(LoadEditInputs(CactusSelDef(), &inputs, &error)) << error;
+  char folder[] = "/tmp/msdeform_saved_edit_test_XXXXXX";
+  ASSERT_NE(mkdtemp(folder), nullptr);
+  ScenarioText what;
+  what.name = "cactus_edit";
+  what.mesh_path = inputs.mesh_path;
+  what.scenario_path = std::string(folder) + "/cactus_edit.json";
+  what.frames = 7;
+  // A rotation about x by 70 degrees and a translation (cactus.def's six-digit
+  // matrix is a rotation only to 1e-6, which a scenario cannot state exactly).
+  Eigen::Affine3d edit = Eigen::Affine3d::Identity();
+  edit.translate(Eigen::Vector3d(0.01, -0.2, 0.3));
+  edit.rotate(Eigen::AngleAxisd(70.0 * M_PI / 180.0, Eigen::Vector3d::UnitX()));
+  std::string text;
+  ASSERT_TRUE(EditScenarioJson(what, inputs.mesh, inputs.layout, edit, &text, &error)) << error;
+  std::ofstream(what.scenario_path) << text;
+  Scenario scenario;
+  ASSERT_TRUE(ReadScenario(what.scenario_path, &scenario, &error)) << error;
+  EXPECT_EQ(scenario.name, "cactus_edit");
+  EXPECT_EQ(scenario.frames, 7);
+  EXPECT_EQ(std::filesystem::canonical(scenario.mesh_path),
+            std::filesystem::canonical(inputs.mesh_path));
+  HandleLayout layout;
+  std::vector<int> watch;
+  Eigen::Affine3d transform;
+  ASSERT_TRUE(ResolveScenario(scenario, inputs.mesh, &layout, &watch, &transform, &error)) << error;
+  EXPECT_EQ(layout.fixed, inputs.layout.fixed);
+  EXPECT_EQ(layout.moveable, inputs.layout.moveable);
+  EXPECT_LT((transform.matrix() - edit.matrix()).cwiseAbs().maxCoeff(), 1e-12);
+
+  // A transform that is not exactly a rotation and a translation cannot be one.
+  for (const Eigen::Affine3d& other : {Eigen::Affine3d(Eigen::Scaling(1.5)), inputs.path.back()}) {
+    EXPECT_FALSE(EditScenarioJson(what, inputs.mesh, inputs.layout, other, &text, &error));
+    EXPECT_NE(error.find("save the .sel/.def pair"), std::string::npos) << error;
+  }
+  std::filesystem::remove_all(folder);
+}
+
+TEST(EditSessionTest, InlineRegionsAreTheScenarioReadersWithTheScriptsNames) {
+  EditInputs inputs;
+  std::string error;
+  ASSERT_TRUE(LoadEditInputs(CactusSelDef(), &inputs, &error)) << error;
+  std::vector<int> ids;
+  EXPECT_FALSE(SelectInlineRegion({{"sphere", {{"center_vertex", 5}, {"radius", "big"}}}},
+                                  inputs.mesh, "s.json: actions[2]", &ids, &error));
+  EXPECT_EQ(error, "s.json: actions[2].region.sphere.radius: expected a number, found a string");
+  EXPECT_FALSE(SelectInlineRegion({{"vertices", {7, 100000}}}, inputs.mesh, "s.json: actions[2]",
+                                  &ids, &error));
+  EXPECT_EQ(error.rfind("s.json: actions[2].region.vertices[1]: vertex 100000 is outside", 0), 0u)
+      << error;
+  ASSERT_TRUE(SelectInlineRegion({{"vertices", {9, 3, 9}}}, inputs.mesh, "x", &ids, &error));
+  EXPECT_EQ(ids, std::vector<int>({3, 9}));
+
+  std::vector<Eigen::Affine3d> path;
+  EXPECT_FALSE(InlineMotionPath({{"translation", {0, 1}}}, 1, inputs.mesh, inputs.layout.moveable,
+                                "s.json: actions[4]", &path, &error));
+  EXPECT_EQ(error.rfind("s.json: actions[4].transform.translation: expected an array of 3", 0), 0u)
+      << error;
+  ASSERT_TRUE(InlineMotionPath({{"translation", {0, 1, 0}}}, 4, inputs.mesh, inputs.layout.moveable,
+                               "x", &path, &error))
+      << error;
+  ASSERT_EQ(path.size(), 4u);
+  EXPECT_NEAR(path[1].translation().y(), 0.5, 1e-12);
+}
+
+TEST(EditSessionTest, InputCombinationsGetTheCommandLinesMessages) {
+  EditInputs inputs;
+  std::string error;
+  OpenRequest request = CactusSelDef();
+  request.def.clear();
+  EXPECT_FALSE(LoadEditInputs(request, &inputs, &error));
+  EXPECT_EQ(error, "--sel and --def go together, with --mesh and without --scenario");
+  request = CactusSelDef();
+  request.frames = -1;
+  EXPECT_FALSE(LoadEditInputs(request, &inputs, &error));
+  EXPECT_EQ(error, "--frames=-1: expected 0..100000");
+  request = OpenRequest();
+  request.mesh = kMeshes + "no_such_mesh.off";
+  EXPECT_FALSE(LoadEditInputs(request, &inputs, &error));
+  EXPECT_NE(error.find("no_such_mesh.off"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace editor
+}  // namespace msdeform
