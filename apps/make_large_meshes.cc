@@ -3,6 +3,10 @@
 // data/meshes/armadillo.off (26K vertices),
 //   armadillo_104k.off  1 step,  #V + #E          = 104,002 vertices
 //   armadillo_416k.off  2 steps, 104,002 + 312,000 = 416,002 vertices
+// and with --huge, for bench/scaling_table.sh, from armadillo_416k.off as read
+// (binary PLY, exact doubles),
+//   armadillo_1664k.ply 3 steps, 1,664,002 vertices
+//   armadillo_6656k.ply 4 steps, 6,656,002 vertices
 // (input vertex ids are kept first, so selections on the original still
 // apply; run data/fetch_meshes.sh first), and the capped cylinder of the
 // Botsch-Sorkine bending test (experiments/scenarios/cylinder_bend.json),
@@ -13,6 +17,7 @@
 #include <chrono>
 #include <cstdio>
 #include <string>
+#include <vector>
 #include <utility>
 
 #include <gflags/gflags.h>
@@ -30,6 +35,10 @@ DEFINE_string(mesh_dir, "",
               "source tree (core/build_info.h, DataDir).");
 DEFINE_bool(force, false,
             "Remake the meshes even when their files already exist.");
+DEFINE_bool(huge, false,
+            "Also the scaling meshes of bench/scaling_table.sh: armadillo_416k.off Loop-subdivided "
+            "once (armadillo_1664k.ply, 1,664,002 vertices) and twice (armadillo_6656k.ply, "
+            "6,656,002 vertices), as binary PLY (about 83 MB and 333 MB).");
 
 namespace msdeform {
 namespace {
@@ -74,34 +83,15 @@ int MakeCylinderFile() {
   return 0;
 }
 
-int MakeArmadilloVariants() {
-  const std::string input = FLAGS_mesh_dir + "/armadillo.off";
-  const std::string outputs[2] = {FLAGS_mesh_dir + "/armadillo_104k.off",
-                                  FLAGS_mesh_dir + "/armadillo_416k.off"};
-  if (!FLAGS_force && FileExists(outputs[0]) && FileExists(outputs[1])) {
-    std::printf("msdeform_make_large: %s and %s exist; nothing to do (--force remakes them)\n",
-                outputs[0].c_str(), outputs[1].c_str());
-    return 0;
-  }
-
-  auto start = std::chrono::steady_clock::now();
-  Mesh mesh;
+// Loop-subdivides `mesh` one step per output (in double precision, each step
+// on the last) and writes each result; 0 or 1 as the program's exit code.
+int SubdivideAndWrite(Mesh mesh, const std::vector<std::string>& outputs) {
   std::string error;
-  if (!ReadMesh(input, &mesh, &error)) {
-    std::fprintf(stderr, "msdeform_make_large: %s (run data/fetch_meshes.sh first)\n",
-                 error.c_str());
-    return 1;
-  }
-  std::printf("msdeform_make_large: read %s: %d vertices, %d faces (%.2f s)\n",
-              input.c_str(), mesh.num_vertices(), mesh.num_faces(), SecondsSince(start));
-
-  // The second variant is one more step on the first (in double precision).
   for (const std::string& output : outputs) {
-    start = std::chrono::steady_clock::now();
+    auto start = std::chrono::steady_clock::now();
     Mesh finer;
     if (!LoopSubdivide(mesh, 1, &finer, &error)) {
-      std::fprintf(stderr, "msdeform_make_large: cannot subdivide %s: %s\n", input.c_str(),
-                   error.c_str());
+      std::fprintf(stderr, "msdeform_make_large: cannot subdivide: %s\n", error.c_str());
       return 1;
     }
     const double subdivide_seconds = SecondsSince(start);
@@ -119,10 +109,41 @@ int MakeArmadilloVariants() {
   return 0;
 }
 
+// Reads data/meshes/`input` and writes `outputs` (one Loop step each, each
+// on the last), unless they all exist.
+int MakeSubdivided(const std::string& input, const std::vector<std::string>& outputs) {
+  bool all_exist = !FLAGS_force;
+  for (const std::string& output : outputs) all_exist &= FileExists(FLAGS_mesh_dir + "/" + output);
+  if (all_exist) {
+    std::printf("msdeform_make_large: %s exist in %s; nothing to do (--force remakes them)\n",
+                (outputs[0] + " and " + outputs[1]).c_str(), FLAGS_mesh_dir.c_str());
+    return 0;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  Mesh mesh;
+  std::string error;
+  if (!ReadMesh(FLAGS_mesh_dir + "/" + input, &mesh, &error)) {
+    std::fprintf(stderr, "msdeform_make_large: %s (run data/fetch_meshes.sh first)\n",
+                 error.c_str());
+    return 1;
+  }
+  std::printf("msdeform_make_large: read %s: %d vertices, %d faces (%.2f s)\n", input.c_str(),
+              mesh.num_vertices(), mesh.num_faces(), SecondsSince(start));
+  std::vector<std::string> paths;
+  for (const std::string& output : outputs) paths.push_back(FLAGS_mesh_dir + "/" + output);
+  return SubdivideAndWrite(std::move(mesh), paths);
+}
+
 int Run() {
-  const int armadillo = MakeArmadilloVariants();
+  const int armadillo = MakeSubdivided("armadillo.off", {"armadillo_104k.off", "armadillo_416k.off"});
   const int cylinder = MakeCylinderFile();
-  return armadillo != 0 ? armadillo : cylinder;
+  // The scaling meshes: one and two more steps on the 416K armadillo as read
+  // from its file (the recipe of the scaling benchmark), binary PLY.
+  const int huge = armadillo == 0 && FLAGS_huge
+                       ? MakeSubdivided("armadillo_416k.off",
+                                        {"armadillo_1664k.ply", "armadillo_6656k.ply"})
+                       : 0;
+  return armadillo != 0 ? armadillo : cylinder != 0 ? cylinder : huge;
 }
 
 }  // namespace
@@ -131,7 +152,8 @@ int Run() {
 int main(int argc, char** argv) {
   gflags::SetUsageMessage(
       "Writes armadillo_104k.off and armadillo_416k.off (Loop subdivision of "
-      "armadillo.off) and cylinder.off (a capped cylinder) into --mesh_dir.");
+      "armadillo.off) and cylinder.off (a capped cylinder) into --mesh_dir; with --huge also "
+      "armadillo_1664k.ply and armadillo_6656k.ply.");
   gflags::ParseCommandLineFlags(&argc, &argv, true);
   if (FLAGS_mesh_dir.empty()) FLAGS_mesh_dir = msdeform::DataDir() + "/meshes";
   google::InitGoogleLogging(argv[0]);

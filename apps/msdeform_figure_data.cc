@@ -150,7 +150,7 @@ bool RunGraphs(std::string* error) {
       *error = "--scales: '" + token + "' is not a scale in 1.." + std::to_string(num_scales);
       return false;
     }
-    out["graphs"].push_back(GraphJson(deformer.graphs()[scale - 1], scale));
+    out["graphs"].push_back(GraphJson(deformer.ConnectedGraph(scale - 1), scale));
   }
   return WriteJson(FLAGS_out, out, error);
 }

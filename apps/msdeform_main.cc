@@ -419,9 +419,12 @@ int Run(const std::vector<std::string>& command_line) {
                        {"particles", lattice.num_particles()}};
   report["scales"] = Json::array();
   for (size_t i = 0; i < deformer.graphs().size(); ++i) {
-    report["scales"].push_back({{"scale", i + 1},
-                                {"nodes", deformer.graphs()[i].num_nodes()},
-                                {"edges", deformer.graphs()[i].edges.size()}});
+    // Edges only where the scale was connected (built when used; null otherwise).
+    const DeformationGraph& graph = deformer.graphs()[i];
+    report["scales"].push_back(
+        {{"scale", i + 1},
+         {"nodes", graph.num_nodes()},
+         {"edges", graph.is_connected() ? Json(graph.edges.size()) : Json(nullptr)}});
   }
   int totally_free = 0, half_free = 0, fixed = 0;
   for (NodeClass c : deformer.node_classes()) {

@@ -21,9 +21,11 @@
 
 namespace msdeform {
 
-// data/meshes/<name>.off.
+// data/meshes/<name>.off, or data/meshes/<name> when the name has an
+// extension (armadillo_1664k.ply).
 inline Mesh ReadBenchMeshOrDie(const std::string& name) {
-  const std::string path = DataDir() + "/meshes/" + name + ".off";
+  const std::string path =
+      DataDir() + "/meshes/" + name + (name.find('.') == std::string::npos ? ".off" : "");
   Mesh mesh;
   std::string error;
   CHECK(ReadMesh(path, &mesh, &error))

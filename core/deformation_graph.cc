@@ -40,8 +40,14 @@ DeformationGraph MakeFinestGraph(const Mesh& mesh, const Lattice& lattice, uint6
   return graph;
 }
 
-// Nearest nodes, weights, edges and neighbour lists of a graph whose nodes are
-// already placed.
+}  // namespace
+
+void DeformationGraph::Disconnect() {
+  std::vector<std::pair<int, int>>().swap(edges);
+  neighbors = CompressedLists();
+  weights = SkinningWeights();
+}
+
 void ConnectGraph(const Mesh& mesh, const Lattice& lattice, const GraphOptions& options,
                   DeformationGraph* graph) {
   ComputeNearestNodes(mesh.vertices, lattice, graph->positions, graph->node_of_dg1,
@@ -66,6 +72,8 @@ void ConnectGraph(const Mesh& mesh, const Lattice& lattice, const GraphOptions& 
               neighbors.values.begin() + neighbors.offsets[j + 1]);
   }
 }
+
+namespace {
 
 // One edge-collapse pass over the DG1 edge graph, shortest edge first, with
 // lazy deletion: a queued pair is stale once either side has changed. When no
@@ -295,18 +303,20 @@ int NodesAtScale(int num_dg1_nodes, int scale) {
 }
 
 bool BuildMultiScaleGraphs(const Mesh& mesh, const Lattice& lattice, const GraphOptions& options,
-                           std::vector<DeformationGraph>* graphs, std::string* error) {
+                           std::vector<DeformationGraph>* graphs, std::string* error,
+                           Connect connect) {
   if (!options.Check(error)) return false;
   const int num_dg1 = lattice.num_surface_cells();
   const int num_scales = NumScales(num_dg1, options.nodes_per_scale);
   std::vector<int> node_counts;
   for (int i = 2; i <= num_scales; ++i) node_counts.push_back(NodesAtScale(num_dg1, i));
-  return BuildCollapsedGraphs(mesh, lattice, options, node_counts, graphs, error);
+  return BuildCollapsedGraphs(mesh, lattice, options, node_counts, graphs, error, connect);
 }
 
 bool BuildCollapsedGraphs(const Mesh& mesh, const Lattice& lattice, const GraphOptions& options,
                           const std::vector<int>& node_counts,
-                          std::vector<DeformationGraph>* graphs, std::string* error) {
+                          std::vector<DeformationGraph>* graphs, std::string* error,
+                          Connect connect) {
   CHECK(graphs != nullptr);
   if (!options.Check(error)) return false;
   CHECK_EQ(static_cast<int>(lattice.cell_of_vertex().size()), mesh.num_vertices())
@@ -332,6 +342,7 @@ bool BuildCollapsedGraphs(const Mesh& mesh, const Lattice& lattice, const GraphO
     collapse.CollapseTo(count);
     graphs->push_back(collapse.Snapshot());
   }
+  if (connect == Connect::kFinestOnly) return true;
   // The coarse scales are independent: with enough of them, one thread per
   // scale also shares out the serial parts (candidate search, edge lists).
   const int num_coarse = static_cast<int>(graphs->size()) - 1;

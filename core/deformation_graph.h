@@ -10,7 +10,9 @@
 // mesh components, so when no edge is left before D_i is reached the two
 // nodes nearest each other are merged instead, keeping every D_i exact. Every
 // scale has its own nearest nodes, skinning weights (Eq. 11) and edges
-// (core/nearest_nodes.h). Choices and timings: docs/decisions.md.
+// (core/nearest_nodes.h): its connection, which costs a pass over every mesh
+// vertex and can be made when the scale is first used (ConnectGraph; the
+// collapse needs only DG1's). Choices and timings: docs/decisions.md.
 //
 // A node j maps a point p to R_j (p - g_j) + g_j + t_j (Eq. 8); skinning with
 // these transforms is in core/skinning.h.
@@ -41,6 +43,12 @@ struct DeformationGraph {
   SkinningWeights weights;            // k nearest nodes of every mesh vertex.
 
   int num_nodes() const { return static_cast<int>(positions.cols()); }
+  // Whether edges, neighbors and weights are there (ConnectGraph); the node
+  // fields above always are.
+  bool is_connected() const { return weights.num_vertices() > 0; }
+  // Drops edges, neighbors and weights (a cache's eviction); ConnectGraph
+  // makes the same ones again.
+  void Disconnect();
 };
 
 // Per-node transforms (R_j, t_j) of one graph, laid out so that Ceres parameter
@@ -83,11 +91,18 @@ int NumScales(int num_dg1_nodes, int nodes_per_scale);
 // D_i = floor(num_dg1_nodes / i + 1/2) in exact integer arithmetic (scale i >= 1).
 int NodesAtScale(int num_dg1_nodes, int scale);
 
+// Which graphs the builders below connect (nearest nodes, weights, edges).
+enum class Connect {
+  kAll,         // every graph
+  kFinestOnly,  // DG1 only; ConnectGraph connects the others when needed
+};
+
 // Builds DG1 .. DG_N of `mesh` over `lattice` (built from this mesh). Element
 // i of *graphs is DG_{i+1}. Returns false with a message when the options are
 // invalid.
 bool BuildMultiScaleGraphs(const Mesh& mesh, const Lattice& lattice, const GraphOptions& options,
-                           std::vector<DeformationGraph>* graphs, std::string* error);
+                           std::vector<DeformationGraph>* graphs, std::string* error,
+                           Connect connect = Connect::kAll);
 
 // The same for an explicit list of node counts: DG1, then one graph per entry
 // of `node_counts` (non-increasing, each in [1, D1]) by the same edge-collapse
@@ -95,7 +110,14 @@ bool BuildMultiScaleGraphs(const Mesh& mesh, const Lattice& lattice, const Graph
 // Element 0 of *graphs is DG1, element i + 1 has node_counts[i] nodes.
 bool BuildCollapsedGraphs(const Mesh& mesh, const Lattice& lattice, const GraphOptions& options,
                           const std::vector<int>& node_counts,
-                          std::vector<DeformationGraph>* graphs, std::string* error);
+                          std::vector<DeformationGraph>* graphs, std::string* error,
+                          Connect connect = Connect::kAll);
+
+// Nearest nodes, skinning weights, edges and neighbour lists of a graph whose
+// nodes are placed (a graph of the builders above), the same whenever it is
+// called. `options` as given to the builder (k, extra rings, threads).
+void ConnectGraph(const Mesh& mesh, const Lattice& lattice, const GraphOptions& options,
+                  DeformationGraph* graph);
 
 }  // namespace msdeform
 

@@ -19,18 +19,37 @@ double BoundingBoxDiagonal(const Mesh& mesh) {
 }
 
 std::vector<std::pair<int, int>> UniqueEdges(const Mesh& mesh) {
-  std::vector<std::pair<int, int>> edges;
-  edges.reserve(3 * mesh.num_faces());
+  // The far ends grouped by the lower end (a counting sort), then each small
+  // group sorted and deduplicated: sorted output in linear time, where one
+  // sort of all 3 #F pairs took most of a second on a 1.7M-vertex mesh.
+  const int num_vertices = mesh.num_vertices();
+  std::vector<int> start(num_vertices + 1, 0);
   for (int f = 0; f < mesh.num_faces(); ++f) {
     for (int c = 0; c < 3; ++c) {
-      int a = mesh.faces(c, f);
-      int b = mesh.faces((c + 1) % 3, f);
-      if (a == b) continue;
-      edges.emplace_back(std::min(a, b), std::max(a, b));
+      const int a = mesh.faces(c, f), b = mesh.faces((c + 1) % 3, f);
+      if (a != b) ++start[std::min(a, b) + 1];
     }
   }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  for (int v = 0; v < num_vertices; ++v) start[v + 1] += start[v];
+  std::vector<int> far_end(start[num_vertices]);
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      for (int c = 0; c < 3; ++c) {
+        const int a = mesh.faces(c, f), b = mesh.faces((c + 1) % 3, f);
+        if (a != b) far_end[fill[std::min(a, b)]++] = std::max(a, b);
+      }
+    }
+  }
+  std::vector<std::pair<int, int>> edges;
+  edges.reserve(far_end.size() / 2 + 1);
+  for (int a = 0; a < num_vertices; ++a) {
+    const auto first = far_end.begin() + start[a], last = far_end.begin() + start[a + 1];
+    std::sort(first, last);
+    for (auto it = first; it != last; ++it) {
+      if (it == first || *it != *(it - 1)) edges.emplace_back(a, *it);
+    }
+  }
   return edges;
 }
 

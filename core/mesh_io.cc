@@ -116,14 +116,15 @@ bool SplitIntoTriangles(const PolygonSoup& soup, Mesh* mesh, std::string* proble
   for (int p = 0; p < soup.num_polygons(); ++p) {
     const int* ids = soup.face_ids.data() + soup.face_offsets[p];
     const int size = soup.face_offsets[p + 1] - soup.face_offsets[p];
-    std::ostringstream message;
     if (size < 3) {
+      std::ostringstream message;
       message << "face " << p << " has " << size << " vertices; need at least 3";
       *problem = message.str();
       return false;
     }
     for (int k = 0; k < size; ++k) {
       if (ids[k] < 0 || ids[k] >= num_vertices) {
+        std::ostringstream message;
         message << "face " << p << " refers to vertex " << ids[k] << ", outside 0.."
                 << num_vertices - 1;
         *problem = message.str();
@@ -185,12 +186,40 @@ void DropDegenerateAndDuplicateFaces(Mesh* mesh, MeshReadReport* report) {
                mesh->faces((first + 2) % 3, f)};
     order.push_back(f);
   }
-  // Equal keys end up next to each other, the earliest triangle first.
-  std::stable_sort(order.begin(), order.end(), [&keys](int f, int g) { return keys[f] < keys[g]; });
-  for (size_t i = 1; i < order.size(); ++i) {
-    if (keys[order[i]] == keys[order[i - 1]]) {
-      drop[order[i]] = 1;
-      ++report->dropped_duplicate_faces;
+  // Triangles grouped by their lowest id (a counting sort, file order within
+  // a group); duplicates are within a group. A group is scanned pairwise when
+  // small and sorted by the other two ids (stable: the earliest first) when
+  // large, so a vertex in a huge fan costs n log n, not n^2.
+  const int num_vertices = mesh->num_vertices();
+  std::vector<int> start(num_vertices + 1, 0);
+  for (int f : order) ++start[keys[f][0] + 1];
+  for (int v = 0; v < num_vertices; ++v) start[v + 1] += start[v];
+  std::vector<int> grouped(order.size());
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int f : order) grouped[fill[keys[f][0]]++] = f;
+  }
+  constexpr int kScanLimit = 16;
+  for (int v = 0; v < num_vertices; ++v) {
+    const auto first = grouped.begin() + start[v], last = grouped.begin() + start[v + 1];
+    if (last - first > kScanLimit) {
+      std::stable_sort(first, last, [&keys](int f, int g) { return keys[f] < keys[g]; });
+      for (auto it = first + 1; it < last; ++it) {
+        if (keys[*it] == keys[*(it - 1)]) {
+          drop[*it] = 1;
+          ++report->dropped_duplicate_faces;
+        }
+      }
+      continue;
+    }
+    for (auto it = first + 1; it < last; ++it) {
+      for (auto earlier = first; earlier < it; ++earlier) {
+        if (!drop[*earlier] && keys[*it] == keys[*earlier]) {
+          drop[*it] = 1;
+          ++report->dropped_duplicate_faces;
+          break;
+        }
+      }
     }
   }
   int kept = 0;
@@ -236,10 +265,12 @@ bool ReadMesh(const std::string& path, Mesh* mesh, MeshReadReport* report, std::
   report->dropped_degenerate_faces = check.dropped_degenerate_faces;
 
   PolygonSoup soup;
-  if (!ReadWithOpenMesh(path, *format, std::move(check), &soup, &problem) ||
-      !SplitIntoTriangles(soup, mesh, &problem)) {
+  if (check.read_data) {
+    soup = std::move(check.soup);
+  } else if (!ReadWithOpenMesh(path, *format, std::move(check), &soup, &problem)) {
     return Fail(path, problem, error);
   }
+  if (!SplitIntoTriangles(soup, mesh, &problem)) return Fail(path, problem, error);
   if (format->weld_equal_positions) WeldExactDuplicates(mesh);
 
   DropDegenerateAndDuplicateFaces(mesh, report);
@@ -270,7 +301,7 @@ bool WriteMesh(const std::string& path, const Mesh& mesh, std::string* error) {
   return WriteFileAtomically(
       path,
       [&mesh, format](std::ostream& out, std::string* write_error) {
-        return WriteMeshText(mesh, *format, out, write_error);
+        return WriteMeshFile(mesh, *format, out, write_error);
       },
       error);
 }

@@ -11,9 +11,9 @@
 // count says or crash on a malformed header (found by the fuzzers in
 // tests/fuzz/). So each file is checked first, with a message naming the
 // line, and the check says what OpenMesh must then hand over.
-// A format that parses its data itself (a fast binary PLY path, say) would
-// fill the PolygonSoup directly instead of going through ReadWithOpenMesh;
-// everything after it (fan split, welding, dropped faces) stays shared.
+// A format that parses its data itself (text OFF, binary PLY) fills the
+// PolygonSoup directly instead of going through ReadWithOpenMesh; everything
+// after it (fan split, welding, dropped faces) stays shared.
 
 #ifndef MSDEFORM_CORE_MESH_IO_FORMATS_H_
 #define MSDEFORM_CORE_MESH_IO_FORMATS_H_
@@ -27,6 +27,15 @@
 
 namespace msdeform {
 
+// A file's vertices and polygons, in the file's order.
+struct PolygonSoup {
+  std::vector<double> xyz;           // 3 #V
+  std::vector<int> face_offsets{0};  // #polygons + 1
+  std::vector<int> face_ids;         // vertex ids of all polygons
+  int num_vertices() const { return static_cast<int>(xyz.size() / 3); }
+  int num_polygons() const { return static_cast<int>(face_offsets.size()) - 1; }
+};
+
 // What a format's check found in the file.
 struct FormatCheck {
   // What OpenMesh must hand over; -1: the format does not say.
@@ -35,9 +44,12 @@ struct FormatCheck {
   // Triangles that repeat a vertex which OpenMesh's OBJ and STL readers skip
   // without a word; the notice counts them with those dropped later.
   int dropped_degenerate_faces = 0;
-  // When not empty, OpenMesh reads this text instead of the file: the same
-  // geometry in a layout its reader follows (OFF only; see CheckOff).
-  std::string normalized_text;
+  // True when the check read the data into `soup` itself, in the same pass
+  // (text OFF: CheckOff; binary little-endian PLY of the common layout:
+  // CheckPly), so OpenMesh is not run; coordinates are taken through single
+  // precision, as OpenMesh's readers take them.
+  bool read_data = false;
+  PolygonSoup soup;
 };
 
 // Each checks the whole (non-empty) text of a file in its format and fills
@@ -55,28 +67,20 @@ struct MeshFormat {
   bool (*check)(std::string_view text, FormatCheck* check, std::string* problem);
   // STL has no shared vertices: corners at exactly equal positions are merged.
   bool weld_equal_positions;
-  bool writable;  // WriteMeshText writes it (as text)
+  bool writable;  // WriteMeshFile writes it
 };
 
-// A file's vertices and polygons, in the file's order.
-struct PolygonSoup {
-  std::vector<double> xyz;           // 3 #V
-  std::vector<int> face_offsets{0};  // #polygons + 1
-  std::vector<int> face_ids;         // vertex ids of all polygons
-  int num_vertices() const { return static_cast<int>(xyz.size() / 3); }
-  int num_polygons() const { return static_cast<int>(face_offsets.size()) - 1; }
-};
-
-// Reads `path` (or check.normalized_text in its place) with OpenMesh's reader
+// Reads `path` with OpenMesh's reader
 // for `format` into *soup, and compares what it handed over with the counts
 // in `check`. On failure puts one line in *problem, without the file name.
 bool ReadWithOpenMesh(const std::string& path, const MeshFormat& format, FormatCheck check,
                       PolygonSoup* soup, std::string* problem);
 
-// Writes `mesh` to `out` as `format`'s text (OFF, OBJ or ASCII PLY), each
-// coordinate the shortest decimal that reads back as the same double. On
-// failure puts one line in *problem.
-bool WriteMeshText(const Mesh& mesh, const MeshFormat& format, std::ostream& out,
+// Writes `mesh` to `out` as `format`'s file: OFF and OBJ as text, each
+// coordinate the shortest decimal that reads back as the same double; PLY as
+// binary little-endian with double coordinates and int vertex ids. On failure
+// puts one line in *problem.
+bool WriteMeshFile(const Mesh& mesh, const MeshFormat& format, std::ostream& out,
                    std::string* problem);
 
 }  // namespace msdeform

@@ -106,16 +106,20 @@ bool FindOffCounts(TextLines* lines, Tokens* counts) {
   return true;
 }
 
-// Checks the OFF text; sets *needs_normalizing when it is valid OFF laid out
-// in a way OpenMesh's reader does not follow, so NormalizeOff must rewrite it.
-bool CheckOffText(std::string_view text, FormatCheck* check, bool* needs_normalizing,
-                  std::string* problem) {
+// Checks the OFF text and reads it into check->soup in the same pass, line by
+// line: a vertex is the first three numbers of its line, a face the ids after
+// its count; colours, normals and texture coordinates after them are skipped.
+// (OpenMesh's reader, used before, reads ST/C/N values token by token across
+// line ends, so one vertex line without them shifted everything after it: a
+// coordinate became a face's vertex count, and a count of billions made it
+// allocate gigabytes, found by tests/fuzz/off_fuzzer.) Binary OFF is checked
+// here and read by OpenMesh.
+bool CheckOffText(std::string_view text, FormatCheck* check, std::string* problem) {
   TextLines lines(text);
   // Header: first line with content.
   if (!lines.NextWithContent()) {
     return SetProblem(problem, "no OFF header: the file holds only blank or comment lines");
   }
-  *needs_normalizing = lines.line_number() != 1;  // OpenMesh wants the keyword on line 1.
   const std::string_view keyword = lines.tokens()[0];
   bool other_dimension = false;
   if (!IsOffKeyword(keyword, &other_dimension)) {
@@ -131,25 +135,12 @@ bool CheckOffText(std::string_view text, FormatCheck* check, bool* needs_normali
     }
     return CheckBinaryOff(text, lines.next_offset(), keyword, check, problem);
   }
-  // Any '#' comment means OpenMesh needs a cleaned copy.
-  *needs_normalizing |= text.find('#') != std::string_view::npos;
-  // With ST, C or N in the keyword OpenMesh reads texture coordinates,
-  // colours and normals token by token across line ends, so a vertex line
-  // without them shifts everything after it: a coordinate becomes a face's
-  // vertex count, and a count of billions made OpenMesh allocate gigabytes
-  // (found by tests/fuzz/off_fuzzer). The plain copy has only what this check
-  // read line by line.
-  *needs_normalizing |= keyword != "OFF";
-  const bool has_colors = keyword.find('C') != std::string_view::npos;
 
   // Counts "nV nF nE": on the header line after the keyword, or the next line.
-  const int header_line = lines.line_number();
   Tokens counts;
   if (!FindOffCounts(&lines, &counts)) {
     return SetProblem(problem, "truncated: the file ends before the vertex/face/edge counts");
   }
-  // OpenMesh skips the rest of the header line.
-  if (lines.line_number() == header_line) *needs_normalizing = true;
   const int counts_line = lines.line_number();
   long long num_vertices = -1, num_faces = -1, num_edges = -1;
   if (counts.size() != 3 || !ParseInt(counts[0], &num_vertices) ||
@@ -160,6 +151,15 @@ bool CheckOffText(std::string_view text, FormatCheck* check, bool* needs_normali
   }
   check->num_vertices = static_cast<int>(num_vertices);
   check->num_faces = static_cast<int>(num_faces);
+  // What OpenMesh would read from the (normalised) text is read here, in the
+  // same pass: the first three numbers of a vertex line as floats, the ids of
+  // a face line. Reservations are capped: the counts are not trusted yet.
+  PolygonSoup& soup = check->soup;
+  soup = PolygonSoup();
+  constexpr long long kReserveCap = 1 << 24;
+  soup.xyz.reserve(3 * std::min(num_vertices, kReserveCap));
+  soup.face_offsets.reserve(std::min(num_faces, kReserveCap) + 1);
+  soup.face_ids.reserve(3 * std::min(num_faces, kReserveCap));
 
   // The remaining lines: vertices, then faces. Only lines with content count.
   const long long total = num_vertices + num_faces;
@@ -168,6 +168,11 @@ bool CheckOffText(std::string_view text, FormatCheck* check, bool* needs_normali
     const Tokens& tokens = lines.tokens();
     if (item < num_vertices) {
       if (!CheckVertexCoordinates(lines, 0, item, problem)) return false;
+      for (int k = 0; k < 3; ++k) {
+        float coordinate = 0.0f;
+        ParseFloat(tokens[k], &coordinate);
+        soup.xyz.push_back(coordinate);
+      }
       continue;
     }
     const long long face = item - num_vertices;
@@ -180,11 +185,6 @@ bool CheckOffText(std::string_view text, FormatCheck* check, bool* needs_normali
       return lines.Fail(problem, "face ", face, " announces ", size, " vertices but lists ",
                         tokens.size() - 1);
     }
-    // Without 'C' in the header OpenMesh would read trailing colour values
-    // as the next face.
-    if (static_cast<long long>(tokens.size()) > 1 + size && !has_colors) {
-      *needs_normalizing = true;
-    }
     for (long long k = 1; k <= size; ++k) {
       long long id = 0;
       if (!ParseInt(tokens[k], &id)) {
@@ -195,7 +195,9 @@ bool CheckOffText(std::string_view text, FormatCheck* check, bool* needs_normali
         return lines.Fail(problem, "face ", face, " refers to vertex ", id, ", outside 0..",
                           num_vertices - 1);
       }
+      soup.face_ids.push_back(static_cast<int>(id));
     }
+    soup.face_offsets.push_back(static_cast<int>(soup.face_ids.size()));
   }
   if (item < total) {
     std::ostringstream message;
@@ -209,42 +211,14 @@ bool CheckOffText(std::string_view text, FormatCheck* check, bool* needs_normali
     *problem = message.str();
     return false;
   }
+  check->read_data = true;
   return true;
-}
-
-// The geometry of an OFF text that passed CheckOffText, in the plain layout
-// OpenMesh reads: "OFF", the counts, 3 coordinates per vertex line and the
-// ids alone on each face line. Colours, normals and comments are dropped.
-std::string NormalizeOff(std::string_view text) {
-  TextLines lines(text);
-  lines.NextWithContent();  // the header
-  Tokens counts;
-  FindOffCounts(&lines, &counts);
-  std::ostringstream out;
-  out << "OFF\n" << counts[0] << " " << counts[1] << " " << counts[2] << "\n";
-  long long num_vertices = 0, num_faces = 0;
-  ParseInt(counts[0], &num_vertices);
-  ParseInt(counts[1], &num_faces);
-  for (long long item = 0; item < num_vertices + num_faces && lines.NextWithContent(); ++item) {
-    const Tokens& tokens = lines.tokens();
-    long long keep = 3;  // x y z
-    if (item >= num_vertices) {
-      ParseInt(tokens[0], &keep);
-      keep += 1;  // the count, then the ids
-    }
-    for (long long k = 0; k < keep; ++k) out << (k ? " " : "") << tokens[k];
-    out << "\n";
-  }
-  return out.str();
 }
 
 }  // namespace
 
 bool CheckOff(std::string_view text, FormatCheck* check, std::string* problem) {
-  bool needs_normalizing = false;
-  if (!CheckOffText(text, check, &needs_normalizing, problem)) return false;
-  if (needs_normalizing) check->normalized_text = NormalizeOff(text);
-  return true;
+  return CheckOffText(text, check, problem);
 }
 
 }  // namespace msdeform

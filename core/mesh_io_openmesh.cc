@@ -139,54 +139,11 @@ class RawImporter : public OpenMesh::IO::BaseImporter {
   PolygonSoup& soup_;
 };
 
-// A file in the system temporary folder holding `text`, removed on scope exit.
-class ScopedTemporaryCopy {
- public:
-  bool Create(const std::string& text, const std::string& suffix, std::string* problem) {
-    std::string pattern = (fs::temp_directory_path() / ("msdeform-XXXXXX" + suffix)).string();
-    std::vector<char> buffer(pattern.begin(), pattern.end());
-    buffer.push_back('\0');
-    const int fd = ::mkstemps(buffer.data(), static_cast<int>(suffix.size()));
-    if (fd < 0) {
-      *problem =
-          "cannot create a temporary copy for OpenMesh (" + std::string(std::strerror(errno)) + ")";
-      return false;
-    }
-    ::close(fd);
-    name_ = buffer.data();
-    std::ofstream out(name_, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.close();
-    if (!out) {
-      *problem = "cannot write a temporary copy for OpenMesh";
-      return false;
-    }
-    return true;
-  }
-  ~ScopedTemporaryCopy() {
-    if (!name_.empty()) std::remove(name_.c_str());
-  }
-  const std::string& name() const { return name_; }
-
- private:
-  std::string name_;
-};
-
 }  // namespace
 
 bool ReadWithOpenMesh(const std::string& path, const MeshFormat& format, FormatCheck check,
                       PolygonSoup* soup, std::string* problem) {
-  ScopedTemporaryCopy normalized_copy;
-  std::string read_path = path;
-  if (!check.normalized_text.empty()) {
-    if (!normalized_copy.Create(check.normalized_text, std::string(".") + format.extension,
-                                problem)) {
-      return false;
-    }
-    read_path = normalized_copy.name();
-    check.normalized_text.clear();  // not needed while OpenMesh reads
-    check.normalized_text.shrink_to_fit();
-  }
+  const std::string& read_path = path;
   *soup = PolygonSoup();
   RawImporter importer(soup);
   {

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -35,6 +37,7 @@ struct PlyProperty {
   bool is_list = false;
   std::string_view type;        // scalar type, or the list's item type
   std::string_view count_type;  // lists only
+  std::string_view name;
 };
 
 struct PlyElement {
@@ -100,8 +103,9 @@ bool ParsePlyHeader(TextLines* lines, PlyHeader* header, std::string* problem) {
                            "expected 'property <type> <name>' or 'property list <count type> "
                            "<item type> <name>' with PLY scalar types");
       }
-      header->elements.back().properties.push_back(is_list ? PlyProperty{true, tokens[3], tokens[2]}
-                                                           : PlyProperty{false, tokens[1], {}});
+      header->elements.back().properties.push_back(
+          is_list ? PlyProperty{true, tokens[3], tokens[2], tokens[4]}
+                  : PlyProperty{false, tokens[1], {}, tokens[2]});
     } else if (tokens[0] == "end_header") {
       // The data starts right after this line's end, so nothing else on it.
       if (lines->line() != "end_header") {
@@ -224,6 +228,133 @@ bool CheckBinaryPlyData(std::string_view text, size_t at, const PlyHeader& heade
   return true;
 }
 
+bool IsFloatType(std::string_view type) {
+  return type == "float" || type == "float32" || type == "double" || type == "float64";
+}
+
+bool IsSignedType(std::string_view type) {
+  return type == "char" || type == "int8" || type == "short" || type == "int16" ||
+         type == "int" || type == "int32";
+}
+
+// A little-endian integer of `size` bytes at `at`.
+long long LoadInt(const char* at, int size, bool is_signed) {
+  switch (size) {
+    case 1:
+      return is_signed ? static_cast<long long>(static_cast<signed char>(*at))
+                       : static_cast<long long>(static_cast<unsigned char>(*at));
+    case 2: {
+      uint16_t bits;
+      std::memcpy(&bits, at, 2);
+      return is_signed ? static_cast<long long>(static_cast<int16_t>(bits)) : bits;
+    }
+    default: {
+      uint32_t bits;
+      std::memcpy(&bits, at, 4);
+      return is_signed ? static_cast<long long>(static_cast<int32_t>(bits)) : bits;
+    }
+  }
+}
+
+// A coordinate as OpenMesh's reader hands it over: through single precision.
+double LoadCoordinate(const char* at, bool is_double) {
+  if (is_double) {
+    double value;
+    std::memcpy(&value, at, sizeof(value));
+    return static_cast<float>(value);
+  }
+  float value;
+  std::memcpy(&value, at, sizeof(value));
+  return value;
+}
+
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
+              "the binary PLY reader loads little-endian values as they are");
+
+// The common binary layout, read in the check's one pass: little-endian, a
+// "vertex" element of scalar properties with float or double x, y, z, then a
+// "face" element whose one property is an integer list named vertex_indices
+// (or vertex_index). Returns false without a problem when the file has
+// another layout (CheckBinaryPlyData and OpenMesh take it); with a problem
+// when the data is bad. The checks are CheckBinaryPlyData's, with its
+// messages.
+bool ReadCommonBinaryPly(std::string_view text, size_t at, const PlyHeader& header,
+                         PolygonSoup* soup, bool* handled, std::string* problem) {
+  *handled = false;
+  if (header.format != "binary_little_endian" || header.elements.size() != 2 ||
+      header.elements[0].name != "vertex" || header.elements[1].name != "face") {
+    return true;
+  }
+  const PlyElement& vertex = header.elements[0];
+  const PlyElement& face = header.elements[1];
+  int offset[3] = {-1, -1, -1};
+  bool is_double[3] = {false, false, false};
+  size_t stride = 0;
+  for (const PlyProperty& property : vertex.properties) {
+    if (property.is_list) return true;
+    for (int k = 0; k < 3; ++k) {
+      if (property.name == std::string_view("xyz" + k, 1) && IsFloatType(property.type)) {
+        offset[k] = static_cast<int>(stride);
+        is_double[k] = PlyTypeSize(property.type) == 8;
+      }
+    }
+    stride += PlyTypeSize(property.type);
+  }
+  if (offset[0] < 0 || offset[1] < 0 || offset[2] < 0 || face.properties.size() != 1) return true;
+  const PlyProperty& list = face.properties[0];
+  if (!list.is_list || (list.name != "vertex_indices" && list.name != "vertex_index") ||
+      IsFloatType(list.type) || PlyTypeSize(list.type) > 4 || PlyTypeSize(list.count_type) > 4 ||
+      IsFloatType(list.count_type)) {
+    return true;
+  }
+  *handled = true;
+
+  const long long num_vertices = vertex.count;
+  if (static_cast<unsigned long long>(num_vertices) > (text.size() - at) / std::max<size_t>(stride, 1) ||
+      (stride == 0 && num_vertices > 0)) {
+    // Where the data ends, as the element walk reports it.
+    const long long complete = stride == 0 ? 0 : static_cast<long long>((text.size() - at) / stride);
+    return SetProblem(problem, "truncated: the binary data ends in element 'vertex' ", complete,
+                      " of ", num_vertices);
+  }
+  soup->xyz.resize(3 * static_cast<size_t>(num_vertices));
+  const char* data = text.data() + at;
+  for (long long v = 0; v < num_vertices; ++v, data += stride) {
+    for (int k = 0; k < 3; ++k) soup->xyz[3 * v + k] = LoadCoordinate(data + offset[k], is_double[k]);
+  }
+  at += static_cast<size_t>(num_vertices) * stride;
+
+  const int count_size = PlyTypeSize(list.count_type);
+  const bool count_signed = IsSignedType(list.count_type);
+  const int item_size = PlyTypeSize(list.type);
+  const bool item_signed = IsSignedType(list.type);
+  soup->face_offsets.assign(1, 0);
+  soup->face_offsets.reserve(face.count + 1);
+  soup->face_ids.reserve(3 * static_cast<size_t>(face.count));
+  for (long long item = 0; item < face.count; ++item) {
+    if (text.size() - at < static_cast<size_t>(count_size)) {
+      return SetProblem(problem, "truncated: the binary data ends in element 'face' ", item,
+                        " of ", face.count);
+    }
+    const long long count = LoadInt(text.data() + at, count_size, count_signed);
+    at += count_size;
+    if (count < 0 || static_cast<unsigned long long>(count) > (text.size() - at) / item_size) {
+      return SetProblem(problem, "binary face ", item, ": list count ", count,
+                        " is negative or runs past the end of the file");
+    }
+    for (long long k = 0; k < count; ++k, at += item_size) {
+      const long long id = LoadInt(text.data() + at, item_size, item_signed);
+      if (id < 0 || id >= num_vertices) {
+        return SetProblem(problem, "binary face ", item, ": a vertex id is not in 0..",
+                          num_vertices - 1);
+      }
+      soup->face_ids.push_back(static_cast<int>(id));
+    }
+    soup->face_offsets.push_back(static_cast<int>(soup->face_ids.size()));
+  }
+  return true;
+}
+
 }  // namespace
 
 // The data is walked element by element and property by property so that a
@@ -238,6 +369,14 @@ bool CheckPly(std::string_view text, FormatCheck* check, std::string* problem) {
   check->num_faces = header.num_faces;
   const long long num_vertex_ids = std::max(header.num_vertices, 0);
   if (header.format == "ascii") return CheckAsciiPlyData(&lines, header, num_vertex_ids, problem);
+  bool handled = false;
+  if (!ReadCommonBinaryPly(text, lines.next_offset(), header, &check->soup, &handled, problem)) {
+    return false;
+  }
+  if (handled) {
+    check->read_data = true;
+    return true;
+  }
   return CheckBinaryPlyData(text, lines.next_offset(), header, num_vertex_ids, problem);
 }
 

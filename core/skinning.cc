@@ -432,21 +432,23 @@ void SkinPositionsAndNormals(const Eigen::Matrix3Xd& rest_vertices,
                              const NodeTransforms& transforms,
                              const std::vector<int>* vertex_subset, Eigen::Matrix3Xd* deformed,
                              Eigen::Matrix3Xd* deformed_normals, const SkinningOptions& options) {
-  CHECK(deformed != nullptr && deformed_normals != nullptr);
+  CHECK(deformed != nullptr || deformed_normals != nullptr);
   CHECK_NE(deformed, &rest_vertices);
   CHECK_NE(deformed_normals, &rest_normals);
   CheckInputs(rest_vertices, graph, transforms, options);
-  CHECK_EQ(rest_normals.cols(), rest_vertices.cols());
   const int num_vertices = static_cast<int>(rest_vertices.cols());
-  if (vertex_subset == nullptr) {
-    deformed->resize(3, num_vertices);
-    deformed_normals->resize(3, num_vertices);
-  } else {
-    CHECK_EQ(deformed->cols(), num_vertices);
-    CHECK_EQ(deformed_normals->cols(), num_vertices);
+  if (deformed_normals != nullptr) CHECK_EQ(rest_normals.cols(), num_vertices);
+  for (Eigen::Matrix3Xd* out : {deformed, deformed_normals}) {
+    if (out == nullptr) continue;
+    if (vertex_subset == nullptr) {
+      out->resize(3, num_vertices);
+    } else {
+      CHECK_EQ(out->cols(), num_vertices);
+    }
   }
-  SkinVertices(&rest_vertices, &rest_normals, graph, transforms, vertex_subset, deformed,
-               deformed_normals, options);
+  SkinVertices(deformed != nullptr ? &rest_vertices : nullptr,
+               deformed_normals != nullptr ? &rest_normals : nullptr, graph, transforms,
+               vertex_subset, deformed, deformed_normals, options);
 }
 
 }  // namespace msdeform

@@ -71,7 +71,10 @@ void SkinNormals(const Eigen::Matrix3Xd& rest_normals, const DeformationGraph& g
 // of *deformed and *deformed_normals (which must then be 3 by #V already)
 // are left as they are. The deformer passes the vertices that have a
 // non-Fixed node among their k nearest: every other vertex stays at rest.
-// The same numbers as SkinPositions and SkinNormals.
+// The same numbers as SkinPositions and SkinNormals. Either output may be
+// nullptr (not both): then only the other half is computed and its rest
+// input is not read (the deformer skins positions every frame and normals
+// when they are asked for).
 void SkinPositionsAndNormals(const Eigen::Matrix3Xd& rest_vertices,
                              const Eigen::Matrix3Xd& rest_normals, const DeformationGraph& graph,
                              const NodeTransforms& transforms,

@@ -31,13 +31,21 @@ void Tokenize(std::string_view line, TextLines::Tokens* tokens, bool* had_commen
   }
 }
 
-// strtod or strtof on the whole token.
+// The whole token as a number, with strtod's (strtof's) syntax and value:
+// std::from_chars first (no copy, no locale; correctly rounded, as glibc's
+// strtod is), and strtod on a copy for what from_chars does not take (a
+// leading '+', hexadecimal, a value out of range, which strtod rounds to
+// infinity or zero).
 template <typename Real>
 bool ParseReal(std::string_view token, Real (*parse)(const char*, char**), Real* value) {
+  if (token.empty()) return false;
+  const char* end = token.data() + token.size();
+  const std::from_chars_result fast = std::from_chars(token.data(), end, *value);
+  if (fast.ec == std::errc() && fast.ptr == end) return true;
   const std::string copy(token);
-  char* end = nullptr;
-  *value = parse(copy.c_str(), &end);
-  return end == copy.c_str() + copy.size() && !copy.empty();
+  char* parsed_end = nullptr;
+  *value = parse(copy.c_str(), &parsed_end);
+  return parsed_end == copy.c_str() + copy.size();
 }
 
 }  // namespace

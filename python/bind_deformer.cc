@@ -230,7 +230,10 @@ void BindDeformerProperties(py::class_<PyDeformer>& c) {
       Locked([](const py::object& o, PyDeformer& s) {
         return ReadOnlyView(s.deformer.deformed_normals(), o);
       }, false),
-      "The current deformed unit vertex normals, a read-only (#V, 3) view updated by drag().");
+      "The current deformed unit vertex normals, a read-only (#V, 3) view of the Deformer's "
+      "storage. drag() skins positions only; the normals are skinned when this property is "
+      "read after a drag, so read it again after each drag (a view kept from before shows "
+      "the old normals until then).");
   c.def_property_readonly(
       "options",
       Locked([](const py::object&, PyDeformer& s) { return s.deformer.options(); }, false),

@@ -458,6 +458,9 @@ void BindDeformerOptions(py::module_& m) {
       .Field("fix_fixed_handle_nodes", &DO::fix_fixed_handle_nodes,
              "Ablation: fixed-handle nodes are Fixed, not Half Free.")
       .Field("num_threads", &DO::num_threads, "Threads for skinning and the Ceres solve.")
+      .Field("cached_scales", &DO::cached_scales,
+             "Multi-scale: coarse scales whose skinning data is kept once built (when first "
+             "used); the least recently used is dropped beyond this.")
       .Choice("backend", &DO::backend, {Solver::kGaussNewton, Solver::kCeres}, SolverName,
               ParseSolver, "The per-frame solver: 'gauss_newton' or 'ceres'.")
       .Nested("stopping", &DO::stopping, "StoppingRule: the per-frame stopping rule.")

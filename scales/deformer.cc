@@ -213,6 +213,7 @@ std::vector<std::pair<std::string, std::string>> DescribeOptions(const DeformerO
   add("keep_left_out_terms", flag(options.keep_left_out_terms));
   add("fix_fixed_handle_nodes", flag(options.fix_fixed_handle_nodes));
   add("num_threads", std::to_string(options.num_threads));
+  add("cached_scales", std::to_string(options.cached_scales));
   add("backend", SolverName(options.backend));
   add("stopping.max_iterations", std::to_string(options.stopping.max_iterations));
   add("stopping.function_tolerance", number(options.stopping.function_tolerance));
@@ -268,6 +269,10 @@ bool DeformerOptions::Check(std::string* error) const {
     *error = "num_threads must be >= 1";
     return false;
   }
+  if (cached_scales < 1) {
+    *error = "cached_scales must be >= 1";
+    return false;
+  }
   return stopping.Check(error) && gauss_newton.Check(error) && ceres.Check(error);
 }
 
@@ -285,9 +290,14 @@ bool Deformer::Init(const Mesh& mesh, const DeformerOptions& options, std::strin
   diagonal_ = BoundingBoxDiagonal(mesh_);
   if (!Lattice::Build(mesh_, options_.lattice, &lattice_, error)) return false;
   static_graph_ = -1;
+  connected_coarse_.clear();
   switch (options_.method) {
     case Method::kMultiScale:
-      if (!BuildMultiScaleGraphs(mesh_, lattice_, options_.graph, &graphs_, error)) return false;
+      // The coarse scales are connected when first used (ConnectedGraph).
+      if (!BuildMultiScaleGraphs(mesh_, lattice_, options_.graph, &graphs_, error,
+                                 Connect::kFinestOnly)) {
+        return false;
+      }
       break;
     case Method::kStatic: {
       // DG1 and one graph of static_nodes nodes by the same edge collapse.
@@ -310,6 +320,7 @@ bool Deformer::Init(const Mesh& mesh, const DeformerOptions& options, std::strin
   }
   deformed_vertices_ = mesh_.vertices;
   deformed_normals_ = rest_normals_;
+  normals_stale_ = false;
   precompute_ms_ = MillisecondsSince(start);
   return true;
 }
@@ -339,8 +350,10 @@ bool Deformer::SetHandles(const HandleLayout& layout, std::string* error) {
         rigidity_.relative_extent.data() + lattice_.num_surface_cells());
     ScaleSelectionOptions selection_options = options_.selection;
     if (options_.fix_fixed_handle_nodes) selection_options.half_free = HalfFreeRule::kNone;
-    if (!SelectScale(graphs_, dg1_extent, handles, options_.graph.nodes_per_scale, diagonal_,
-                     selection_options, &selection_, error)) {
+    if (!SelectScale(
+            [this](int scale) -> const DeformationGraph& { return ConnectedGraph(scale - 1); },
+            static_cast<int>(graphs_.size()), dg1_extent, handles,
+            options_.graph.nodes_per_scale, diagonal_, selection_options, &selection_, error)) {
       return false;
     }
     active_graph_ = selection_.scale - 1;
@@ -358,7 +371,30 @@ bool Deformer::SetHandles(const HandleLayout& layout, std::string* error) {
   }
   deformed_vertices_ = mesh_.vertices;
   deformed_normals_ = rest_normals_;
+  normals_stale_ = false;
   return true;
+}
+
+const DeformationGraph& Deformer::ConnectedGraph(int index) {
+  CHECK(index >= 0 && index < static_cast<int>(graphs_.size())) << index;
+  DeformationGraph& graph = graphs_[index];
+  if (index == 0) return graph;  // DG1 is connected in Init
+  const auto used = std::find(connected_coarse_.begin(), connected_coarse_.end(), index);
+  if (used != connected_coarse_.end()) connected_coarse_.erase(used);
+  connected_coarse_.push_back(index);
+  if (!graph.is_connected()) ConnectGraph(mesh_, lattice_, options_.graph, &graph);
+  // Evict the least recently used, never the graph being solved on.
+  for (size_t i = 0; static_cast<int>(connected_coarse_.size()) > options_.cached_scales &&
+                     i < connected_coarse_.size();) {
+    const int evict = connected_coarse_[i];
+    if (evict == index || (solver_ != nullptr && evict == active_graph_)) {
+      ++i;
+      continue;
+    }
+    graphs_[evict].Disconnect();
+    connected_coarse_.erase(connected_coarse_.begin() + i);
+  }
+  return graph;
 }
 
 int Deformer::num_variables() const {
@@ -533,10 +569,23 @@ bool Deformer::Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats,
   skinning.num_threads = options_.num_threads;
   SkinPositionsAndNormals(mesh_.vertices, rest_normals_, graphs_[active_graph_], transforms_,
                           skin_all_ ? nullptr : &skinned_vertices_, &deformed_vertices_,
-                          &deformed_normals_, skinning);
+                          /*deformed_normals=*/nullptr, skinning);
+  normals_stale_ = true;
   frame.skin_ms = MillisecondsSince(skin_start);
   frame.frame_ms = MillisecondsSince(frame_start);
   return true;
+}
+
+const Eigen::Matrix3Xd& Deformer::deformed_normals() const {
+  if (normals_stale_) {
+    SkinningOptions skinning;
+    skinning.num_threads = options_.num_threads;
+    SkinPositionsAndNormals(mesh_.vertices, rest_normals_, graphs_[active_graph_], transforms_,
+                            skin_all_ ? nullptr : &skinned_vertices_, /*deformed=*/nullptr,
+                            &deformed_normals_, skinning);
+    normals_stale_ = false;
+  }
+  return deformed_normals_;
 }
 
 bool DragAlong(Deformer* deformer, const std::vector<Eigen::Affine3d>& path,

@@ -108,6 +108,11 @@ struct DeformerOptions {
   bool fix_fixed_handle_nodes = false;
   // Threads for skinning and the Ceres solve.
   int num_threads = 2;
+  // Multi-scale: coarse scales whose skinning data (nearest nodes, weights,
+  // edges: a pass over every vertex each) is kept once built. A scale's data
+  // is built when SetHandles first selects (or tries) it, not in Init; beyond
+  // this many the least recently used is dropped. DG1's is always kept.
+  int cached_scales = 4;
 
   // The per-frame solve. Both backends minimise the same energy and stop on
   // the same rule (scales/frame_solver.h): at most 20 iterations, function
@@ -146,7 +151,7 @@ DeformerOptions PaperProcedure(DeformerOptions options);
 struct DragStats {
   double frame_ms = 0.0;  // the whole Drag
   double solve_ms = 0.0;
-  double skin_ms = 0.0;
+  double skin_ms = 0.0;  // positions; normals are skinned when asked for
   int iterations = 0;
   int factorizations = 0;
   double initial_cost = 0.0;  // at the initial guess
@@ -179,11 +184,20 @@ class Deformer {
 
   const Mesh& rest_mesh() const { return mesh_; }
   const Eigen::Matrix3Xd& deformed_vertices() const { return deformed_vertices_; }
-  const Eigen::Matrix3Xd& deformed_normals() const { return deformed_normals_; }
+  // The deformed unit normals (Eq. 10) of the last Drag, skinned on the first
+  // call after it: a Drag skins positions only, so a program that never asks
+  // (the command line, the experiments) does not pay for normals. Not to be
+  // called during a Drag from another thread.
+  const Eigen::Matrix3Xd& deformed_normals() const;
   const DeformerOptions& options() const { return options_; }
   const Lattice& lattice() const { return lattice_; }
-  // graphs()[i] is DG_{i+1}; the static baselines add their graph last.
+  // graphs()[i] is DG_{i+1}; the static baselines add their graph last. The
+  // multi-scale method's coarse graphs have their nodes from Init, and their
+  // edges and weights only while connected (is_connected(); cached_scales).
   const std::vector<DeformationGraph>& graphs() const { return graphs_; }
+  // graphs()[index], connected first if it is not (then cached as by
+  // SetHandles).
+  const DeformationGraph& ConnectedGraph(int index);
   // The graph being solved on, and its index in graphs().
   int active_graph() const { return active_graph_; }
   const DeformationGraph& active() const { return graphs_[active_graph_]; }
@@ -222,6 +236,8 @@ class Deformer {
   double diagonal_ = 0.0;
   Lattice lattice_;
   std::vector<DeformationGraph> graphs_;
+  // Connected coarse graphs (index > 0), least recently used first.
+  std::vector<int> connected_coarse_;
   int static_graph_ = -1;  // index of the static baselines' graph
   std::unique_ptr<RigidityEstimator> rigidity_estimator_;
 
@@ -240,7 +256,8 @@ class Deformer {
   int num_position_terms_ = 0;
   int num_coherence_terms_ = 0;
   Eigen::Matrix3Xd deformed_vertices_;
-  Eigen::Matrix3Xd deformed_normals_;
+  mutable Eigen::Matrix3Xd deformed_normals_;
+  mutable bool normals_stale_ = false;  // a Drag moved the positions since
   double precompute_ms_ = 0.0;
   double rigidity_ms_ = 0.0;
   double setup_ms_ = 0.0;

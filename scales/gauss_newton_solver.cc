@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <unordered_map>
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
@@ -419,24 +421,61 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
     add_translation(term.k, -term.sqrt_weight);
     row += 3;
   }
+  // Position terms (one per handle vertex, and per held fixed vertex: a
+  // hundred thousand on a 1.7M-vertex mesh) are not rows of A: their three
+  // rows share one pattern, u_i = s w_i [o_i; 1] per node i (rotation column
+  // c * 3 + a and translation a for coordinate a), so their products are
+  // accumulated as 4x4 moments per node pair and expanded once below (I_3
+  // Kronecker each moment). p = s [rest; 1] is the handle row's pattern.
+  const int num_position_nodes = num_nodes;
+  std::unordered_map<int64_t, Eigen::Matrix4d> pair_moment;        // sum u_j u_k^T
+  std::vector<Eigen::Matrix4d> handle_moment;                      // sum u_j p^T
+  std::vector<Eigen::Matrix<double, 4, 3>> constant_moment;        // sum u_j c^T
+  Eigen::Matrix4d handle_gram = Eigen::Matrix4d::Zero();           // sum p p^T
+  Eigen::Matrix<double, 4, 3> handle_constant = Eigen::Matrix<double, 4, 3>::Zero();  // sum p c^T
+  double constant_square = 0.0;                                    // sum |c|^2
+  if (!energy.positions.empty()) {
+    handle_moment.assign(num_position_nodes, Eigen::Matrix4d::Zero());
+    constant_moment.assign(num_position_nodes, Eigen::Matrix<double, 4, 3>::Zero());
+  }
+  std::vector<int> variable_nodes;
+  std::vector<Eigen::Vector4d> patterns;
   for (const DeformationEnergy::Position& term : energy.positions) {
-    constant.resize(row + 3, 0.0);
     const double s = term.sqrt_weight;
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    variable_nodes.clear();
+    patterns.clear();
     for (size_t i = 0; i < term.nodes.size(); ++i) {
       const SkinningTerm& skin = term.terms[i];
-      add_rotation(term.nodes[i], skin.offset, s * skin.weight);
-      for (int a = 0; a < 3; ++a) constant[row + a] += s * skin.weight * skin.position[a];
-      add_translation(term.nodes[i], s * skin.weight);
-    }
-    if (term.follows_handle) {
-      for (int a = 0; a < 3; ++a) {
-        for (int c = 0; c < 3; ++c) p_entries.emplace_back(row + a, c * 3 + a, s * term.rest[c]);
-        p_entries.emplace_back(row + a, 9 + a, s);
+      const int j = term.nodes[i];
+      const double sw = s * skin.weight;
+      if (rotation_variable(j) < 0) c += sw * (transforms.rotation(j) * skin.offset);
+      if (translation_variable(j) < 0) c += sw * transforms.translations.col(j);
+      c += sw * skin.position;
+      if (rotation_variable(j) >= 0) {
+        variable_nodes.push_back(j);
+        patterns.push_back(sw * Eigen::Vector4d(skin.offset[0], skin.offset[1], skin.offset[2], 1.0));
       }
-    } else {
-      for (int a = 0; a < 3; ++a) constant[row + a] -= s * term.rest[a];
     }
-    row += 3;
+    Eigen::Vector4d p = Eigen::Vector4d::Zero();
+    if (term.follows_handle) {
+      p << s * term.rest, s;
+      handle_gram.noalias() += p * p.transpose();
+      handle_constant.noalias() += p * c.transpose();
+    } else {
+      c -= s * term.rest;
+    }
+    constant_square += c.squaredNorm();
+    for (size_t i = 0; i < variable_nodes.size(); ++i) {
+      const int j = variable_nodes[i];
+      if (term.follows_handle) handle_moment[j].noalias() += patterns[i] * p.transpose();
+      constant_moment[j].noalias() += patterns[i] * c.transpose();
+      for (size_t k = 0; k < variable_nodes.size(); ++k) {
+        const int64_t key = static_cast<int64_t>(j) * num_position_nodes + variable_nodes[k];
+        auto [it, inserted] = pair_moment.try_emplace(key, Eigen::Matrix4d::Zero());
+        it->second.noalias() += patterns[i] * patterns[k].transpose();
+      }
+    }
   }
   for (const DeformationEnergy::Gauge& term : energy.gauge) {
     // Linear in R with no constant: one row of A.
@@ -458,11 +497,67 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
   // p_matrix = [P, -c]: the residual is A x - p_matrix [tau; 1].
   p_matrix.setFromTriplets(p_entries.begin(), p_entries.end());
   const SparseMatrix a_transposed = a_matrix.transpose();
-  impl.hessian = (a_transposed * a_matrix).pruned();
-  const SparseMatrix atp = a_transposed * p_matrix;  // n by 13
+  // The position terms' moments as variables: the column of node j's
+  // pattern entry c (0..2 rotation, 3 translation) for coordinate a, -1 when
+  // that part of j is not a variable; the handle's parameter column likewise.
+  auto variable_of = [&](int j, int c, int a) {
+    return c < 3 ? rotation_variable(j) + c * 3 + a : translation_variable(j) < 0 ? -1 : translation_variable(j) + a;
+  };
+  auto handle_column = [](int d, int a) { return d < 3 ? d * 3 + a : 9 + a; };
+  std::vector<Eigen::Triplet<double, int>> position_hessian, position_atp;
+  position_hessian.reserve(48 * pair_moment.size());
+  for (const auto& [key, moment] : pair_moment) {
+    const int j = static_cast<int>(key / num_position_nodes);
+    const int k = static_cast<int>(key % num_position_nodes);
+    for (int a = 0; a < 3; ++a) {
+      for (int c = 0; c < 4; ++c) {
+        const int row_variable = variable_of(j, c, a);
+        if (row_variable < 0) continue;
+        for (int d = 0; d < 4; ++d) {
+          const int column_variable = variable_of(k, d, a);
+          if (column_variable >= 0 && moment(c, d) != 0.0) {
+            position_hessian.emplace_back(row_variable, column_variable, moment(c, d));
+          }
+        }
+      }
+    }
+  }
+  for (int j = 0; j < static_cast<int>(handle_moment.size()); ++j) {
+    if (rotation_variable(j) < 0) continue;
+    for (int a = 0; a < 3; ++a) {
+      for (int c = 0; c < 4; ++c) {
+        const int row_variable = variable_of(j, c, a);
+        if (row_variable < 0) continue;
+        for (int d = 0; d < 4; ++d) {
+          if (handle_moment[j](c, d) != 0.0) {
+            position_atp.emplace_back(row_variable, handle_column(d, a), handle_moment[j](c, d));
+          }
+        }
+        // Column 12 is -c (p_matrix's last column).
+        if (constant_moment[j](c, a) != 0.0) {
+          position_atp.emplace_back(row_variable, 12, -constant_moment[j](c, a));
+        }
+      }
+    }
+  }
+  SparseMatrix hessian_positions(n, n), atp_positions(n, 13);
+  hessian_positions.setFromTriplets(position_hessian.begin(), position_hessian.end());
+  atp_positions.setFromTriplets(position_atp.begin(), position_atp.end());
+  impl.hessian = (SparseMatrix(a_transposed * a_matrix) + hessian_positions).pruned();
+  const SparseMatrix atp = a_transposed * p_matrix + atp_positions;  // n by 13
   impl.handle_gradient = atp.leftCols(12);
   impl.linear_gradient = -Eigen::VectorXd(atp.col(12));
   impl.constant_gram = Eigen::MatrixXd(SparseMatrix(p_matrix.transpose() * p_matrix));
+  for (int a = 0; a < 3; ++a) {
+    for (int d = 0; d < 4; ++d) {
+      for (int e = 0; e < 4; ++e) {
+        impl.constant_gram(handle_column(d, a), handle_column(e, a)) += handle_gram(d, e);
+      }
+      impl.constant_gram(handle_column(d, a), 12) -= handle_constant(d, a);
+      impl.constant_gram(12, handle_column(d, a)) -= handle_constant(d, a);
+    }
+  }
+  impl.constant_gram(12, 12) += constant_square;
 
   // The pattern of J^T J: H plus the 9x9 rotation blocks plus the diagonal.
   std::vector<Eigen::Triplet<double, int>> entries;

@@ -132,13 +132,23 @@ bool SelectScale(const std::vector<DeformationGraph>& graphs,
                  const std::vector<double>& dg1_extent, const HandleNodes& handles,
                  int nodes_per_scale, double diagonal, const ScaleSelectionOptions& options,
                  ScaleSelection* selection, std::string* error) {
-  CHECK(!graphs.empty());
+  return SelectScale([&graphs](int scale) -> const DeformationGraph& { return graphs[scale - 1]; },
+                     static_cast<int>(graphs.size()), dg1_extent, handles, nodes_per_scale,
+                     diagonal, options, selection, error);
+}
+
+bool SelectScale(const std::function<const DeformationGraph&(int scale)>& graph_at,
+                 int num_scales, const std::vector<double>& dg1_extent,
+                 const HandleNodes& handles, int nodes_per_scale, double diagonal,
+                 const ScaleSelectionOptions& options, ScaleSelection* selection,
+                 std::string* error) {
+  CHECK_GE(num_scales, 1);
   if (!options.Check(error)) return false;
   if (nodes_per_scale < 1) {
     *error = "nodes_per_scale (P) must be >= 1";
     return false;
   }
-  const DeformationGraph& dg1 = graphs[0];
+  const DeformationGraph& dg1 = graph_at(1);
   const int d1 = dg1.num_nodes();
   CHECK_EQ(static_cast<int>(dg1_extent.size()), d1);
   CHECK_EQ(static_cast<int>(handles.holds_fixed.size()), d1);
@@ -158,14 +168,13 @@ bool SelectScale(const std::vector<DeformationGraph>& graphs,
 
   // Eq. 6.
   for (int i = 0; i < d1; ++i) result.group1_size += dg1_extent[i] > result.threshold;
-  const int num_scales = static_cast<int>(graphs.size());
   int scale = 1;
   while (scale < num_scales && !(result.group1_size < scale * nodes_per_scale)) ++scale;
   result.eq6_scale = scale;
 
   // Classes, moving finer while a node would hold both kinds of handle.
   for (; scale >= 1; --scale) {
-    const DeformationGraph& graph = graphs[scale - 1];
+    const DeformationGraph& graph = graph_at(scale);
     const int n = graph.num_nodes();
     bool conflict = false;
     std::vector<char> holds_fixed(n, 0);
@@ -218,7 +227,7 @@ bool SelectScale(const std::vector<DeformationGraph>& graphs,
   result.scale = scale;
 
   // Counts and alpha weights (omega per Totally Free node).
-  const int n = graphs[scale - 1].num_nodes();
+  const int n = graph_at(scale).num_nodes();
   result.omega.assign(n, 1.0);
   double e_l = std::numeric_limits<double>::infinity(), e_f = -e_l;
   for (int j = 0; j < n; ++j) {

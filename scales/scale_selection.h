@@ -23,6 +23,7 @@
 #ifndef MSDEFORM_SCALES_SCALE_SELECTION_H_
 #define MSDEFORM_SCALES_SCALE_SELECTION_H_
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -123,6 +124,17 @@ bool SelectScale(const std::vector<DeformationGraph>& graphs,
                  const std::vector<double>& dg1_extent, const HandleNodes& handles,
                  int nodes_per_scale, double diagonal, const ScaleSelectionOptions& options,
                  ScaleSelection* selection, std::string* error);
+
+// The same with the graphs handed over one at a time: `graph_at(s)` is DG_s,
+// connected (edges and neighbours; core/deformation_graph.h), for s in
+// 1..num_scales. It is asked for DG1 and for the scales it tries, from Eq. 6's
+// down while a node holds both kinds of handle: so a caller can connect the
+// coarse scales only when they are used.
+bool SelectScale(const std::function<const DeformationGraph&(int scale)>& graph_at,
+                 int num_scales, const std::vector<double>& dg1_extent,
+                 const HandleNodes& handles, int nodes_per_scale, double diagonal,
+                 const ScaleSelectionOptions& options, ScaleSelection* selection,
+                 std::string* error);
 
 }  // namespace msdeform
 

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 #include <sstream>
 #include <string>
@@ -115,23 +116,31 @@ TEST_P(MeshRoundTripTest, DoublesComeBackWithinFloatPrecisionAndThenExactly) {
 // The file holds every double exactly: its numbers, read as doubles, are the
 // mesh's coordinates bit for bit (msdeform's own reader takes them through
 // float; other programs need not).
-TEST_P(MeshRoundTripTest, TextHoldsEveryCoordinateAsTheSameDouble) {
+TEST_P(MeshRoundTripTest, FileHoldsEveryCoordinateAsTheSameDouble) {
   const std::string path = FreshFolder() + "/exact." + GetParam();
   const Mesh mesh = RandomMesh(50, 40, 11);
   std::string error;
   ASSERT_TRUE(WriteMesh(path, mesh, &error)) << error;
+  if (GetParam() == "ply") {
+    // Binary: the header, then the doubles x y z of each vertex as they are.
+    std::ifstream in(path, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string header =
+        "ply\nformat binary_little_endian 1.0\ncomment written by msdeform\nelement vertex 50\n"
+        "property double x\nproperty double y\nproperty double z\nelement face 40\n"
+        "property list uchar int vertex_indices\nend_header\n";
+    ASSERT_EQ(bytes.substr(0, header.size()), header);
+    ASSERT_EQ(bytes.size(), header.size() + 50 * 24 + 40 * 13);
+    EXPECT_EQ(std::memcmp(bytes.data() + header.size(), mesh.vertices.data(), 50 * 24), 0);
+    return;
+  }
   std::ifstream in(path);
   std::string line;
   std::vector<double> coordinates;
-  bool in_vertices = GetParam() == "obj";
   int header_lines = GetParam() == "off" ? 2 : GetParam() == "obj" ? 1 : 0;
   while (std::getline(in, line) && static_cast<int>(coordinates.size()) < 3 * 50) {
     if (header_lines > 0) {
       --header_lines;
-      continue;
-    }
-    if (GetParam() == "ply" && !in_vertices) {
-      in_vertices = line == "end_header";
       continue;
     }
     std::istringstream fields(GetParam() == "obj" ? line.substr(2) : line);
@@ -373,9 +382,37 @@ const std::vector<std::vector<int>> kFacesWithDrops = {{0, 1, 2}, {0, 0, 3}, {1,
                                                        {2, 0, 1}, {3, 4, 4}, {0, 2, 1}};
 constexpr double kFiveVertices[5][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0.5}, {2, 2, 2}};
 
-// The five vertices and `faces` as the text of an .off, .obj or .ply file.
+// The file extension of a MeshText format.
+std::string Extension(const std::string& format) {
+  return format == "binary_ply" ? "ply" : format;
+}
+
+// The five vertices and `faces` as the text of an .off, .obj or .ply file, or
+// ("binary_ply") a binary little-endian PLY with a normal and a colour per
+// vertex beside the float coordinates and int16 ids in uint8-counted lists.
 std::string MeshText(const std::string& format, const std::vector<std::vector<int>>& faces) {
   std::ostringstream text;
+  if (format == "binary_ply") {
+    text << "ply\nformat binary_little_endian 1.0\nelement vertex 5\nproperty float nx\n"
+            "property float x\nproperty float y\nproperty float z\nproperty uchar red\n"
+            "property float ny\nproperty double nz\nelement face "
+         << faces.size() << "\nproperty list uint8 short vertex_indices\nend_header\n";
+    const auto put = [&text](auto value) {
+      text.write(reinterpret_cast<const char*>(&value), sizeof(value));
+    };
+    for (const auto& p : kFiveVertices) {
+      put(0.5f);
+      for (double c : p) put(static_cast<float>(c));
+      put(static_cast<unsigned char>(200));
+      put(0.25f);
+      put(-1.0);
+    }
+    for (const auto& face : faces) {
+      put(static_cast<unsigned char>(face.size()));
+      for (int id : face) put(static_cast<int16_t>(id));
+    }
+    return text.str();
+  }
   if (format == "off") text << "OFF\n5 " << faces.size() << " 0\n";
   if (format == "ply") {
     text << "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\n"
@@ -396,7 +433,7 @@ std::string MeshText(const std::string& format, const std::vector<std::vector<in
 class DroppedFacesTest : public testing::TestWithParam<std::string> {};
 
 TEST_P(DroppedFacesTest, RepeatedVertexAndDuplicateFacesAreDroppedAndCounted) {
-  const std::string path = FreshFolder() + "/drops." + GetParam();
+  const std::string path = FreshFolder() + "/drops." + Extension(GetParam());
   WriteText(path, MeshText(GetParam(), kFacesWithDrops));
   Mesh mesh;
   MeshReadReport report;
@@ -423,7 +460,7 @@ TEST_P(DroppedFacesTest, RepeatedVertexAndDuplicateFacesAreDroppedAndCounted) {
 }
 
 TEST_P(DroppedFacesTest, NothingDroppedMeansNoNotice) {
-  const std::string path = FreshFolder() + "/clean." + GetParam();
+  const std::string path = FreshFolder() + "/clean." + Extension(GetParam());
   WriteText(path, MeshText(GetParam(), {{0, 1, 2}, {1, 3, 2}, {0, 2, 1}, {2, 3, 4}}));
   Mesh mesh;
   MeshReadReport report;
@@ -438,7 +475,7 @@ TEST_P(DroppedFacesTest, NothingDroppedMeansNoNotice) {
 }
 
 TEST_P(DroppedFacesTest, OnlyDuplicatesGiveTheirOwnNotice) {
-  const std::string path = FreshFolder() + "/duplicates." + GetParam();
+  const std::string path = FreshFolder() + "/duplicates." + Extension(GetParam());
   WriteText(path, MeshText(GetParam(), {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 1, 2}, {1, 3, 2}}));
   Mesh mesh;
   MeshReadReport report;
@@ -455,7 +492,7 @@ TEST_P(DroppedFacesTest, OnlyDuplicatesGiveTheirOwnNotice) {
 }
 
 TEST_P(DroppedFacesTest, OnlyFacesThatRepeatAVertexIsAnError) {
-  const std::string path = FreshFolder() + "/degenerate." + GetParam();
+  const std::string path = FreshFolder() + "/degenerate." + Extension(GetParam());
   WriteText(path, MeshText(GetParam(), {{0, 0, 1}, {2, 3, 3}, {4, 1, 4}}));
   Mesh mesh;
   MeshReadReport report;
@@ -470,7 +507,7 @@ TEST_P(DroppedFacesTest, OnlyFacesThatRepeatAVertexIsAnError) {
 // (0, 1, 2), and (0, 0, 1, 3, 2) the fan (0, 1, 3), (0, 3, 2); one fan triangle
 // of each repeats a vertex.
 TEST_P(DroppedFacesTest, PolygonsThatRepeatAVertexLoseOnlyTheirEmptyTriangles) {
-  const std::string path = FreshFolder() + "/polygons." + GetParam();
+  const std::string path = FreshFolder() + "/polygons." + Extension(GetParam());
   WriteText(path, MeshText(GetParam(), {{0, 1, 2, 0}, {0, 0, 1, 3, 2}}));
   Mesh mesh;
   MeshReadReport report;
@@ -486,7 +523,80 @@ TEST_P(DroppedFacesTest, PolygonsThatRepeatAVertexLoseOnlyTheirEmptyTriangles) {
   EXPECT_EQ(report.notice, path + ": dropped 2 faces that repeat a vertex");
 }
 
-INSTANTIATE_TEST_SUITE_P(Formats, DroppedFacesTest, testing::Values("off", "obj", "ply"));
+// The binary PLY read in the check's pass reads what OpenMesh reads from the
+// same mesh as ASCII PLY: coordinates through single precision (here doubles
+// that are not floats), the faces in order.
+TEST(MeshIoTest, BinaryPlyReadsAsOpenMeshReadsTheSameAscii) {
+  const std::string folder = FreshFolder();
+  const Mesh mesh = RandomMesh(300, 500, 5);
+  std::string error;
+  ASSERT_TRUE(WriteMesh(folder + "/binary.ply", mesh, &error)) << error;
+  std::ostringstream ascii;
+  ascii << "ply\nformat ascii 1.0\nelement vertex 300\nproperty double x\nproperty double y\n"
+           "property double z\nelement face 500\nproperty list uchar int vertex_indices\n"
+           "end_header\n";
+  ascii.precision(17);
+  for (int v = 0; v < 300; ++v) {
+    ascii << mesh.vertices(0, v) << " " << mesh.vertices(1, v) << " " << mesh.vertices(2, v)
+          << "\n";
+  }
+  for (int f = 0; f < 500; ++f) {
+    ascii << "3 " << mesh.faces(0, f) << " " << mesh.faces(1, f) << " " << mesh.faces(2, f) << "\n";
+  }
+  WriteText(folder + "/ascii.ply", ascii.str());
+  Mesh binary_read, ascii_read;
+  ASSERT_TRUE(ReadMesh(folder + "/binary.ply", &binary_read, &error)) << error;
+  ASSERT_TRUE(ReadMesh(folder + "/ascii.ply", &ascii_read, &error)) << error;
+  EXPECT_EQ(binary_read.vertices, ascii_read.vertices);
+  EXPECT_EQ(binary_read.faces, ascii_read.faces);
+  EXPECT_EQ(binary_read.faces, mesh.faces);
+  EXPECT_EQ(binary_read.vertices, mesh.vertices.cast<float>().cast<double>());
+}
+
+TEST(MeshIoTest, BinaryPlyTruncationAndBadIdsAreCaught) {
+  const std::string folder = FreshFolder();
+  const std::string bytes = MeshText("binary_ply", {{0, 1, 2}, {1, 3, 2}});
+  const size_t header = bytes.find("end_header\n") + 11;
+  const size_t vertex_bytes = 4 * 4 + 1 + 4 + 8;
+  std::string error;
+  Mesh mesh;
+  WriteText(folder + "/vertices.ply", bytes.substr(0, header + 2 * vertex_bytes + 5));
+  EXPECT_FALSE(ReadMesh(folder + "/vertices.ply", &mesh, &error));
+  EXPECT_EQ(error, folder + "/vertices.ply: truncated: the binary data ends in element 'vertex' 2 of 5");
+  WriteText(folder + "/faces.ply", bytes.substr(0, bytes.size() - 2));
+  EXPECT_FALSE(ReadMesh(folder + "/faces.ply", &mesh, &error));
+  EXPECT_EQ(error, folder +
+                       "/faces.ply: binary face 1: list count 3 is negative or runs past the end "
+                       "of the file");
+  std::string bad_id = bytes;
+  bad_id[bad_id.size() - 2] = 9;  // the last id: 9 of 5 vertices
+  WriteText(folder + "/bad_id.ply", bad_id);
+  EXPECT_FALSE(ReadMesh(folder + "/bad_id.ply", &mesh, &error));
+  EXPECT_EQ(error, folder + "/bad_id.ply: binary face 1: a vertex id is not in 0..4");
+}
+
+// Many triangles around one vertex (a fan, each listed twice, the copy
+// rotated): the duplicates are found the same way in a large group.
+TEST(MeshIoTest, DuplicatesInALargeFanAreDroppedInOrder) {
+  const int kFan = 40;
+  std::ostringstream off;
+  off << "OFF\n" << kFan + 2 << " " << 2 * kFan << " 0\n0 0 0\n";
+  for (int i = 0; i <= kFan; ++i) off << std::cos(0.1 * i) << " " << std::sin(0.1 * i) << " 0\n";
+  for (int i = 1; i <= kFan; ++i) off << "3 0 " << i << " " << i + 1 << "\n";
+  for (int i = kFan; i >= 1; --i) off << "3 " << i << " " << i + 1 << " 0\n";
+  const std::string path = FreshFolder() + "/fan.off";
+  WriteText(path, off.str());
+  Mesh mesh;
+  MeshReadReport report;
+  std::string error;
+  ASSERT_TRUE(ReadMesh(path, &mesh, &report, &error)) << error;
+  EXPECT_EQ(report.dropped_duplicate_faces, kFan);
+  ASSERT_EQ(mesh.num_faces(), kFan);
+  for (int i = 1; i <= kFan; ++i) EXPECT_EQ(mesh.faces.col(i - 1), Eigen::Vector3i(0, i, i + 1));
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, DroppedFacesTest,
+                         testing::Values("off", "obj", "ply", "binary_ply"));
 
 // The unit square of kStlTriangles, then a facet with two corners at (1,0,0),
 // the first facet again from its second corner, and the first facet turned

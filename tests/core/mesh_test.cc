@@ -1,5 +1,11 @@
 #include "msdeform/core/mesh.h"
 
+#include <algorithm>
+#include <random>
+#include <set>
+#include <utility>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 namespace msdeform {
@@ -30,6 +36,26 @@ TEST(MeshTest, UniqueEdgesCountsSharedEdgeOnce) {
   const auto edges = UniqueEdges(TwoPatches());
   EXPECT_EQ(edges.size(), 8u);  // 5 for the quad, 3 for the lone triangle.
   EXPECT_EQ(edges.front(), std::make_pair(0, 1));
+}
+
+// Sorted (a < b) pairs, each once, whatever the faces' orientation and
+// repeats: the set of every face side, on random faces.
+TEST(MeshTest, UniqueEdgesAreTheSortedSetOfFaceSides) {
+  std::mt19937 rng(4);
+  Mesh mesh;
+  mesh.vertices = Eigen::Matrix3Xd::Zero(3, 30);
+  mesh.faces.resize(3, 200);
+  std::set<std::pair<int, int>> expected;
+  for (int f = 0; f < 200; ++f) {
+    for (int c = 0; c < 3; ++c) mesh.faces(c, f) = static_cast<int>(rng() % 30);
+    for (int c = 0; c < 3; ++c) {
+      const int a = mesh.faces(c, f), b = mesh.faces((c + 1) % 3, f);
+      if (a != b) expected.emplace(std::min(a, b), std::max(a, b));
+    }
+  }
+  const std::vector<std::pair<int, int>> edges = UniqueEdges(mesh);
+  const std::vector<std::pair<int, int>> sorted_set(expected.begin(), expected.end());
+  EXPECT_EQ(edges, sorted_set);
 }
 
 TEST(MeshTest, AdjacencyIsSymmetricAndSorted) {

@@ -313,6 +313,60 @@ TEST(DeformerTest, CylinderBendsOverItsWholeLength) {
             bend.TurnOf(deformer.deformed_vertices(), lowest + 2 * third, lowest + 3 * third));
 }
 
+// The multi-scale Init connects DG1 only; SetHandles connects the scale it
+// selects, the same graph an eager build makes, and a bounded cache keeps the
+// others. A scale dropped and connected again gives the same drag bit for bit.
+TEST(DeformerTest, CoarseScalesAreConnectedWhenUsedAndCachedBounded) {
+  const CylinderBend bend;
+  DeformerOptions options = OptionsFor(Method::kMultiScale);
+  options.cached_scales = 2;
+  Deformer deformer;
+  std::string error;
+  ASSERT_TRUE(deformer.Init(bend.mesh, options, &error)) << error;
+  const int num_graphs = static_cast<int>(deformer.graphs().size());
+  ASSERT_GE(num_graphs, 5);
+  EXPECT_TRUE(deformer.graphs()[0].is_connected());
+  for (int i = 1; i < num_graphs; ++i) EXPECT_FALSE(deformer.graphs()[i].is_connected()) << i;
+
+  ASSERT_TRUE(deformer.SetHandles(bend.layout, &error)) << error;
+  const int active = deformer.active_graph();
+  ASSERT_GT(active, 0) << "the bend should select a coarse scale";
+  std::vector<DeformationGraph> eager;
+  ASSERT_TRUE(BuildMultiScaleGraphs(bend.mesh, deformer.lattice(), options.graph, &eager, &error))
+      << error;
+  const DeformationGraph& lazy = deformer.graphs()[active];
+  ASSERT_TRUE(lazy.is_connected());
+  EXPECT_EQ(lazy.edges, eager[active].edges);
+  EXPECT_EQ(lazy.neighbors.values, eager[active].neighbors.values);
+  EXPECT_EQ(lazy.weights.nodes, eager[active].weights.nodes);
+  EXPECT_EQ(lazy.weights.weights, eager[active].weights.weights);
+  ASSERT_TRUE(deformer.Drag(bend.target, nullptr, &error)) << error;
+  const Eigen::Matrix3Xd first = deformer.deformed_vertices();
+
+  // Using every other scale keeps at most cached_scales coarse graphs
+  // connected, and never drops the one being solved on.
+  for (int i = 1; i < num_graphs; ++i) {
+    deformer.ConnectedGraph(i);
+    int connected = 0;
+    for (int j = 1; j < num_graphs; ++j) connected += deformer.graphs()[j].is_connected();
+    EXPECT_LE(connected, options.cached_scales + 1) << i;
+    EXPECT_TRUE(deformer.graphs()[active].is_connected()) << i;
+  }
+  // A scale connected, dropped and connected again drags identically.
+  options.cached_scales = 1;
+  Deformer again;
+  ASSERT_TRUE(again.Init(bend.mesh, options, &error)) << error;
+  again.ConnectedGraph(active);
+  for (int i = 1; i < num_graphs; ++i) {
+    if (i != active) again.ConnectedGraph(i);
+  }
+  ASSERT_FALSE(again.graphs()[active].is_connected());
+  ASSERT_TRUE(again.SetHandles(bend.layout, &error)) << error;
+  ASSERT_EQ(again.active_graph(), active);
+  ASSERT_TRUE(again.Drag(bend.target, nullptr, &error)) << error;
+  EXPECT_EQ(again.deformed_vertices(), first);
+}
+
 TEST(DeformerTest, LargeFixedRegionGetsHalfFreeNodesOnlyAtItsBorder) {
   // The cylinder fixed up to z = 7 (70% of it), its top dragged sideways.
   CylinderBend bend;
