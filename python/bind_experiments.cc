@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -113,6 +114,8 @@ py::dict RunDeformerOn(const ExperimentScenario& scenario, const py::object& opt
                      &result, &error);
   }
   if (!ok) ThrowRuntimeError(error);
+  // Not timed here (the runner times the other backend itself).
+  result.other_backend_frame_ms = std::numeric_limits<double>::quiet_NaN();
   return RunResultToDict(result);
 }
 
