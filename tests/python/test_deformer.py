@@ -141,7 +141,8 @@ def test_the_gil_is_released_while_dragging(meshes):
     """A Python thread keeps running while another thread drags.
 
     If the solve held the GIL, the main thread's loop would stall for the whole drag_along
-    call; with it released, the longest pause is a small part of the call.
+    call (a pause of about the call's length); with it released, the longest pause is a
+    small part of the call (half leaves room for a loaded machine's scheduling).
     """
     V, F = msdeform.read_mesh(meshes / "armadillo.off")
     d = msdeform.Deformer(V, F, num_threads=1)
@@ -161,4 +162,4 @@ def test_the_gil_is_released_while_dragging(meshes):
     duration = time.perf_counter() - started
     worker.join()
     assert len(d.frame_stats) == 40
-    assert longest_pause < 0.25 * duration, (longest_pause, duration)
+    assert longest_pause < 0.5 * duration, (longest_pause, duration)
