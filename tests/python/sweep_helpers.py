@@ -211,3 +211,20 @@ def freeze_busy_worker(cluster, index, prefix, timeout=60):
         os.kill(worker.pid, signal.SIGCONT)
         time.sleep(0.05)
     raise AssertionError(f"worker {index} held no task of the sweep within {timeout} s")
+
+
+def sweep_killing_worker_0(cluster, sweep_file, out):
+    """Runs the sweep on `cluster`; once the first rows are in, freezes worker 0 while it holds
+    tasks of the sweep and kills it. Returns (held task keys, driver, stdout, stderr) after
+    the driver has exited."""
+    driver = start_sweep([sweep_file, "--out", out, "--scheduler", cluster.address])
+    try:
+        wait_until(lambda: os.path.isdir(out / "tasks") and task_files(out), 120,
+                   "the first rows")
+        held = freeze_busy_worker(cluster, 0, "msdeform-task-")
+        os.kill(cluster.workers[0].pid, signal.SIGKILL)
+        cluster.workers[0].wait(10)
+        stdout, stderr = driver.communicate(timeout=180)
+    finally:
+        stop(driver)
+    return held, driver, stdout, stderr

@@ -117,16 +117,7 @@ def test_dask_cluster_worker_killed_mid_sweep(small_sweep, serial_rows, tmp_path
     assert len(ids) == 18
     with helpers.DaskCluster(tmp_path, workers=2) as cluster:
         survivor = cluster.worker_addresses()[1]
-        driver = helpers.start_sweep([small_sweep, "--out", out, "--scheduler", cluster.address])
-        try:
-            helpers.wait_until(lambda: os.path.isdir(out / "tasks") and helpers.task_files(out),
-                               120, "the first rows")
-            held = helpers.freeze_busy_worker(cluster, 0, "msdeform-task-")
-            os.kill(cluster.workers[0].pid, signal.SIGKILL)
-            cluster.workers[0].wait(10)
-            stdout, stderr = driver.communicate(timeout=180)
-        finally:
-            helpers.stop(driver)
+        held, driver, stdout, stderr = helpers.sweep_killing_worker_0(cluster, small_sweep, out)
         assert driver.returncode == 0, stderr
         assert list(cluster.worker_addresses().values()) == [survivor]
     assert f"Dask at {cluster.address}, 2 worker(s)" in stderr
@@ -290,16 +281,7 @@ def test_task_dask_gives_up_on_is_lost_then_resumed(source, tmp_path):
     out = tmp_path / "out"
     config = {"DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES": "0"}
     with helpers.DaskCluster(tmp_path, workers=2, config=config) as cluster:
-        driver = helpers.start_sweep([sweep_file, "--out", out, "--scheduler", cluster.address])
-        try:
-            helpers.wait_until(lambda: os.path.isdir(out / "tasks") and helpers.task_files(out),
-                               120, "the first rows")
-            held = helpers.freeze_busy_worker(cluster, 0, "msdeform-task-")
-            os.kill(cluster.workers[0].pid, signal.SIGKILL)
-            cluster.workers[0].wait(10)
-            _, stderr = driver.communicate(timeout=180)
-        finally:
-            helpers.stop(driver)
+        held, driver, _, stderr = helpers.sweep_killing_worker_0(cluster, sweep_file, out)
         assert driver.returncode == 2, stderr
         lost_ids = sorted(key[len("msdeform-task-"):] for key in held)
         rows = helpers.read_rows(out / "results.csv")
