@@ -44,14 +44,19 @@ struct ActionSpec {
 
 const std::vector<std::string> kLabels = {"fixed", "free", "handle"};
 
+// The files "open" reads and "save" writes, and the scenario's frame count.
+std::map<std::string, Field> FileFields() {
+  return {{"mesh", {Type::kString}},
+          {"sel", {Type::kString}},
+          {"def", {Type::kString}},
+          {"scenario", {Type::kString}},
+          {"frames", {Type::kInt}}};
+}
+
 const std::map<std::string, ActionSpec>& Specs() {
   static const auto* specs = new std::map<std::string, ActionSpec>{
       {"open",
-       {{{"mesh", {Type::kString}},
-         {"sel", {Type::kString}},
-         {"def", {Type::kString}},
-         {"scenario", {Type::kString}},
-         {"frames", {Type::kInt}}},
+       {FileFields(),
         {},
         {},
         false}},
@@ -121,11 +126,7 @@ const std::map<std::string, ActionSpec>& Specs() {
         {},
         false}},
       {"save",
-       {{{"mesh", {Type::kString}},
-         {"sel", {Type::kString}},
-         {"def", {Type::kString}},
-         {"scenario", {Type::kString}},
-         {"frames", {Type::kInt}}},
+       {FileFields(),
         {},
         {},
         false}},
