@@ -10,6 +10,51 @@
 
 namespace msdeform {
 
+SkinningWeights::SkinningWeights(int k, int num_vertices, int num_nodes)
+    : k_(k), num_vertices_(num_vertices) {
+  CHECK_GE(k, 1);
+  CHECK_GE(num_vertices, 0);
+  CHECK_GE(num_nodes, 1);
+  const size_t slots = static_cast<size_t>(k) * num_vertices;
+  if (num_nodes <= kMaxNodesFor16BitIds) {
+    ids16_.assign(slots, 0);
+  } else {
+    ids32_.assign(slots, 0);
+  }
+  weights_.assign(slots, 0.0f);
+}
+
+void SkinningWeights::SetVertex(int v, const int* nodes, const double* weights) {
+  DCHECK(v >= 0 && v < num_vertices_);
+  // Rounded to multiples of 2^-24, the correction to an exact sum of 2^24 on
+  // the largest: every value is an integer <= 2^24 times 2^-24, exact in a
+  // float, and so is every partial sum (nearest_nodes.h).
+  constexpr double kGrid = 16777216.0;  // 2^24
+  constexpr int kMaxK = 64;
+  CHECK_LE(k_, kMaxK);
+  int64_t q[kMaxK] = {};
+  int64_t sum = 0;
+  int largest = 0;
+  for (int s = 0; s < k_; ++s) {
+    CHECK(weights[s] >= 0.0 && weights[s] <= 1.0 + 1e-9) << "weight " << weights[s];
+    q[s] = std::llround(weights[s] * kGrid);
+    sum += q[s];
+    if (q[s] > q[largest]) largest = s;
+  }
+  q[largest] += static_cast<int64_t>(kGrid) - sum;
+  CHECK_GE(q[largest], 0) << "weights of vertex " << v << " do not sum to 1";
+  const size_t first = static_cast<size_t>(k_) * v;
+  for (int s = 0; s < k_; ++s) {
+    weights_[first + s] = static_cast<float>(static_cast<double>(q[s]) / kGrid);
+    if (!ids16_.empty()) {
+      DCHECK(nodes[s] >= 0 && nodes[s] < kMaxNodesFor16BitIds);
+      ids16_[first + s] = static_cast<uint16_t>(nodes[s]);
+    } else {
+      ids32_[first + s] = nodes[s];
+    }
+  }
+}
+
 bool NearestNodeOptions::Check(std::string* error) const {
   if (k < 1) {
     *error = "k (nearest nodes per vertex) must be >= 1, got " + std::to_string(k);
@@ -111,11 +156,7 @@ void ComputeNearestNodes(const Eigen::Matrix3Xd& vertices, const Lattice& lattic
   const int num_cells = lattice.num_surface_cells();
   const int num_threads = options.num_threads > 0 ? options.num_threads : omp_get_max_threads();
 
-  weights->k = k;
-  weights->nodes.resize(k, num_vertices);
-  weights->weights.resize(k, num_vertices);
-  int* out_nodes = weights->nodes.data();
-  double* out_weights = weights->weights.data();
+  *weights = SkinningWeights(k, num_vertices, num_nodes);
   std::vector<int> pair_count(num_nodes + 1, 0);
   std::vector<std::vector<std::pair<int, int>>> thread_pairs(num_threads);
 
@@ -136,6 +177,8 @@ void ComputeNearestNodes(const Eigen::Matrix3Xd& vertices, const Lattice& lattic
     std::vector<double> best_distance(k + 1);  // Squared, ascending.
     std::vector<int> best(k + 1);              // Candidate indices.
     std::vector<int> nearest(k);
+    std::vector<int> node_out(k);
+    std::vector<double> weight_out(k);
     // Vertices in id order: inputs and outputs stream through memory, and the
     // node positions (tens of KB) stay in cache.
 #pragma omp for schedule(static)
@@ -167,8 +210,6 @@ void ComputeNearestNodes(const Eigen::Matrix3Xd& vertices, const Lattice& lattic
       // uses twice its farthest candidate's distance, so all keep a weight.
       const double d_max =
           m > k ? std::sqrt(best_distance[k]) : 2.0 * std::sqrt(best_distance[m - 1]);
-      int* node_out = out_nodes + static_cast<int64_t>(k) * v;
-      double* weight_out = out_weights + static_cast<int64_t>(k) * v;
       double sum = 0.0;
       for (int i = 0; i < k; ++i) {
         double w = 0.0;
@@ -186,6 +227,7 @@ void ComputeNearestNodes(const Eigen::Matrix3Xd& vertices, const Lattice& lattic
       } else {  // d_max = 0 or all k nearest tie with d_max: nearest node only.
         for (int i = 0; i < k; ++i) weight_out[i] = i == 0 ? 1.0 : 0.0;
       }
+      weights->SetVertex(v, node_out.data(), weight_out.data());
       std::copy(best.begin(), best.begin() + used, nearest.begin());
       std::sort(nearest.begin(), nearest.begin() + used);
       uint64_t* cell_bits = bits.data() + word_offset[c];

@@ -18,6 +18,8 @@
 #ifndef MSDEFORM_CORE_NEAREST_NODES_H_
 #define MSDEFORM_CORE_NEAREST_NODES_H_
 
+#include <cstddef>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,17 +30,73 @@
 
 namespace msdeform {
 
-// The k nearest nodes of every vertex and their weights. Column v belongs to
-// vertex v; rows are ordered nearest first. A vertex with fewer than k
-// candidates (a tiny mesh component) fills the unused rows with its nearest
+// The k nearest nodes of every vertex and their weights, stored compactly:
+// skinning reads them for every moving vertex in every frame, so their bytes
+// are a large part of its memory traffic (docs/decisions.md, "Compact
+// skinning data").
+//
+// - Node ids are 16-bit when the graph has at most 65,536 nodes (every graph
+//   the default lattice makes) and 32-bit otherwise.
+// - Weights are floats on the grid of multiples of 2^-24, rounded from the
+//   double weights of Eq. 11 and then corrected on the nearest node so that
+//   the k of a vertex sum to exactly 1 (an exact sum keeps a rigid motion of
+//   every node exact under skinning). Each differs from the double weight by
+//   at most (k + 1) 2^-25; a weight of 0 or 1 stays exactly 0 or 1.
+//
+// Slot s of vertex v is its s-th nearest node. A vertex with fewer than k
+// candidates (a tiny mesh component) fills the unused slots with its nearest
 // node and weight 0.
-struct SkinningWeights {
-  int k = 4;
-  Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic> nodes;  // k by #V node ids.
-  Eigen::MatrixXd weights;  // k by #V, >= 0, each column sums to 1.
+class SkinningWeights {
+ public:
+  SkinningWeights() = default;
+  // k slots for each of num_vertices vertices, over a graph of num_nodes
+  // nodes (which picks the id width); every slot starts as node 0, weight 0.
+  SkinningWeights(int k, int num_vertices, int num_nodes);
 
-  int num_vertices() const { return static_cast<int>(nodes.cols()); }
+  int k() const { return k_; }
+  int num_vertices() const { return num_vertices_; }
+  // Whether node ids are stored in 16 bits (the graph has <= 65,536 nodes).
+  bool has_16bit_ids() const { return !ids16_.empty() || ids32_.empty(); }
+
+  int node(int slot, int v) const {
+    const size_t i = static_cast<size_t>(k_) * v + slot;
+    return has_16bit_ids() ? ids16_[i] : ids32_[i];
+  }
+  double weight(int slot, int v) const { return weights_[static_cast<size_t>(k_) * v + slot]; }
+
+  // Sets the k slots of vertex v: nodes[s] and the double weights[s] (>= 0,
+  // summing to 1 up to rounding), stored as described above. Calls for
+  // different vertices may run in parallel.
+  void SetVertex(int v, const int* nodes, const double* weights);
+
+  // The stored arrays, k entries per vertex, vertex after vertex: the ids in
+  // the width has_16bit_ids() says (the other pointer is nullptr) and the
+  // weights.
+  const uint16_t* ids16() const { return ids16_.empty() ? nullptr : ids16_.data(); }
+  const int32_t* ids32() const { return ids32_.empty() ? nullptr : ids32_.data(); }
+  const float* weights() const { return weights_.data(); }
+
+  // Bytes held, for memory reports.
+  size_t bytes() const {
+    return ids16_.size() * sizeof(uint16_t) + ids32_.size() * sizeof(int32_t) +
+           weights_.size() * sizeof(float);
+  }
+
+  bool operator==(const SkinningWeights& other) const {
+    return k_ == other.k_ && num_vertices_ == other.num_vertices_ && ids16_ == other.ids16_ &&
+           ids32_ == other.ids32_ && weights_ == other.weights_;
+  }
+
+ private:
+  int k_ = 0;
+  int num_vertices_ = 0;
+  std::vector<uint16_t> ids16_;  // k by #V, when the graph has <= 65,536 nodes;
+  std::vector<int32_t> ids32_;   // otherwise these.
+  std::vector<float> weights_;   // k by #V.
 };
+
+// The largest graph whose node ids SkinningWeights stores in 16 bits.
+constexpr int kMaxNodesFor16BitIds = 65536;
 
 struct NearestNodeOptions {
   // Nearest nodes per vertex (paper: 4); the (k+1)-th gives d_max.

@@ -32,10 +32,7 @@ void CheckInputs(const Eigen::Matrix3Xd& rest, const DeformationGraph& graph,
   CHECK(options.Check(&error)) << error;
   CHECK_EQ(transforms.rotations.cols(), graph.num_nodes());
   CHECK_EQ(transforms.translations.cols(), graph.num_nodes());
-  CHECK_EQ(graph.weights.nodes.cols(), rest.cols()) << "the graph was built for another mesh";
-  CHECK_EQ(graph.weights.weights.cols(), rest.cols());
-  CHECK_EQ(graph.weights.nodes.rows(), graph.weights.k);
-  CHECK_EQ(graph.weights.weights.rows(), graph.weights.k);
+  CHECK_EQ(graph.weights.num_vertices(), rest.cols()) << "the graph was built for another mesh";
 }
 
 // A parallel loop that never waits for a helper thread that has not started.
@@ -166,10 +163,13 @@ const double* BuildNodeRecords(const DeformationGraph& graph, const NodeTransfor
 
 // One skinning call as raw arrays (all 3 by #V column-major, or k by #V).
 // rest_positions / rest_normals are nullptr when that half is not wanted.
+// The node ids are 16-bit or 32-bit (SkinningWeights); the kernels are
+// instantiated for both.
 struct SkinJob {
   const double* records = nullptr;
-  const int* nodes = nullptr;
-  const double* weights = nullptr;
+  const uint16_t* ids16 = nullptr;
+  const int32_t* ids32 = nullptr;
+  const float* weights = nullptr;
   int k = 0;
   const double* rest_positions = nullptr;
   const double* rest_normals = nullptr;
@@ -178,22 +178,33 @@ struct SkinJob {
   const int* subset = nullptr;  // nullptr: item i is vertex i
 
   int Vertex(int i) const { return subset != nullptr ? subset[i] : i; }
+  template <typename Id>
+  const Id* Ids() const;
 };
+
+template <>
+const uint16_t* SkinJob::Ids<uint16_t>() const {
+  return ids16;
+}
+template <>
+const int32_t* SkinJob::Ids<int32_t>() const {
+  return ids32;
+}
 
 // The portable kernel, for CPUs without AVX2 and FMA (and for tests: see
 // SkinningOptions::use_simd). The same operations in the same order as the
 // AVX2 kernel, only with the multiply-adds rounded twice instead of once.
-template <bool kPositions, bool kNormals>
+template <typename Id, bool kPositions, bool kNormals>
 void SkinRangePortable(const SkinJob& job, int begin, int end) {
   for (int i = begin; i < end; ++i) {
     const size_t v = job.Vertex(i);
-    const int* nodes = job.nodes + job.k * v;
-    const double* weights = job.weights + job.k * v;
+    const Id* nodes = job.Ids<Id>() + job.k * v;
+    const float* weights = job.weights + job.k * v;
     // b = sum_s w_s record(node_s), over the lanes of the wanted half (see
     // kRecord: positions below kQ0, normals from there).
     double b[kRecord] = {};
     for (int s = 0; s < job.k; ++s) {
-      const double w = weights[s];
+      const double w = static_cast<double>(weights[s]);
       const double* record = job.records + static_cast<size_t>(kRecord) * nodes[s];
       for (int l = 0; l < kRecord; ++l) {
         if (l < kQ0 ? kPositions : kNormals) b[l] += w * record[l];
@@ -235,12 +246,20 @@ bool RunsAvx2() {
   return runs;
 }
 
+// Stores lanes x, y, z of `value` at out[0..2]: a 2-wide and a 1-wide store
+// (on AMD's Zen a masked 4-wide store is microcoded and several times slower;
+// measured on the 1.66M armadillo, docs/decisions.md).
+MSDEFORM_TARGET_AVX2 inline __attribute__((always_inline)) void Store3(__m256d value,
+                                                                       double* out) {
+  _mm_storeu_pd(out, _mm256_castpd256_pd128(value));
+  _mm_store_sd(out + 2, _mm256_extractf128_pd(value, 1));
+}
+
 // Normalises the 4 normals and stores the first `count` as columns vertex[i]
 // of `normals` (zero where the length is 0 or not finite), as n * (1 / |n|):
 // one 4-wide sqrt and one 4-wide division for 4 normals.
 MSDEFORM_TARGET_AVX2 inline __attribute__((always_inline)) void StoreUnitNormals(
     const __m256d (&unnormalised)[4], const size_t (&vertex)[4], int count, double* normals) {
-  const __m256i first3 = _mm256_setr_epi64x(-1, -1, -1, 0);
   // Squared lengths (x^2 + y^2) + z^2 of the 4 normals in one register (lane
   // 3 of each is 0): the hadds give x^2 + y^2 and z^2 + 0 per normal.
   const __m256d xy_z01 = _mm256_hadd_pd(_mm256_mul_pd(unnormalised[0], unnormalised[0]),
@@ -261,7 +280,7 @@ MSDEFORM_TARGET_AVX2 inline __attribute__((always_inline)) void StoreUnitNormals
     const __m256d unit = (usable >> i & 1) != 0
                              ? _mm256_mul_pd(unnormalised[i], _mm256_broadcast_sd(scale + i))
                              : _mm256_setzero_pd();
-    _mm256_maskstore_pd(normals + 3 * vertex[i], first3, unit);
+    Store3(unit, normals + 3 * vertex[i]);
   }
 }
 
@@ -270,11 +289,10 @@ MSDEFORM_TARGET_AVX2 inline __attribute__((always_inline)) void StoreUnitNormals
 // M v + c and Q n take 3 FMAs each with broadcast coordinates; the 4 normals
 // are then normalised together. kK is k when known at compile time (the loop
 // over the nearest nodes is then unrolled), 0 for job.k.
-template <bool kPositions, bool kNormals, int kK>
+template <typename Id, bool kPositions, bool kNormals, int kK>
 MSDEFORM_TARGET_AVX2 inline __attribute__((always_inline)) void SkinBlockAvx2(
     const SkinJob& job, int first, int count) {
   const int k = kK > 0 ? kK : job.k;
-  const __m256i first3 = _mm256_setr_epi64x(-1, -1, -1, 0);  // store lanes x, y, z only
   __m256d unnormalised[4];
   size_t vertex[4] = {};
 #pragma GCC unroll 4
@@ -285,12 +303,12 @@ MSDEFORM_TARGET_AVX2 inline __attribute__((always_inline)) void SkinBlockAvx2(
     }
     const size_t v = job.Vertex(first + i);
     vertex[i] = v;
-    const int* nodes = job.nodes + k * v;
-    const double* weights = job.weights + k * v;
+    const Id* nodes = job.Ids<Id>() + k * v;
+    const float* weights = job.weights + k * v;
     __m256d m0 = _mm256_setzero_pd(), m1 = m0, m2 = m0, c = m0, q0 = m0, q1 = m0, q2 = m0;
 #pragma GCC unroll 8
     for (int s = 0; s < k; ++s) {
-      const __m256d w = _mm256_broadcast_sd(weights + s);
+      const __m256d w = _mm256_set1_pd(static_cast<double>(weights[s]));
       const double* record = job.records + static_cast<size_t>(kRecord) * nodes[s];
       if (kPositions) {
         m0 = _mm256_fmadd_pd(w, _mm256_load_pd(record + kM0), m0);
@@ -312,7 +330,7 @@ MSDEFORM_TARGET_AVX2 inline __attribute__((always_inline)) void SkinBlockAvx2(
           _mm256_fmadd_pd(m2, z, _mm256_fmadd_pd(m1, y, _mm256_fmadd_pd(m0, x, c)));
       // (x, y, z, z) from the broadcasts: no 4-wide load past the column.
       const __m256d rest = _mm256_blend_pd(_mm256_blend_pd(x, y, 0b0010), z, 0b1100);
-      _mm256_maskstore_pd(job.positions + 3 * v, first3, _mm256_add_pd(rest, moved));
+      Store3(_mm256_add_pd(rest, moved), job.positions + 3 * v);
     }
     if (kNormals) {
       const double* n = job.rest_normals + 3 * v;
@@ -329,21 +347,39 @@ MSDEFORM_TARGET_AVX2 inline __attribute__((always_inline)) void SkinBlockAvx2(
 // and writing its outputs takes about 0.5 ms: it is close to memory-bound.
 // Hence left out, measured: a 512-bit variant (4 FMAs per record instead of
 // 7; about 4% faster) and software prefetching (no gain).
-template <bool kPositions, bool kNormals>
+template <typename Id, bool kPositions, bool kNormals>
 MSDEFORM_TARGET_AVX2 void SkinRangeAvx2(const SkinJob& shared_job, int begin, int end) {
   // A local copy: the compiler then knows the stores to the outputs leave it
   // alone and keeps its fields in registers.
   const SkinJob job = shared_job;
   int i = begin;
   if (job.k == 4) {  // the paper's k and the default
-    for (; i + 4 <= end; i += 4) SkinBlockAvx2<kPositions, kNormals, 4>(job, i, 4);
+    for (; i + 4 <= end; i += 4) SkinBlockAvx2<Id, kPositions, kNormals, 4>(job, i, 4);
   } else {
-    for (; i + 4 <= end; i += 4) SkinBlockAvx2<kPositions, kNormals, 0>(job, i, 4);
+    for (; i + 4 <= end; i += 4) SkinBlockAvx2<Id, kPositions, kNormals, 0>(job, i, 4);
   }
-  if (i < end) SkinBlockAvx2<kPositions, kNormals, 0>(job, i, end - i);
+  if (i < end) SkinBlockAvx2<Id, kPositions, kNormals, 0>(job, i, end - i);
 }
 
 #endif  // MSDEFORM_SKINNING_AVX2
+
+using Range = void (*)(const SkinJob&, int, int);
+
+// The kernel for ids of type Id, the wanted halves and the SIMD choice.
+template <typename Id>
+Range PickRange(bool positions, bool normals, bool simd) {
+#ifdef MSDEFORM_SKINNING_AVX2
+  if (simd) {
+    return positions && normals ? SkinRangeAvx2<Id, true, true>
+           : positions          ? SkinRangeAvx2<Id, true, false>
+                                : SkinRangeAvx2<Id, false, true>;
+  }
+#endif
+  (void)simd;
+  return positions && normals ? SkinRangePortable<Id, true, true>
+         : positions          ? SkinRangePortable<Id, true, false>
+                              : SkinRangePortable<Id, false, true>;
+}
 
 // Skins the vertices of `subset` (all when nullptr) into *deformed from
 // `rest_vertices` and into *deformed_normals from `rest_normals`; a half
@@ -355,9 +391,10 @@ void SkinVertices(const Eigen::Matrix3Xd* rest_vertices, const Eigen::Matrix3Xd*
   std::vector<double> storage;
   SkinJob job;
   job.records = BuildNodeRecords(graph, transforms, &storage);
-  job.nodes = graph.weights.nodes.data();
-  job.weights = graph.weights.weights.data();
-  job.k = graph.weights.k;
+  job.ids16 = graph.weights.ids16();
+  job.ids32 = graph.weights.ids32();
+  job.weights = graph.weights.weights();
+  job.k = graph.weights.k();
   if (rest_vertices != nullptr) {
     job.rest_positions = rest_vertices->data();
     job.positions = deformed->data();
@@ -368,20 +405,11 @@ void SkinVertices(const Eigen::Matrix3Xd* rest_vertices, const Eigen::Matrix3Xd*
   }
   job.subset = subset != nullptr ? subset->data() : nullptr;
   const int count = subset != nullptr ? static_cast<int>(subset->size())
-                                      : static_cast<int>(graph.weights.nodes.cols());
-
-  using Range = void (*)(const SkinJob&, int, int);
+                                      : graph.weights.num_vertices();
   const bool positions = rest_vertices != nullptr, normals = rest_normals != nullptr;
-  Range range = positions && normals ? SkinRangePortable<true, true>
-                : positions          ? SkinRangePortable<true, false>
-                                     : SkinRangePortable<false, true>;
-#ifdef MSDEFORM_SKINNING_AVX2
-  if (options.use_simd && RunsAvx2()) {
-    range = positions && normals ? SkinRangeAvx2<true, true>
-            : positions          ? SkinRangeAvx2<true, false>
-                                 : SkinRangeAvx2<false, true>;
-  }
-#endif
+  const bool simd = options.use_simd && SkinningSimdAvailable();
+  const Range range = graph.weights.has_16bit_ids() ? PickRange<uint16_t>(positions, normals, simd)
+                                                    : PickRange<int32_t>(positions, normals, simd);
   // Small subsets are not worth waking a second thread; see ChunkPool.
   const int threads = count < 8192 ? 1 : NumThreads(options);
   const std::function<void(int, int)> body = [&](int begin, int end) { range(job, begin, end); };

@@ -68,9 +68,9 @@ void FixNodesOfStillComponents(const std::vector<char>& still, const Lattice& la
 // vertex can move (a Fixed node is the identity).
 bool MovesWithANode(const SkinningWeights& weights, const std::vector<NodeClass>& node_classes,
                     int v) {
-  for (int slot = 0; slot < weights.k; ++slot) {
-    if (weights.weights(slot, v) != 0.0 &&
-        node_classes[weights.nodes(slot, v)] != NodeClass::kFixed) {
+  for (int slot = 0; slot < weights.k(); ++slot) {
+    if (weights.weight(slot, v) != 0.0 &&
+        node_classes[weights.node(slot, v)] != NodeClass::kFixed) {
       return true;
     }
   }
@@ -475,10 +475,10 @@ void Deformer::BuildEnergy() {
   const double sqrt_con = std::sqrt(options_.w_con) * length_scale;
   auto add_position = [&](int v, bool follows_handle) {
     DeformationEnergy::Position term;
-    for (int slot = 0; slot < graph.weights.k; ++slot) {
-      const double weight = graph.weights.weights(slot, v);
+    for (int slot = 0; slot < graph.weights.k(); ++slot) {
+      const double weight = graph.weights.weight(slot, v);
       if (weight == 0.0) continue;
-      const int j = graph.weights.nodes(slot, v);
+      const int j = graph.weights.node(slot, v);
       term.nodes.push_back(j);
       term.terms.push_back({weight, mesh_.vertices.col(v) - graph.positions.col(j),
                             graph.positions.col(j)});

@@ -55,8 +55,8 @@ Eigen::VectorXd VertexRigidity(const Deformer& deformer) {
   const SkinningWeights& weights = dg1.weights;
   Eigen::VectorXd per_vertex = Eigen::VectorXd::Zero(weights.num_vertices());
   for (int v = 0; v < weights.num_vertices(); ++v) {
-    for (int k = 0; k < weights.nodes.rows(); ++k) {
-      per_vertex[v] += weights.weights(k, v) * rigidity.relative_extent[weights.nodes(k, v)];
+    for (int slot = 0; slot < weights.k(); ++slot) {
+      per_vertex[v] += weights.weight(slot, v) * rigidity.relative_extent[weights.node(slot, v)];
     }
   }
   return per_vertex;

@@ -108,27 +108,28 @@ void ExpectValidGraphs(const Mesh& mesh, const Lattice& lattice, const GraphOpti
       }
     }
 
-    // Weights: k by #V, valid ids, non-negative, columns summing to one.
+    // Weights: k per vertex, valid ids, non-negative, summing to exactly one.
     const SkinningWeights& w = graph.weights;
-    ASSERT_EQ(w.k, options.k);
-    ASSERT_EQ(w.nodes.rows(), options.k);
-    ASSERT_EQ(w.nodes.cols(), mesh.num_vertices());
-    ASSERT_EQ(w.weights.rows(), options.k);
-    ASSERT_EQ(w.weights.cols(), mesh.num_vertices());
-    ASSERT_GE(w.nodes.minCoeff(), 0);
-    ASSERT_LT(w.nodes.maxCoeff(), num_nodes);
-    ASSERT_GE(w.weights.minCoeff(), 0.0);
+    ASSERT_EQ(w.k(), options.k);
+    ASSERT_EQ(w.num_vertices(), mesh.num_vertices());
     for (int v = 0; v < mesh.num_vertices(); ++v) {
-      ASSERT_NEAR(w.weights.col(v).sum(), 1.0, 1e-12) << "vertex " << v;
+      double sum = 0.0;
+      for (int slot = 0; slot < w.k(); ++slot) {
+        ASSERT_GE(w.node(slot, v), 0);
+        ASSERT_LT(w.node(slot, v), num_nodes);
+        ASSERT_GE(w.weight(slot, v), 0.0);
+        sum += w.weight(slot, v);
+      }
+      ASSERT_EQ(sum, 1.0) << "vertex " << v;
     }
 
     // Edges: sorted, a < b, exactly the pairs of distinct nodes that are both
     // among some vertex's nearest nodes; neighbour lists are the same edges.
     std::set<std::pair<int, int>> expected;
     for (int v = 0; v < mesh.num_vertices(); ++v) {
-      for (int a = 0; a < w.k; ++a) {
-        for (int b = 0; b < w.k; ++b) {
-          const int na = w.nodes(a, v), nb = w.nodes(b, v);
+      for (int a = 0; a < w.k(); ++a) {
+        for (int b = 0; b < w.k(); ++b) {
+          const int na = w.node(a, v), nb = w.node(b, v);
           if (na < nb) expected.emplace(na, nb);
         }
       }
@@ -251,8 +252,8 @@ TEST(DeformationGraphTest, ComponentsAreMergedOnlyWhenEdgesRunOut) {
   EXPECT_LT(scales_without_mixing, static_cast<int>(graphs.size()));
   // Each cube is a one-node component in DG1: its vertices follow that node alone.
   for (int v = 0; v < 30 * 8; ++v) {
-    EXPECT_EQ(graphs[0].weights.nodes(0, v), lattice.cell_of_vertex(v));
-    EXPECT_EQ(graphs[0].weights.weights(0, v), 1.0);
+    EXPECT_EQ(graphs[0].weights.node(0, v), lattice.cell_of_vertex(v));
+    EXPECT_EQ(graphs[0].weights.weight(0, v), 1.0);
   }
 }
 
@@ -316,11 +317,11 @@ TEST(DeformationGraphTest, CombToothNeverTakesANodeOfAnotherTooth) {
       for (int t = 0; t < num_teeth; ++t) {
         for (int v : CombToothVertices(comb, t)) {
           if (comb.vertices(1, v) <= 2.0) continue;
-          for (int i = 0; i < dg1.weights.k; ++i) {
-            const int owner = tooth_of_node(dg1.weights.nodes(i, v));
+          for (int i = 0; i < dg1.weights.k(); ++i) {
+            const int owner = tooth_of_node(dg1.weights.node(i, v));
             EXPECT_TRUE(owner == t || owner == -1)
                 << "vertex " << v << " of tooth " << t << " takes node "
-                << dg1.weights.nodes(i, v) << " of tooth " << owner;
+                << dg1.weights.node(i, v) << " of tooth " << owner;
             ++checked;
           }
           // A global Euclidean 4-NN, for contrast.

@@ -103,9 +103,9 @@ TEST(NearestNodesTest, WeightsFollowEq11OverTheRingCandidates) {
   SkinningWeights weights;
   std::vector<std::pair<int, int>> edges;
   ComputeNearestNodes(sphere.vertices, lattice, positions, node_of_cell, options, &weights, &edges);
-  ASSERT_EQ(weights.k, 4);
-  ASSERT_EQ(weights.nodes.rows(), 4);
-  ASSERT_EQ(weights.nodes.cols(), sphere.num_vertices());
+  ASSERT_EQ(weights.k(), 4);
+  ASSERT_EQ(weights.num_vertices(), sphere.num_vertices());
+  EXPECT_TRUE(weights.has_16bit_ids());
 
   std::set<std::pair<int, int>> expected_edges;
   for (int v = 0; v < sphere.num_vertices(); ++v) {
@@ -122,9 +122,18 @@ TEST(NearestNodesTest, WeightsFollowEq11OverTheRingCandidates) {
     const double d_max = ranked[4].first;
     double sum = 0.0;
     for (int i = 0; i < 4; ++i) sum += std::pow(1.0 - ranked[i].first / d_max, 2);
+    // The stored weights sum to exactly 1.
+    EXPECT_EQ(((weights.weight(0, v) + weights.weight(1, v)) + weights.weight(2, v)) +
+                  weights.weight(3, v),
+              1.0)
+        << "vertex " << v;
     for (int i = 0; i < 4; ++i) {
-      EXPECT_EQ(weights.nodes(i, v), ranked[i].second) << "vertex " << v << " slot " << i;
-      EXPECT_NEAR(weights.weights(i, v), std::pow(1.0 - ranked[i].first / d_max, 2) / sum, 1e-12);
+      EXPECT_EQ(weights.node(i, v), ranked[i].second) << "vertex " << v << " slot " << i;
+      // Stored on the 2^-24 grid, within (k + 1) 2^-25 of Eq. 11 (nearest_nodes.h).
+      const double eq11 = std::pow(1.0 - ranked[i].first / d_max, 2) / sum;
+      EXPECT_NEAR(weights.weight(i, v), eq11, 5.0 * std::ldexp(1.0, -25));
+      EXPECT_EQ(std::ldexp(weights.weight(i, v), 24), std::round(std::ldexp(weights.weight(i, v), 24)))
+          << "on the 2^-24 grid";
       for (int j = i + 1; j < 4; ++j) {
         expected_edges.emplace(std::min(ranked[i].second, ranked[j].second),
                                std::max(ranked[i].second, ranked[j].second));
@@ -151,8 +160,7 @@ TEST(NearestNodesTest, ResultDoesNotDependOnThreadCount) {
   ComputeNearestNodes(sphere.vertices, lattice, positions, node_of_cell, options, &one, &edges_one);
   options.num_threads = 2;
   ComputeNearestNodes(sphere.vertices, lattice, positions, node_of_cell, options, &two, &edges_two);
-  EXPECT_EQ(one.nodes, two.nodes);
-  EXPECT_EQ(one.weights, two.weights);
+  EXPECT_TRUE(one == two);
   EXPECT_EQ(edges_one, edges_two);
 }
 
@@ -180,13 +188,12 @@ TEST(NearestNodesTest, VertexWithFewerThanKPlusOneCandidatesGetsValidWeights) {
   ComputeNearestNodes(triangle.vertices, lattice, positions, node_of_cell, NearestNodeOptions(),
                       &weights, &edges);
   for (int v = 0; v < 3; ++v) {
-    EXPECT_NEAR(weights.weights.col(v).sum(), 1.0, 1e-15);
-    EXPECT_GE(weights.weights.col(v).minCoeff(), 0.0);
-    EXPECT_EQ(weights.weights(3, v), 0.0) << "unused slot";
-    EXPECT_EQ(weights.nodes(3, v), weights.nodes(0, v)) << "unused slot holds the nearest node";
+    EXPECT_EQ(weights.weight(0, v) + weights.weight(1, v) + weights.weight(2, v), 1.0);
+    EXPECT_EQ(weights.weight(3, v), 0.0) << "unused slot";
+    EXPECT_EQ(weights.node(3, v), weights.node(0, v)) << "unused slot holds the nearest node";
     // All three candidates carry weight (d_max = twice the farthest distance).
-    EXPECT_GT(weights.weights(2, v), 0.0);
-    EXPECT_GT(weights.weights(0, v), weights.weights(2, v));
+    EXPECT_GT(weights.weight(2, v), 0.0);
+    EXPECT_GT(weights.weight(0, v), weights.weight(2, v));
   }
   EXPECT_EQ(edges, (Edges{{0, 1}, {0, 2}, {1, 2}}));
 }
@@ -208,11 +215,70 @@ TEST(NearestNodesTest, SingleNodeComponentFallsBackToWeightOne) {
   ComputeNearestNodes(triangle.vertices, lattice, positions, {0}, NearestNodeOptions(), &weights,
                       &edges);
   for (int v = 0; v < 3; ++v) {
-    EXPECT_EQ(weights.weights(0, v), 1.0) << v;
-    EXPECT_EQ(weights.weights.col(v).sum(), 1.0) << v;
-    EXPECT_EQ(weights.nodes.col(v), Eigen::Vector4i::Zero()) << v;
+    EXPECT_EQ(weights.weight(0, v), 1.0) << v;
+    for (int slot = 0; slot < 4; ++slot) {
+      EXPECT_EQ(weights.node(slot, v), 0) << v;
+      if (slot > 0) {
+        EXPECT_EQ(weights.weight(slot, v), 0.0) << v;
+      }
+    }
   }
   EXPECT_TRUE(edges.empty());
+}
+
+TEST(SkinningWeightsTest, StoresWeightsOnTheGridSummingToExactlyOne) {
+  SkinningWeights weights(4, 3, 10);
+  ASSERT_TRUE(weights.has_16bit_ids());
+  const int nodes[3][4] = {{7, 2, 9, 0}, {3, 3, 3, 3}, {1, 4, 5, 6}};
+  // Thirds do not round to the grid; 1/2, 1/4 and 1/8 do; the last sums to
+  // 1 - 2^-60 in doubles, as a normalised sum can.
+  const double third = 1.0 / 3.0;
+  const double values[3][4] = {{third, third, third, 0.0},
+                               {1.0, 0.0, 0.0, 0.0},
+                               {0.5, 0.25, 0.125, 0.125 - std::ldexp(1.0, -60)}};
+  for (int v = 0; v < 3; ++v) weights.SetVertex(v, nodes[v], values[v]);
+  const double grid = std::ldexp(1.0, -24);
+  // 1/3 rounds to 5592405 grid steps (2^24 / 3 = 5592405.33); the remainder
+  // of the sum, one step, goes to the first of the largest.
+  EXPECT_EQ(weights.weight(0, 0), 5592406 * grid);
+  EXPECT_EQ(weights.weight(1, 0), 5592405 * grid);
+  EXPECT_EQ(weights.weight(2, 0), 5592405 * grid);
+  EXPECT_EQ(weights.weight(3, 0), 0.0);
+  EXPECT_EQ(weights.weight(0, 1), 1.0);
+  for (int slot = 1; slot < 4; ++slot) EXPECT_EQ(weights.weight(slot, 1), 0.0);
+  EXPECT_EQ(weights.weight(0, 2), 0.5);
+  EXPECT_EQ(weights.weight(1, 2), 0.25);
+  EXPECT_EQ(weights.weight(2, 2), 0.125);
+  EXPECT_EQ(weights.weight(3, 2), 0.125);
+  for (int v = 0; v < 3; ++v) {
+    double sum = 0.0;
+    for (int slot = 0; slot < 4; ++slot) {
+      EXPECT_EQ(weights.node(slot, v), nodes[v][slot]);
+      sum += weights.weight(slot, v);
+    }
+    EXPECT_EQ(sum, 1.0) << "vertex " << v;
+  }
+}
+
+TEST(SkinningWeightsTest, LargeGraphsGet32BitIds) {
+  SkinningWeights small(2, 1, kMaxNodesFor16BitIds);
+  SkinningWeights large(2, 1, kMaxNodesFor16BitIds + 1);
+  EXPECT_TRUE(small.has_16bit_ids());
+  EXPECT_NE(small.ids16(), nullptr);
+  EXPECT_EQ(small.ids32(), nullptr);
+  EXPECT_FALSE(large.has_16bit_ids());
+  EXPECT_EQ(large.ids16(), nullptr);
+  EXPECT_NE(large.ids32(), nullptr);
+  const int small_nodes[2] = {kMaxNodesFor16BitIds - 1, 0};
+  const int large_nodes[2] = {kMaxNodesFor16BitIds, 70000};
+  const double values[2] = {0.75, 0.25};
+  small.SetVertex(0, small_nodes, values);
+  large.SetVertex(0, large_nodes, values);
+  EXPECT_EQ(small.node(0, 0), kMaxNodesFor16BitIds - 1);
+  EXPECT_EQ(large.node(0, 0), kMaxNodesFor16BitIds);
+  EXPECT_EQ(large.node(1, 0), 70000);
+  EXPECT_EQ(small.bytes(), 2 * sizeof(uint16_t) + 2 * sizeof(float));
+  EXPECT_EQ(large.bytes(), 2 * sizeof(int32_t) + 2 * sizeof(float));
 }
 
 }  // namespace

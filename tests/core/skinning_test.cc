@@ -1,5 +1,6 @@
 #include "msdeform/core/skinning.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -53,10 +54,10 @@ Eigen::Matrix3d RandomRotation(std::mt19937* rng) {
 Eigen::Vector3d ReferencePosition(const DeformationGraph& graph, const NodeTransforms& transforms,
                                   const Eigen::Vector3d& v, int vertex) {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (int i = 0; i < graph.weights.k; ++i) {
-    const int j = graph.weights.nodes(i, vertex);
+  for (int i = 0; i < graph.weights.k(); ++i) {
+    const int j = graph.weights.node(i, vertex);
     const Eigen::Vector3d g = graph.positions.col(j);
-    sum += graph.weights.weights(i, vertex) *
+    sum += graph.weights.weight(i, vertex) *
            (transforms.rotation(j) * (v - g) + g + transforms.translations.col(j));
   }
   return sum;
@@ -65,10 +66,10 @@ Eigen::Vector3d ReferencePosition(const DeformationGraph& graph, const NodeTrans
 Eigen::Vector3d ReferenceNormal(const DeformationGraph& graph, const NodeTransforms& transforms,
                                 const Eigen::Vector3d& n, int vertex) {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (int i = 0; i < graph.weights.k; ++i) {
-    const int j = graph.weights.nodes(i, vertex);
+  for (int i = 0; i < graph.weights.k(); ++i) {
+    const int j = graph.weights.node(i, vertex);
     const Eigen::Matrix3d r = transforms.rotation(j);
-    sum += graph.weights.weights(i, vertex) * (r.inverse().transpose() * n);
+    sum += graph.weights.weight(i, vertex) * (r.inverse().transpose() * n);
   }
   return sum.normalized();
 }
@@ -325,6 +326,109 @@ TEST(SkinningTest, BothKernelsFollowTheReferenceForGeneralTransforms) {
         EXPECT_LE((results[0][1] - results[1][1]).cwiseAbs().maxCoeff(), 1e-13);
       }
     }
+  }
+}
+
+// The weights of `weights` stored again for a graph of `width_nodes` nodes
+// (which picks the id width), each first passed through `change`.
+template <typename Change>
+SkinningWeights Restored(const SkinningWeights& weights, int width_nodes, Change change) {
+  SkinningWeights restored(weights.k(), weights.num_vertices(), width_nodes);
+  std::vector<int> nodes(weights.k());
+  std::vector<double> values(weights.k());
+  for (int v = 0; v < weights.num_vertices(); ++v) {
+    for (int slot = 0; slot < weights.k(); ++slot) {
+      nodes[slot] = weights.node(slot, v);
+      values[slot] = weights.weight(slot, v);
+    }
+    change(&values);
+    restored.SetVertex(v, nodes.data(), values.data());
+  }
+  return restored;
+}
+
+// General transforms: random rotations times stretches (one in five
+// reflecting), translations up to the diagonal.
+NodeTransforms GeneralTransforms(int num_nodes, double diagonal, std::mt19937* rng) {
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  NodeTransforms transforms = NodeTransforms::Identity(num_nodes);
+  for (int j = 0; j < num_nodes; ++j) {
+    Eigen::Matrix3d stretch = Eigen::Matrix3d::Identity();
+    stretch.diagonal() << 1.5 + uniform(*rng), 1.0, j % 5 == 0 ? -0.7 : 0.7;
+    stretch(0, 1) = 0.4 * uniform(*rng);
+    transforms.rotation(j) = RandomRotation(rng) * stretch;
+    transforms.translations.col(j) = diagonal * Eigen::Vector3d(uniform(*rng), uniform(*rng),
+                                                                uniform(*rng));
+  }
+  return transforms;
+}
+
+// Compact weights (floats on the 2^-24 grid, nearest_nodes.h) against the
+// double weights they are rounded from: the deformed mesh moves by less than
+// 1e-6 of the diagonal (the bound the storage was chosen for), even with
+// node transforms far apart.
+TEST(SkinningTest, CompactWeightsStayWithinAMillionthOfTheDiagonalOfDoubleWeights) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> jitter(0.5, 1.5);
+  for (const Fixture& f : Fixtures()) {
+    const double diagonal =
+        (f.mesh.vertices.rowwise().maxCoeff() - f.mesh.vertices.rowwise().minCoeff()).norm();
+    for (const DeformationGraph* graph : {&f.graphs.front(), &f.graphs.back()}) {
+      // Double weights off the grid: the graph's, jittered and renormalised.
+      std::vector<std::vector<double>> doubles;
+      DeformationGraph compact = *graph;
+      compact.weights = Restored(graph->weights, graph->num_nodes(), [&](std::vector<double>* w) {
+        double sum = 0.0;
+        for (double& value : *w) sum += (value *= jitter(rng));
+        for (double& value : *w) value /= sum;
+        doubles.push_back(*w);
+      });
+      const NodeTransforms transforms = GeneralTransforms(graph->num_nodes(), diagonal, &rng);
+      for (bool use_simd : {false, true}) {
+        SkinningOptions options;
+        options.use_simd = use_simd;
+        Eigen::Matrix3Xd deformed;
+        SkinPositions(f.mesh.vertices, compact, transforms, &deformed, options);
+        double largest = 0.0;
+        for (int v = 0; v < f.mesh.num_vertices(); ++v) {
+          Eigen::Vector3d expected = Eigen::Vector3d::Zero();  // Eq. 9 with the doubles
+          for (int slot = 0; slot < compact.weights.k(); ++slot) {
+            const int j = compact.weights.node(slot, v);
+            const Eigen::Vector3d g = graph->positions.col(j);
+            expected += doubles[v][slot] * (transforms.rotation(j) * (f.mesh.vertices.col(v) - g) +
+                                            g + transforms.translations.col(j));
+          }
+          largest = std::max(largest, (deformed.col(v) - expected).norm());
+        }
+        EXPECT_LT(largest, 1e-6 * diagonal) << "use_simd " << use_simd;
+        EXPECT_GT(largest, 0.0) << "the jittered weights are off the grid";
+      }
+    }
+  }
+}
+
+// The 32-bit ids of a graph of more than 65,536 nodes give the same numbers
+// as the 16-bit ones.
+TEST(SkinningTest, SixteenAndThirtyTwoBitIdsGiveTheSameNumbers) {
+  std::mt19937 rng(12);
+  const Fixture f = Build(MakeSphere(1.0, 48, 24), 0.15);
+  const Eigen::Matrix3Xd normals = VertexNormals(f.mesh);
+  const DeformationGraph& graph = f.graphs.front();
+  DeformationGraph wide = graph;
+  wide.weights = Restored(graph.weights, kMaxNodesFor16BitIds + 1, [](std::vector<double>*) {});
+  ASSERT_TRUE(graph.weights.has_16bit_ids());
+  ASSERT_FALSE(wide.weights.has_16bit_ids());
+  const NodeTransforms transforms = GeneralTransforms(graph.num_nodes(), 2.0, &rng);
+  for (bool use_simd : {false, true}) {
+    SkinningOptions options;
+    options.use_simd = use_simd;
+    Eigen::Matrix3Xd positions[2], unit_normals[2];
+    SkinPositionsAndNormals(f.mesh.vertices, normals, graph, transforms, nullptr, &positions[0],
+                            &unit_normals[0], options);
+    SkinPositionsAndNormals(f.mesh.vertices, normals, wide, transforms, nullptr, &positions[1],
+                            &unit_normals[1], options);
+    EXPECT_EQ(positions[0], positions[1]) << "use_simd " << use_simd;
+    EXPECT_EQ(unit_normals[0], unit_normals[1]) << "use_simd " << use_simd;
   }
 }
 
