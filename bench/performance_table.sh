@@ -15,15 +15,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${1:-build}
 cmake --build "$BUILD" -j2 --target msdeform deformer_benchmark cgal_arap_benchmark >/dev/null
-# Raw outputs (reports, /usr/bin/time logs, profiles) go to $PERF_OUT if set (kept), else to a
-# temporary folder removed at the end.
-if [[ -n "${PERF_OUT:-}" ]]; then
-  OUT=$PERF_OUT
-  mkdir -p "$OUT"
-else
-  OUT=$(mktemp -d)
-  trap 'rm -rf "$OUT"' EXIT
-fi
+source bench/out_dir.sh
 uptime > "$OUT/load_before.txt"
 for mesh in armadillo armadillo_104k armadillo_416k; do
   test -f "data/meshes/$mesh.off" || { echo "missing data/meshes/$mesh.off (data/fetch_meshes.sh, msdeform_make_large)" >&2; exit 1; }

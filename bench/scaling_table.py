@@ -105,7 +105,7 @@ def main(run_dir, markdown_path, chart_path):
     write_atomically(markdown_path, "\n".join(lines))
 
     vertices = [r["vertices"] for r in rows]
-    figure, axes = plt.subplots(figsize=(7.5, 5.0))
+    figure, axes = plt.subplots(figsize=(9.5, 5.0))
     for key, label in [("load_s", "load (s)"), ("precompute_s", "precompute (s)"),
                        ("layout_ms", "layout change (s)"), ("frame_ms", "frame (ms)"),
                        ("skin_ms", "skin (ms)"), ("solve_ms", "solve (ms)"),
@@ -124,7 +124,8 @@ def main(run_dir, markdown_path, chart_path):
     axes.set_xlabel("vertices")
     axes.set_title("msdeform (Gauss-Newton, claw drag) and CGAL ARAP against the vertex count")
     axes.grid(True, which="both", alpha=0.3)
-    axes.legend(fontsize=8, loc="upper left")
+    # Outside the axes, on the right: inside it covers points.
+    axes.legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
     figure.tight_layout()
     temporary = chart_path + ".tmp.png"
     figure.savefig(temporary, dpi=110)

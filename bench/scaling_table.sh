@@ -19,13 +19,7 @@ cd "$(dirname "$0")/.."
 BUILD=${1:-build}
 cmake --build "$BUILD" -j2 --target msdeform msdeform_make_large cgal_arap_benchmark >/dev/null
 "$BUILD/apps/msdeform_make_large" --huge >/dev/null
-if [[ -n "${PERF_OUT:-}" ]]; then
-  OUT=$PERF_OUT
-  mkdir -p "$OUT"
-else
-  OUT=$(mktemp -d)
-  trap 'rm -rf "$OUT"' EXIT
-fi
+source bench/out_dir.sh
 mkdir -p docs/images
 uptime > "$OUT/load_before.txt"
 for mesh in armadillo.off armadillo_104k.off armadillo_416k.off armadillo_1664k.ply \
