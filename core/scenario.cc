@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iterator>
 #include <limits>
 #include <set>
@@ -13,6 +12,7 @@
 
 #include "msdeform/core/drag_path.h"
 #include "msdeform/core/handles.h"
+#include "msdeform/core/json_file.h"
 
 namespace msdeform {
 namespace {
@@ -479,25 +479,8 @@ Eigen::Affine3d PartialMotion(const HandleMotion& motion, const Eigen::Vector3d&
 }  // namespace
 
 bool ReadScenario(const std::string& path, Scenario* scenario, std::string* error) {
-  std::ifstream in(path);
-  if (!in) {
-    *error = path + ": cannot open for reading (missing or unreadable file)";
-    return false;
-  }
-  std::stringstream text;
-  text << in.rdbuf();
   Json root;
-  try {
-    root = Json::parse(text.str(), /*cb=*/nullptr, /*allow_exceptions=*/true,
-                       /*ignore_comments=*/true);
-  } catch (const Json::exception& e) {
-    // e.what() is "[json.exception.parse_error.101] parse error at line 3, ...".
-    std::string what = e.what();
-    const size_t bracket = what.find("] ");
-    if (bracket != std::string::npos) what.erase(0, bracket + 2);
-    *error = path + ": invalid JSON: " + what;
-    return false;
-  }
+  if (!ReadJsonFile(path, &root, error)) return false;
   Scenario result;
   result.path = path;
   ScenarioParser parser;

@@ -1,11 +1,11 @@
 #include "apps/editor/script.h"
 
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <set>
-#include <sstream>
 #include <utility>
+
+#include "msdeform/core/json_file.h"
 
 namespace msdeform {
 namespace editor {
@@ -261,23 +261,8 @@ std::string Script::Resolve(const std::string& file) const {
 }
 
 bool ReadScript(const std::string& path, Script* script, std::string* error) {
-  std::ifstream in(path);
-  if (!in) {
-    *error = path + ": cannot open for reading (missing or unreadable file)";
-    return false;
-  }
-  std::stringstream text;
-  text << in.rdbuf();
   Json root;
-  try {
-    root = Json::parse(text.str(), nullptr, true, /*ignore_comments=*/true);
-  } catch (const Json::exception& e) {
-    std::string what = e.what();
-    const size_t bracket = what.find("] ");
-    if (bracket != std::string::npos) what.erase(0, bracket + 2);
-    *error = path + ": invalid JSON: " + what;
-    return false;
-  }
+  if (!ReadJsonFile(path, &root, error)) return false;
   if (!root.is_array()) {
     *error = path + ": expected an array of actions [{\"do\": ...}, ...]";
     return false;
