@@ -11,12 +11,12 @@
 namespace msdeform {
 
 SkinningWeights::SkinningWeights(int k, int num_vertices, int num_nodes)
-    : k_(k), num_vertices_(num_vertices) {
-  CHECK_GE(k, 1);
+    : k_(k), num_vertices_(num_vertices), has_16bit_ids_(num_nodes <= kMaxNodesFor16BitIds) {
+  CHECK(k >= 1 && k <= kMaxK) << "k = " << k;
   CHECK_GE(num_vertices, 0);
   CHECK_GE(num_nodes, 1);
   const size_t slots = static_cast<size_t>(k) * num_vertices;
-  if (num_nodes <= kMaxNodesFor16BitIds) {
+  if (has_16bit_ids_) {
     ids16_.assign(slots, 0);
   } else {
     ids32_.assign(slots, 0);
@@ -30,14 +30,13 @@ void SkinningWeights::SetVertex(int v, const int* nodes, const double* weights) 
   // the largest: every value is an integer <= 2^24 times 2^-24, exact in a
   // float, and so is every partial sum (nearest_nodes.h).
   constexpr double kGrid = 16777216.0;  // 2^24
-  constexpr int kMaxK = 64;
-  CHECK_LE(k_, kMaxK);
-  int64_t q[kMaxK] = {};
+  int64_t q[kMaxK];
+  q[0] = 0;  // k_ >= 1 sets it again; for the compiler's uninitialised-use analysis
   int64_t sum = 0;
   int largest = 0;
   for (int s = 0; s < k_; ++s) {
-    CHECK(weights[s] >= 0.0 && weights[s] <= 1.0 + 1e-9) << "weight " << weights[s];
-    q[s] = std::llround(weights[s] * kGrid);
+    DCHECK(weights[s] >= 0.0 && weights[s] <= 1.0 + 1e-9) << "weight " << weights[s];
+    q[s] = static_cast<int64_t>(weights[s] * kGrid + 0.5);  // weights are >= 0
     sum += q[s];
     if (q[s] > q[largest]) largest = s;
   }
@@ -46,18 +45,21 @@ void SkinningWeights::SetVertex(int v, const int* nodes, const double* weights) 
   const size_t first = static_cast<size_t>(k_) * v;
   for (int s = 0; s < k_; ++s) {
     weights_[first + s] = static_cast<float>(static_cast<double>(q[s]) / kGrid);
-    if (!ids16_.empty()) {
+  }
+  if (has_16bit_ids_) {
+    for (int s = 0; s < k_; ++s) {
       DCHECK(nodes[s] >= 0 && nodes[s] < kMaxNodesFor16BitIds);
       ids16_[first + s] = static_cast<uint16_t>(nodes[s]);
-    } else {
-      ids32_[first + s] = nodes[s];
     }
+  } else {
+    std::copy(nodes, nodes + k_, ids32_.begin() + first);
   }
 }
 
 bool NearestNodeOptions::Check(std::string* error) const {
-  if (k < 1) {
-    *error = "k (nearest nodes per vertex) must be >= 1, got " + std::to_string(k);
+  if (k < 1 || k > SkinningWeights::kMaxK) {
+    *error = "k (nearest nodes per vertex) must be in [1, " +
+             std::to_string(SkinningWeights::kMaxK) + "], got " + std::to_string(k);
     return false;
   }
   if (extra_rings < 0) {

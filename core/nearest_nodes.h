@@ -49,6 +49,9 @@ namespace msdeform {
 class SkinningWeights {
  public:
   SkinningWeights() = default;
+  // The largest k.
+  static constexpr int kMaxK = 64;
+
   // k slots for each of num_vertices vertices, over a graph of num_nodes
   // nodes (which picks the id width); every slot starts as node 0, weight 0.
   SkinningWeights(int k, int num_vertices, int num_nodes);
@@ -56,11 +59,11 @@ class SkinningWeights {
   int k() const { return k_; }
   int num_vertices() const { return num_vertices_; }
   // Whether node ids are stored in 16 bits (the graph has <= 65,536 nodes).
-  bool has_16bit_ids() const { return !ids16_.empty() || ids32_.empty(); }
+  bool has_16bit_ids() const { return has_16bit_ids_; }
 
   int node(int slot, int v) const {
     const size_t i = static_cast<size_t>(k_) * v + slot;
-    return has_16bit_ids() ? ids16_[i] : ids32_[i];
+    return has_16bit_ids_ ? ids16_[i] : ids32_[i];
   }
   double weight(int slot, int v) const { return weights_[static_cast<size_t>(k_) * v + slot]; }
 
@@ -83,13 +86,15 @@ class SkinningWeights {
   }
 
   bool operator==(const SkinningWeights& other) const {
-    return k_ == other.k_ && num_vertices_ == other.num_vertices_ && ids16_ == other.ids16_ &&
+    return k_ == other.k_ && num_vertices_ == other.num_vertices_ &&
+           has_16bit_ids_ == other.has_16bit_ids_ && ids16_ == other.ids16_ &&
            ids32_ == other.ids32_ && weights_ == other.weights_;
   }
 
  private:
   int k_ = 0;
   int num_vertices_ = 0;
+  bool has_16bit_ids_ = true;
   std::vector<uint16_t> ids16_;  // k by #V, when the graph has <= 65,536 nodes;
   std::vector<int32_t> ids32_;   // otherwise these.
   std::vector<float> weights_;   // k by #V.

@@ -281,5 +281,24 @@ TEST(SkinningWeightsTest, LargeGraphsGet32BitIds) {
   EXPECT_EQ(large.bytes(), 2 * sizeof(int32_t) + 2 * sizeof(float));
 }
 
+TEST(NearestNodesTest, OptionsCheck) {
+  NearestNodeOptions options;
+  std::string error;
+  EXPECT_TRUE(options.Check(&error));
+  options.k = SkinningWeights::kMaxK;
+  EXPECT_TRUE(options.Check(&error));
+  for (int k : {0, SkinningWeights::kMaxK + 1}) {
+    options.k = k;
+    EXPECT_FALSE(options.Check(&error));
+    EXPECT_EQ(error, "k (nearest nodes per vertex) must be in [1, 64], got " + std::to_string(k));
+  }
+  options = NearestNodeOptions();
+  options.extra_rings = -1;
+  EXPECT_FALSE(options.Check(&error));
+  options = NearestNodeOptions();
+  options.num_threads = -1;
+  EXPECT_FALSE(options.Check(&error));
+}
+
 }  // namespace
 }  // namespace msdeform
