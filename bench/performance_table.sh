@@ -15,7 +15,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${1:-build}
 cmake --build "$BUILD" -j2 --target msdeform deformer_benchmark cgal_arap_benchmark >/dev/null
-source bench/out_dir.sh
+source bench/table_common.sh
 uptime > "$OUT/load_before.txt"
 for mesh in armadillo armadillo_104k armadillo_416k; do
   test -f "data/meshes/$mesh.off" || { echo "missing data/meshes/$mesh.off (data/fetch_meshes.sh, msdeform_make_large)" >&2; exit 1; }
@@ -32,9 +32,9 @@ for mesh in armadillo armadillo_104k armadillo_416k; do
       extra=(--w_con="$w_con")
     fi
     name="${mesh}__${label}__${solver}__${threads}"
-    /usr/bin/time -v "$BUILD/apps/msdeform" --mesh="data/meshes/$mesh.off" --method="$method" \
+    timed_msdeform "$name" --mesh="data/meshes/$mesh.off" --method="$method" \
       --solver="$solver" --threads="$threads" "${extra[@]}" --frames=30 \
-      --out="$OUT/$name.off" --report="$OUT/$name.json" --quiet 2> "$OUT/$name.time"
+      --out="$OUT/$name.off" --report="$OUT/$name.json" --quiet
     rm -f "$OUT/$name.off"
   done
 done
@@ -43,7 +43,8 @@ done
 for solver in ceres gauss_newton; do
   perf record -q -g -o "$OUT/$solver.perf" "$BUILD/apps/msdeform" \
     --mesh=data/meshes/armadillo_104k.off --solver=$solver --threads=1 --frames=300 \
-    --out="$OUT/profile_$solver.off" --report="$OUT/profile_$solver.json" --quiet >/dev/null
+    --out="$OUT/profile_$solver.off" --report="$OUT/profile_$solver.json" --overwrite --quiet \
+    >/dev/null
   perf report -i "$OUT/$solver.perf" --no-children --sort dso,symbol --stdio 2>/dev/null \
     | grep -E '^ +[0-9.]+%' | head -25 > "$OUT/$solver.profile" || true
 done

@@ -19,15 +19,15 @@ cd "$(dirname "$0")/.."
 BUILD=${1:-build}
 cmake --build "$BUILD" -j2 --target msdeform msdeform_make_large cgal_arap_benchmark >/dev/null
 "$BUILD/apps/msdeform_make_large" --huge >/dev/null
-source bench/out_dir.sh
+source bench/table_common.sh
 mkdir -p docs/images
 uptime > "$OUT/load_before.txt"
 for mesh in armadillo.off armadillo_104k.off armadillo_416k.off armadillo_1664k.ply \
             armadillo_6656k.ply; do
   name=${mesh%.*}
-  /usr/bin/time -v "$BUILD/apps/msdeform" --scenario=data/scenarios/armadillo_claw.json \
+  timed_msdeform "$name" --scenario=data/scenarios/armadillo_claw.json \
     --mesh="data/meshes/$mesh" --solver=gauss_newton --threads=2 --frames=30 \
-    --out="$OUT/$name.ply" --report="$OUT/$name.json" --quiet 2> "$OUT/$name.time"
+    --out="$OUT/$name.ply" --report="$OUT/$name.json" --quiet
   rm -f "$OUT/$name.ply"
 done
 "$BUILD/bench/cgal_arap_benchmark" --benchmark_format=json > "$OUT/cgal_arap.json" 2>/dev/null
