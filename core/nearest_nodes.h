@@ -79,12 +79,6 @@ class SkinningWeights {
   const int32_t* ids32() const { return ids32_.empty() ? nullptr : ids32_.data(); }
   const float* weights() const { return weights_.data(); }
 
-  // Bytes held, for memory reports.
-  size_t bytes() const {
-    return ids16_.size() * sizeof(uint16_t) + ids32_.size() * sizeof(int32_t) +
-           weights_.size() * sizeof(float);
-  }
-
   bool operator==(const SkinningWeights& other) const {
     return k_ == other.k_ && num_vertices_ == other.num_vertices_ &&
            has_16bit_ids_ == other.has_16bit_ids_ && ids16_ == other.ids16_ &&
