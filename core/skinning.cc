@@ -346,7 +346,10 @@ MSDEFORM_TARGET_AVX2 inline __attribute__((always_inline)) void SkinBlockAvx2(
 // graph, one Xeon core) this takes about 0.85 ms where only reading its inputs
 // and writing its outputs takes about 0.5 ms: it is close to memory-bound.
 // Hence left out, measured: a 512-bit variant (4 FMAs per record instead of
-// 7; about 4% faster) and software prefetching (no gain).
+// 7; about 4% faster) and software prefetching (no gain). On AMD's Zen 3 with
+// the compact ids and weights the positions pass is bound by its FMAs instead
+// (1.66M vertices: 12.7 ms on one core, about 6.7 ms on two, against 4 ms
+// for reading and writing the positions alone; docs/decisions.md).
 template <typename Id, bool kPositions, bool kNormals>
 MSDEFORM_TARGET_AVX2 void SkinRangeAvx2(const SkinJob& shared_job, int begin, int end) {
   // A local copy: the compiler then knows the stores to the outputs leave it
