@@ -193,21 +193,29 @@ const int32_t* SkinJob::Ids<int32_t>() const {
 
 // The portable kernel, for CPUs without AVX2 and FMA (and for tests: see
 // SkinningOptions::use_simd). The same operations in the same order as the
-// AVX2 kernel, only with the multiply-adds rounded twice instead of once.
+// AVX2 kernel, only with the multiply-adds rounded twice instead of once. The
+// blend runs over the 16 doubles of the wanted half (kRecord) in loops of
+// fixed length with no branch inside, which the compiler vectorises for
+// whatever the build targets (SSE2 on plain x86-64; a branch per lane instead
+// made this kernel 5x slower, docs/decisions.md).
 template <typename Id, bool kPositions, bool kNormals>
 void SkinRangePortable(const SkinJob& job, int begin, int end) {
+  constexpr int kHalf = kQ0;  // doubles per half of a record
   for (int i = begin; i < end; ++i) {
     const size_t v = job.Vertex(i);
     const Id* nodes = job.Ids<Id>() + job.k * v;
     const float* weights = job.weights + job.k * v;
-    // b = sum_s w_s record(node_s), over the lanes of the wanted half (see
-    // kRecord: positions below kQ0, normals from there).
+    // b = sum_s w_s record(node_s) over each wanted half: positions [kM0,
+    // kQ0), normals [kQ0, kRecord).
     double b[kRecord] = {};
     for (int s = 0; s < job.k; ++s) {
       const double w = static_cast<double>(weights[s]);
       const double* record = job.records + static_cast<size_t>(kRecord) * nodes[s];
-      for (int l = 0; l < kRecord; ++l) {
-        if (l < kQ0 ? kPositions : kNormals) b[l] += w * record[l];
+      if (kPositions) {
+        for (int l = 0; l < kHalf; ++l) b[l] += w * record[l];
+      }
+      if (kNormals) {
+        for (int l = kHalf; l < kRecord; ++l) b[l] += w * record[l];
       }
     }
     if (kPositions) {
