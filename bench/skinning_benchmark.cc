@@ -20,6 +20,8 @@
 // leaves it out); a missing mesh stops the benchmark with the path and what
 // to run.
 
+#include <algorithm>
+#include <cstdint>
 #include <map>
 #include <random>
 #include <string>
@@ -147,6 +149,42 @@ void BM_SkinDeformerFrame(benchmark::State& state, const std::string& name) {
   state.counters["avx2"] = options.use_simd && SkinningSimdAvailable();
 }
 
+// The memory floor of BM_SkinDeformerFrame: the same bytes read (rest
+// positions, node ids, weights) and written (positions), in the same blocks
+// on the same threads, with no arithmetic (a copy of the positions and an
+// exclusive-or of the ids' and weights' bytes, both vectorised). How close
+// the kernel is to it says whether more work on its instructions could pay
+// (docs/decisions.md, "Measured and not kept: rows instead of columns").
+void BM_SkinMemoryFloor(benchmark::State& state, const std::string& name) {
+  const Input& input = LoadInput(name);
+  const SkinningWeights& weights = input.claw_graph.weights;
+  CHECK(weights.has_16bit_ids() && weights.k() == 4) << "the floor is written for k = 4, 16-bit ids";
+  const int num_vertices = weights.num_vertices();
+  const double* rest = input.mesh.vertices.data();
+  // Per vertex 4 16-bit ids and 4 floats: one and two 64-bit words.
+  const auto* ids = reinterpret_cast<const uint64_t*>(weights.ids16());
+  const auto* w = reinterpret_cast<const uint64_t*>(weights.weights());
+  Eigen::Matrix3Xd deformed(3, num_vertices);
+  double* out = deformed.data();
+  const int threads = static_cast<int>(state.range(0));
+  constexpr int kBlock = 2048;  // as the skinning's chunks
+  const int num_blocks = (num_vertices + kBlock - 1) / kBlock;
+  std::vector<uint64_t> bits(num_blocks);
+  for (auto _ : state) {
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (int block = 0; block < num_blocks; ++block) {
+      const int begin = block * kBlock, end = std::min(num_vertices, begin + kBlock);
+      std::copy(rest + 3 * begin, rest + 3 * end, out + 3 * begin);
+      uint64_t x = 0;
+      for (int v = begin; v < end; ++v) x ^= ids[v] ^ w[2 * v] ^ w[2 * v + 1];
+      bits[block] = x;
+    }
+    benchmark::DoNotOptimize(deformed.data());
+    benchmark::DoNotOptimize(bits.data());
+  }
+  state.counters["V"] = num_vertices;
+}
+
 BENCHMARK_CAPTURE(BM_SkinDeformerFrame, armadillo_104k, std::string("armadillo_104k"))
     ->ArgNames({"threads", "simd"})->Args({1, 1})->Args({2, 1})->Args({1, 0})->Args({2, 0})
     ->Unit(benchmark::kMicrosecond)->UseRealTime();
@@ -157,6 +195,8 @@ BENCHMARK_CAPTURE(BM_SkinDeformerFrame, armadillo_416k, std::string("armadillo_4
 BENCHMARK_CAPTURE(BM_SkinDeformerFrame, armadillo_1664k, std::string("armadillo_1664k.ply"))
     ->ArgNames({"threads", "simd"})->Args({1, 1})->Args({2, 1})
     ->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_SkinMemoryFloor, armadillo_1664k, std::string("armadillo_1664k.ply"))
+    ->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_SkinPositionsAndNormals, armadillo_104k, std::string("armadillo_104k"))
     ->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_SkinPositions, armadillo_26k, std::string("armadillo"))
