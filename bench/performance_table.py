@@ -2,10 +2,10 @@
 import glob
 import json
 import os
-import platform
 import re
-import subprocess
 import sys
+
+import machine  # bench/machine.py, beside this script
 
 out = sys.argv[1]
 
@@ -40,15 +40,6 @@ if os.path.exists(cgal_path):
         pass
 
 
-def cpu():
-    try:
-        text = subprocess.run(["lscpu"], capture_output=True, text=True).stdout
-        model = re.search(r"Model name:\s*(.*)", text).group(1).strip()
-    except Exception:  # noqa: BLE001
-        model = platform.processor()
-    return "%s, %d logical cores" % (model, os.cpu_count())
-
-
 def read(name):
     path = os.path.join(out, name)
     return open(path).read().strip() if os.path.exists(path) else ""
@@ -73,7 +64,7 @@ print("peak memory of the whole process (`/usr/bin/time -v`, includes loading th
 print("the output). Millions of vertices: [performance_large.md](performance_large.md).")
 print()
 print("Machine: %s. Load average before: `%s`; after: `%s` (a load above 1 means other" %
-      (cpu(), read("load_before.txt").split("load average:")[-1].strip(),
+      (machine.describe(), read("load_before.txt").split("load average:")[-1].strip(),
        read("load_after.txt").split("load average:")[-1].strip()))
 print("work shared the 2 cores; compare rows within one run).")
 print()

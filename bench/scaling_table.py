@@ -5,13 +5,14 @@
 import json
 import os
 import re
-import subprocess
 import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+import machine  # noqa: E402  (bench/machine.py, beside this script)
 
 MESHES = [("armadillo", "26K", "OFF"), ("armadillo_104k", "104K", "OFF"),
           ("armadillo_416k", "416K", "OFF"), ("armadillo_1664k", "1.66M", "binary PLY"),
@@ -22,12 +23,6 @@ def peak_mb(path):
     with open(path) as f:
         m = re.search(r"Maximum resident set size \(kbytes\): (\d+)", f.read())
     return int(m.group(1)) / 1024.0
-
-
-def cpu():
-    text = subprocess.run(["lscpu"], capture_output=True, text=True).stdout
-    model = re.search(r"Model name:\s*(.*)", text).group(1).strip()
-    return "%s, %d logical cores" % (model, os.cpu_count())
 
 
 def write_atomically(path, data, binary=False):
@@ -72,7 +67,7 @@ def main(run_dir, markdown_path, chart_path):
         "the Gauss-Newton system.",
         "",
         "- commit: %s" % rows[0]["commit"],
-        "- machine: %s" % cpu(),
+        "- machine: %s" % machine.describe(),
         "- load before: %s" % open(os.path.join(run_dir, "load_before.txt")).read().strip(),
         "- load after: %s" % open(os.path.join(run_dir, "load_after.txt")).read().strip(),
         "",
