@@ -357,7 +357,10 @@ MSDEFORM_TARGET_AVX2 inline __attribute__((always_inline)) void SkinBlockAvx2(
 // 7; about 4% faster) and software prefetching (no gain). On AMD's Zen 3 with
 // the compact ids and weights the positions pass is bound by its FMAs instead
 // (1.66M vertices: 12.7 ms on one core, about 6.7 ms on two, against 4 ms
-// for reading and writing the positions alone; docs/decisions.md).
+// for reading and writing the positions alone; docs/decisions.md). On Zen 4
+// it is within 1.1-1.4x of its bare memory traffic on two threads
+// (bench/skinning_benchmark, BM_SkinMemoryFloor), and a row layout with a
+// quarter fewer FMAs was no faster (docs/decisions.md).
 template <typename Id, bool kPositions, bool kNormals>
 MSDEFORM_TARGET_AVX2 void SkinRangeAvx2(const SkinJob& shared_job, int begin, int end) {
   // A local copy: the compiler then knows the stores to the outputs leave it
