@@ -18,6 +18,8 @@
 #ifndef MSDEFORM_CORE_MESH_IO_FORMATS_H_
 #define MSDEFORM_CORE_MESH_IO_FORMATS_H_
 
+#include <algorithm>
+#include <cstddef>
 #include <ostream>
 #include <string>
 #include <string_view>
@@ -35,6 +37,17 @@ struct PolygonSoup {
   int num_vertices() const { return static_cast<int>(xyz.size() / 3); }
   int num_polygons() const { return static_cast<int>(face_offsets.size()) - 1; }
 };
+
+// How many items to reserve room for when a header announces `count` of them
+// and `bytes_left` bytes of the file remain, each item taking at least
+// `min_item_bytes`: a header's counts are not trusted until the data is read,
+// so a short file that announces two billion faces reserves nothing of the
+// sort (it then fails as truncated, with its one-line message). At most 2^24.
+inline size_t ReservationFor(long long count, size_t bytes_left, size_t min_item_bytes) {
+  constexpr size_t kCap = size_t{1} << 24;
+  if (count <= 0) return 0;
+  return std::min({static_cast<size_t>(count), bytes_left / min_item_bytes, kCap});
+}
 
 // What a format's check found in the file.
 struct FormatCheck {

@@ -153,13 +153,16 @@ bool CheckOffText(std::string_view text, FormatCheck* check, std::string* proble
   check->num_faces = static_cast<int>(num_faces);
   // What OpenMesh would read from the (normalised) text is read here, in the
   // same pass: the first three numbers of a vertex line as floats, the ids of
-  // a face line. Reservations are capped: the counts are not trusted yet.
+  // a face line. Reservations are bounded by what the rest of the file can
+  // hold ("0 0 0" and "3 0 1 2" with their line ends): the counts are not
+  // trusted yet.
   PolygonSoup& soup = check->soup;
   soup = PolygonSoup();
-  constexpr long long kReserveCap = 1 << 24;
-  soup.xyz.reserve(3 * std::min(num_vertices, kReserveCap));
-  soup.face_offsets.reserve(std::min(num_faces, kReserveCap) + 1);
-  soup.face_ids.reserve(3 * std::min(num_faces, kReserveCap));
+  const size_t bytes_left = text.size() - lines.next_offset();
+  const size_t max_faces = ReservationFor(num_faces, bytes_left, 8);
+  soup.xyz.reserve(3 * ReservationFor(num_vertices, bytes_left, 6));
+  soup.face_offsets.reserve(max_faces + 1);
+  soup.face_ids.reserve(3 * max_faces);
 
   // The remaining lines: vertices, then faces. Only lines with content count.
   const long long total = num_vertices + num_faces;

@@ -257,11 +257,24 @@ long long LoadInt(const char* at, int size, bool is_signed) {
 }
 
 // A coordinate as OpenMesh's reader hands it over: through single precision.
+// A double through single precision as strtof rounds its decimal text (to
+// nearest; from FLT_MAX plus half an ulp on, to infinity, which ValidateMesh
+// refuses as it does an OFF coordinate of 1e300). A plain conversion of a
+// finite double beyond the float range is undefined.
+float ToFloatAsStrtof(double value) {
+  constexpr float kMax = std::numeric_limits<float>::max();
+  constexpr double kOverflow = static_cast<double>(kMax) + 0x1p103;  // exact in a double
+  const double magnitude = std::abs(value);
+  if (magnitude >= kOverflow) return std::copysign(std::numeric_limits<float>::infinity(), value);
+  if (magnitude > kMax) return std::copysign(kMax, value);
+  return static_cast<float>(value);  // NaN stays NaN
+}
+
 double LoadCoordinate(const char* at, bool is_double) {
   if (is_double) {
     double value;
     std::memcpy(&value, at, sizeof(value));
-    return static_cast<float>(value);
+    return ToFloatAsStrtof(value);
   }
   float value;
   std::memcpy(&value, at, sizeof(value));
@@ -329,8 +342,12 @@ bool ReadCommonBinaryPly(std::string_view text, size_t at, const PlyHeader& head
   const int item_size = PlyTypeSize(list.type);
   const bool item_signed = IsSignedType(list.type);
   soup->face_offsets.assign(1, 0);
-  soup->face_offsets.reserve(face.count + 1);
-  soup->face_ids.reserve(3 * static_cast<size_t>(face.count));
+  // A face takes at least its count and three ids; the header's count is not
+  // trusted before the faces are read.
+  const size_t max_faces =
+      ReservationFor(face.count, text.size() - at, count_size + 3 * static_cast<size_t>(item_size));
+  soup->face_offsets.reserve(max_faces + 1);
+  soup->face_ids.reserve(3 * max_faces);
   for (long long item = 0; item < face.count; ++item) {
     if (text.size() - at < static_cast<size_t>(count_size)) {
       return SetProblem(problem, "truncated: the binary data ends in element 'face' ", item,

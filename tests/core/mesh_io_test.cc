@@ -10,12 +10,15 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include "msdeform/core/mesh_io_formats.h"
 
 namespace msdeform {
 namespace {
@@ -573,6 +576,86 @@ TEST(MeshIoTest, BinaryPlyTruncationAndBadIdsAreCaught) {
   WriteText(folder + "/bad_id.ply", bad_id);
   EXPECT_FALSE(ReadMesh(folder + "/bad_id.ply", &mesh, &error));
   EXPECT_EQ(error, folder + "/bad_id.ply: binary face 1: a vertex id is not in 0..4");
+}
+
+// A binary little-endian PLY with double coordinates: the triangle
+// (0,0,0) (1,0,0) (0,1,0), its first x replaced by `first_x`; the header
+// announces `announced_faces` faces, of which the file holds the one.
+std::string DoublePly(double first_x, long long announced_faces = 1) {
+  std::ostringstream text;
+  text << "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty double x\n"
+          "property double y\nproperty double z\nelement face "
+       << announced_faces << "\nproperty list uchar int vertex_indices\nend_header\n";
+  const auto put = [&text](auto value) {
+    text.write(reinterpret_cast<const char*>(&value), sizeof(value));
+  };
+  for (double c : {first_x, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0}) put(c);
+  put(static_cast<unsigned char>(3));
+  for (int id : {0, 1, 2}) put(id);
+  return text.str();
+}
+
+// Double coordinates go through single precision as strtof rounds the same
+// number written out (what the text readers do): just above FLT_MAX rounds
+// down to it; from FLT_MAX plus half an ulp on it is infinite, and the mesh is
+// refused with the message an OFF file with the same number gets.
+TEST(MeshIoTest, BinaryPlyDoublesBeyondTheFloatRangeReadAsTheirTextDoes) {
+  const std::string folder = FreshFolder();
+  const double flt_max = std::numeric_limits<float>::max();
+  const double half_ulp = std::ldexp(1.0, 103);
+  std::string error;
+  for (double x : {flt_max, flt_max + half_ulp / 2, -(flt_max + half_ulp / 2), 1.5}) {
+    SCOPED_TRACE(x);
+    WriteText(folder + "/near.ply", DoublePly(x));
+    Mesh mesh;
+    ASSERT_TRUE(ReadMesh(folder + "/near.ply", &mesh, &error)) << error;
+    std::ostringstream decimal;
+    decimal.precision(17);
+    decimal << x;
+    EXPECT_EQ(mesh.vertices(0, 0), static_cast<double>(std::strtof(decimal.str().c_str(), nullptr)));
+  }
+  EXPECT_EQ(std::abs(std::strtof("3.4028235677973366e38", nullptr)), std::numeric_limits<float>::max());
+  // (FLT_MAX plus half an ulp itself, a tie that rounds to infinity, is left
+  // out: its 17-digit decimal is a little below it and strtof takes that to
+  // FLT_MAX.)
+  for (double x : {flt_max + 2 * half_ulp, 1e300, -1e300}) {
+    SCOPED_TRACE(x);
+    std::ostringstream off;
+    off.precision(17);
+    off << "OFF\n3 1 0\n" << x << " 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    WriteText(folder + "/far.off", off.str());
+    WriteText(folder + "/far.ply", DoublePly(x));
+    Mesh mesh;
+    std::string off_error;
+    EXPECT_FALSE(ReadMesh(folder + "/far.off", &mesh, &off_error));
+    EXPECT_FALSE(ReadMesh(folder + "/far.ply", &mesh, &error));
+    ASSERT_EQ(off_error.rfind(folder + "/far.off: ", 0), 0u) << off_error;
+    EXPECT_EQ(error, folder + "/far.ply: " + off_error.substr(folder.size() + 10));
+  }
+}
+
+// The counts of a header are not trusted before the data is read: a short
+// file that announces two billion faces gets its one-line message (not an
+// allocation of tens of gigabytes first), and what the readers reserve is
+// bounded by what the rest of the file can hold.
+TEST(MeshIoTest, HeaderCountsReserveNoMoreThanTheFileHolds) {
+  EXPECT_EQ(ReservationFor(2000000000, 150, 13), 11u);
+  EXPECT_EQ(ReservationFor(5, 150, 13), 5u);
+  EXPECT_EQ(ReservationFor(0, 150, 13), 0u);
+  EXPECT_EQ(ReservationFor(-1, 150, 13), 0u);
+  EXPECT_EQ(ReservationFor(2000000000, size_t{1} << 40, 1), size_t{1} << 24);
+
+  const std::string folder = FreshFolder();
+  std::string error;
+  Mesh mesh;
+  WriteText(folder + "/faces.ply", DoublePly(0.0, 2000000000));
+  EXPECT_FALSE(ReadMesh(folder + "/faces.ply", &mesh, &error));
+  EXPECT_EQ(error, folder +
+                       "/faces.ply: truncated: the binary data ends in element 'face' 1 of "
+                       "2000000000");
+  WriteText(folder + "/faces.off", "OFF\n3 2000000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  EXPECT_FALSE(ReadMesh(folder + "/faces.off", &mesh, &error));
+  EXPECT_EQ(error.rfind(folder + "/faces.off: truncated", 0), 0u) << error;
 }
 
 // Many triangles around one vertex (a fan, each listed twice, the copy
