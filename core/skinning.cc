@@ -358,7 +358,7 @@ MSDEFORM_TARGET_AVX2 inline __attribute__((always_inline)) void SkinBlockAvx2(
 // the compact ids and weights the positions pass is bound by its FMAs instead
 // (1.66M vertices: 12.7 ms on one core, about 6.7 ms on two, against 4 ms
 // for reading and writing the positions alone; docs/decisions.md). On Zen 4
-// it is within 1.1-1.4x of its bare memory traffic on two threads
+// it is within 1.2-1.4x of its bare memory traffic on two threads
 // (bench/skinning_benchmark, BM_SkinMemoryFloor), and a row layout with a
 // quarter fewer FMAs was no faster (docs/decisions.md).
 template <typename Id, bool kPositions, bool kNormals>
