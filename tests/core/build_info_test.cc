@@ -12,22 +12,45 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// FIPS 180-4 / NIST example vectors.
+// FIPS 180-4 / NIST example vectors, with the x86 SHA extensions (where the
+// CPU has them) and with the portable code.
 TEST(BuildInfoTest, Sha256MatchesTheStandardVectors) {
-  EXPECT_EQ(Sha256(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
-  EXPECT_EQ(Sha256("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
-  // 56 bytes: the padding needs a second block.
-  EXPECT_EQ(Sha256("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
-            "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
-  // One million 'a' (many blocks).
-  EXPECT_EQ(Sha256(std::string(1000000, 'a')),
-            "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+  SCOPED_TRACE(Sha256ExtensionsAvailable() ? "SHA extensions available" : "portable code only");
+  for (bool extensions : {true, false}) {
+    SCOPED_TRACE(extensions ? "use_cpu_extensions" : "portable");
+    EXPECT_EQ(Sha256("", extensions),
+              "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+    EXPECT_EQ(Sha256("abc", extensions),
+              "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+    // 56 bytes: the padding needs a second block.
+    EXPECT_EQ(Sha256("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq", extensions),
+              "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+    // 112 bytes: two whole blocks of message.
+    EXPECT_EQ(Sha256("abcdefghbcdefghicdefghijdefghijkefghijklfghijklmghijklmnhijklmnoijklmnopjklmnopq"
+                     "klmnopqrlmnopqrsmnopqrstnopqrstu",
+                     extensions),
+              "cf5b16a778af8380036ce59e7b0492370b249b11e8f07a51afac45037afee9d1");
+    // One million 'a' (many blocks).
+    EXPECT_EQ(Sha256(std::string(1000000, 'a'), extensions),
+              "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+  }
+}
+
+// Every length around the block and padding boundaries: both codes agree.
+TEST(BuildInfoTest, Sha256ExtensionsAndPortableCodeAgreeOnEveryLength) {
+  std::string bytes;
+  for (int i = 0; i < 300; ++i) bytes.push_back(static_cast<char>(i * 131 % 251));
+  for (size_t length = 0; length <= bytes.size(); ++length) {
+    const std::string prefix = bytes.substr(0, length);
+    EXPECT_EQ(Sha256(prefix, true), Sha256(prefix, false)) << length;
+  }
 }
 
 TEST(BuildInfoTest, Sha256FileHashesTheFileBytes) {
   const fs::path path = fs::temp_directory_path() / "msdeform_build_info_test.bin";
   std::string bytes;
-  for (int i = 0; i < 200000; ++i) bytes.push_back(static_cast<char>(i * 7919 % 256));
+  // Over two of Sha256File's 1 MiB reads, ending inside a block.
+  for (unsigned i = 0; i < (5u << 19) + 37; ++i) bytes.push_back(static_cast<char>(i * 7919 % 256));
   {
     std::ofstream out(path, std::ios::binary);
     out << bytes;
@@ -35,6 +58,7 @@ TEST(BuildInfoTest, Sha256FileHashesTheFileBytes) {
   std::string digest, error;
   ASSERT_TRUE(Sha256File(path.string(), &digest, &error)) << error;
   EXPECT_EQ(digest, Sha256(bytes));
+  EXPECT_EQ(digest, Sha256(bytes, /*use_cpu_extensions=*/false));
   fs::remove(path);
   EXPECT_FALSE(Sha256File(path.string(), &digest, &error));
   EXPECT_NE(error.find("cannot read"), std::string::npos) << error;
