@@ -36,9 +36,9 @@ std::string DataDir();
 
 // SHA-256 of a file's bytes as 64 lowercase hex digits; false with
 // "<path>: cannot read" when it cannot be read. On a CPU with the x86 SHA
-// extensions (checked at run time) the blocks are hashed with them, about 8x
-// faster than the portable code (the 1.66M armadillo's 83 MB in 0.05 s instead
-// of 0.35 s; docs/decisions.md).
+// extensions (checked at run time) the blocks are hashed with them, about 6x
+// faster than the portable code (the 1.66M armadillo's 83 MB in 0.06 s;
+// docs/decisions.md).
 bool Sha256File(const std::string& path, std::string* digest, std::string* error);
 // SHA-256 of a byte string (the same digest as the file holding those bytes).
 // use_cpu_extensions = false forces the portable code (tests compare the two).
