@@ -17,18 +17,34 @@ constexpr int kOutsideMark = -3;
 // only (it becomes an interior particle, being inside the surface).
 constexpr int kWallMark = -4;
 
-// Builds compressed lists from (row, value) pairs; duplicates removed.
-CompressedLists ListsFromPairs(int num_rows, std::vector<std::pair<int, int>> pairs) {
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+// Builds compressed lists from (row, value) pairs: each row's values
+// ascending, duplicates removed. A counting sort by row, then a sort of each
+// (short) row: linear in the pairs, where one sort of all of them (1.66M
+// vertex-cell pairs on the 1.66M armadillo) was a tenth of the lattice's time.
+CompressedLists ListsFromPairs(int num_rows, const std::vector<std::pair<int, int>>& pairs) {
   CompressedLists lists;
   lists.offsets.assign(num_rows + 1, 0);
-  lists.values.reserve(pairs.size());
-  for (const auto& [row, value] : pairs) {
-    ++lists.offsets[row + 1];
-    lists.values.push_back(value);
-  }
+  for (const auto& [row, value] : pairs) ++lists.offsets[row + 1];
   for (int r = 0; r < num_rows; ++r) lists.offsets[r + 1] += lists.offsets[r];
+  std::vector<int>& values = lists.values;
+  values.resize(pairs.size());
+  {
+    std::vector<int> fill(lists.offsets.begin(), lists.offsets.end() - 1);
+    for (const auto& [row, value] : pairs) values[fill[row]++] = value;
+  }
+  // Sort each row and drop its repeats, moving the rows down over the gaps:
+  // row r's old bounds are read before offsets[r] is rewritten.
+  int kept = 0;
+  for (int r = 0; r < num_rows; ++r) {
+    const int begin = lists.offsets[r], end = lists.offsets[r + 1];
+    std::sort(values.begin() + begin, values.begin() + end);
+    lists.offsets[r] = kept;
+    for (int i = begin; i < end; ++i) {
+      if (i == begin || values[i] != values[i - 1]) values[kept++] = values[i];
+    }
+  }
+  lists.offsets[num_rows] = kept;
+  values.resize(kept);
   return lists;
 }
 
@@ -199,7 +215,7 @@ bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* la
     l.cell_of_vertex_[v] = grid[grid_cell_of_vertex[v]];
     cell_vertex.emplace_back(l.cell_of_vertex_[v], v);
   }
-  l.vertices_of_cell_ = ListsFromPairs(l.num_surface_cells_, std::move(cell_vertex));
+  l.vertices_of_cell_ = ListsFromPairs(l.num_surface_cells_, cell_vertex);
 
   // L lists from mesh edges that cross cells.
   std::vector<std::pair<int, int>> cell_pairs;
@@ -228,7 +244,7 @@ bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* la
       }
     }
   }
-  l.particle_adjacency_ = ListsFromPairs(l.num_particles(), std::move(particle_pairs));
+  l.particle_adjacency_ = ListsFromPairs(l.num_particles(), particle_pairs);
   return true;
 }
 
