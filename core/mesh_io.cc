@@ -7,17 +7,21 @@
 
 #include "msdeform/core/mesh_io.h"
 
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <map>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <system_error>
 #include <utility>
 #include <vector>
@@ -77,35 +81,84 @@ std::string OtherFormatsHint(const std::string& extension, bool for_writing) {
   return hint;
 }
 
-// The whole file at `path` in *text, or a problem: missing, a folder,
-// unreadable or empty.
-bool ReadFileText(const std::string& path, std::string* text, std::string* problem) {
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (!fs::exists(status)) {
-    *problem = "no such file";
-    return false;
+// A mesh file's bytes, or a problem: missing, a folder, unreadable or empty.
+// A regular file is mapped read-only (the page cache's own pages: no copy and
+// no fresh memory to zero; 333 MB of binary PLY took 0.9 s to read into a
+// string through a stream iterator); anything else (a pipe, a device) is read
+// into memory. The mapping lives as long as the object.
+class FileBytes {
+ public:
+  FileBytes() = default;
+  FileBytes(const FileBytes&) = delete;
+  FileBytes& operator=(const FileBytes&) = delete;
+  ~FileBytes() { Release(); }
+
+  bool Open(const std::string& path, std::string* problem) {
+    std::error_code ec;
+    const fs::file_status status = fs::status(path, ec);
+    if (!fs::exists(status)) {
+      *problem = "no such file";
+      return false;
+    }
+    if (fs::is_directory(status)) {
+      *problem = "is a folder, not a mesh file";
+      return false;
+    }
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) {
+      *problem = "cannot open for reading (" + std::string(std::strerror(errno)) + ")";
+      return false;
+    }
+    struct stat info;
+    if (::fstat(fd, &info) == 0 && S_ISREG(info.st_mode) && info.st_size > 0) {
+      void* map = ::mmap(nullptr, static_cast<size_t>(info.st_size), PROT_READ,
+                         MAP_PRIVATE | MAP_POPULATE, fd, 0);
+      if (map != MAP_FAILED) {
+        map_ = map;
+        size_ = static_cast<size_t>(info.st_size);
+        ::close(fd);
+        return true;
+      }
+    }
+    // Not mappable (a pipe, a device, a file the kernel reports as empty such
+    // as those of /proc): read until the end.
+    char buffer[1 << 16];
+    for (;;) {
+      const ssize_t got = ::read(fd, buffer, sizeof(buffer));
+      if (got < 0 && errno == EINTR) continue;
+      if (got < 0) {
+        ::close(fd);
+        *problem = "read error";
+        return false;
+      }
+      if (got == 0) break;
+      copy_.append(buffer, static_cast<size_t>(got));
+    }
+    ::close(fd);
+    if (copy_.empty()) {
+      *problem = "file is empty";
+      return false;
+    }
+    return true;
   }
-  if (fs::is_directory(status)) {
-    *problem = "is a folder, not a mesh file";
-    return false;
+
+  std::string_view view() const {
+    return map_ != nullptr ? std::string_view(static_cast<const char*>(map_), size_) : copy_;
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    *problem = "cannot open for reading (" + std::string(std::strerror(errno)) + ")";
-    return false;
+
+  // Unmaps or frees the bytes (view() is empty afterwards).
+  void Release() {
+    if (map_ != nullptr) ::munmap(map_, size_);
+    map_ = nullptr;
+    size_ = 0;
+    std::string().swap(copy_);
   }
-  *text = std::string(std::istreambuf_iterator<char>(in), {});
-  if (in.bad()) {
-    *problem = "read error";
-    return false;
-  }
-  if (text->empty()) {
-    *problem = "file is empty";
-    return false;
-  }
-  return true;
-}
+
+ private:
+  void* map_ = nullptr;
+  size_t size_ = 0;
+  std::string copy_;
+};
 
 // Checks the polygons as the file numbers them, then splits each into the
 // triangle fan (v0, vk, vk+1). (A polygon that repeats a vertex is split too;
@@ -253,14 +306,13 @@ bool ReadMesh(const std::string& path, Mesh* mesh, MeshReadReport* report, std::
     return Fail(path, "unknown mesh format " + OtherFormatsHint(extension, /*for_writing=*/false),
                 error);
   }
-  std::string text;
+  FileBytes bytes;
   std::string problem;
-  if (!ReadFileText(path, &text, &problem)) return Fail(path, problem, error);
+  if (!bytes.Open(path, &problem)) return Fail(path, problem, error);
   // The format's check first: OpenMesh's readers trust what they read.
   FormatCheck check;
-  if (!format->check(text, &check, &problem)) return Fail(path, problem, error);
-  text.clear();
-  text.shrink_to_fit();
+  if (!format->check(bytes.view(), &check, &problem)) return Fail(path, problem, error);
+  bytes.Release();
   // Counted with the triangles dropped below.
   report->dropped_degenerate_faces = check.dropped_degenerate_faces;
 

@@ -1,6 +1,7 @@
 #include "msdeform/core/mesh_io.h"
 
 #include <stdlib.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cctype>
@@ -14,6 +15,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -576,6 +578,33 @@ TEST(MeshIoTest, BinaryPlyTruncationAndBadIdsAreCaught) {
   WriteText(folder + "/bad_id.ply", bad_id);
   EXPECT_FALSE(ReadMesh(folder + "/bad_id.ply", &mesh, &error));
   EXPECT_EQ(error, folder + "/bad_id.ply: binary face 1: a vertex id is not in 0..4");
+}
+
+// A regular file is mapped, anything else read to its end: a mesh that comes
+// through a named pipe reads as the same mesh as its file.
+TEST(MeshIoTest, AMeshReadsTheSameFromAPipeAsFromItsFile) {
+  const std::string folder = FreshFolder();
+  std::string error;
+  for (const char* extension : {".off", ".ply"}) {
+    SCOPED_TRACE(extension);
+    const std::string file = folder + "/mesh" + extension;
+    const std::string pipe = folder + "/pipe" + extension;
+    ASSERT_TRUE(WriteMesh(file, SmallMesh(), &error)) << error;
+    std::ifstream in(file, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_EQ(::mkfifo(pipe.c_str(), 0600), 0) << std::strerror(errno);
+    std::thread writer([&pipe, &bytes] {
+      std::ofstream out(pipe, std::ios::binary);
+      out << bytes;
+    });
+    Mesh from_file, from_pipe;
+    const bool read = ReadMesh(pipe, &from_pipe, &error);
+    writer.join();
+    ASSERT_TRUE(read) << error;
+    ASSERT_TRUE(ReadMesh(file, &from_file, &error)) << error;
+    EXPECT_EQ(from_pipe.vertices, from_file.vertices);
+    EXPECT_EQ(from_pipe.faces, from_file.faces);
+  }
 }
 
 // A binary little-endian PLY with double coordinates: the triangle
