@@ -1,7 +1,9 @@
 #include "msdeform/core/mesh_io.h"
 
 #include <stdlib.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
@@ -20,6 +22,7 @@
 
 #include <gtest/gtest.h>
 
+#include "msdeform/core/build_info.h"
 #include "msdeform/core/mesh_io_formats.h"
 
 namespace msdeform {
@@ -605,6 +608,47 @@ TEST(MeshIoTest, AMeshReadsTheSameFromAPipeAsFromItsFile) {
     EXPECT_EQ(from_pipe.vertices, from_file.vertices);
     EXPECT_EQ(from_pipe.faces, from_file.faces);
   }
+}
+
+// A mapped file has no terminating zero after its last byte, and when its
+// size is a multiple of the page size the next byte is not mapped at all: a
+// check that read one byte too far would crash there. Every mesh file of the
+// bad-input corpus, whole and cut after each of its first 4096 bytes, is
+// checked lying right before an inaccessible page; each refusal is one line.
+TEST(MeshIoTest, ChecksReadNothingPastTheEndOfTheirBytes) {
+  using Check = bool (*)(std::string_view, FormatCheck*, std::string*);
+  const std::vector<std::pair<std::string, Check>> checks = {
+      {".off", CheckOff}, {".obj", CheckObj}, {".ply", CheckPly}, {".stl", CheckStl}};
+  const size_t page = static_cast<size_t>(::sysconf(_SC_PAGESIZE));
+  const size_t room = 64 * page;  // the largest corpus file is under 20 KB
+  char* region = static_cast<char*>(
+      ::mmap(nullptr, room + page, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0));
+  ASSERT_NE(region, MAP_FAILED);
+  ASSERT_EQ(::mprotect(region + room, page, PROT_NONE), 0);
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(SourceTreePath("tests/data/bad"))) {
+    const std::string extension = entry.path().extension().string();
+    const auto check = std::find_if(checks.begin(), checks.end(),
+                                    [&](const auto& c) { return c.first == extension; });
+    if (check == checks.end() || !entry.is_regular_file()) continue;  // a folder named x.off
+    ++files;
+    std::ifstream in(entry.path(), std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_LE(bytes.size(), room) << entry.path();
+    for (size_t size = 0; size <= bytes.size(); size = size < 4096 ? size + 1 : bytes.size() + 1) {
+      const size_t cut = std::min(size, bytes.size());
+      char* at = region + room - cut;
+      std::memcpy(at, bytes.data(), cut);
+      FormatCheck found;
+      std::string problem;
+      if (!check->second(std::string_view(at, cut), &found, &problem)) {
+        EXPECT_TRUE(!problem.empty() && problem.find('\n') == std::string::npos)
+            << entry.path() << " cut at " << cut << ": " << problem;
+      }
+    }
+  }
+  ::munmap(region, room + page);
+  EXPECT_GE(files, 40);  // the corpus: tests/data/bad/MANIFEST.tsv
 }
 
 // A binary little-endian PLY with double coordinates: the triangle
