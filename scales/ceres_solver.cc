@@ -76,6 +76,32 @@ std::vector<ceres::SparseLinearAlgebraLibraryType> CeresSparseLibraries() {
   return libraries;
 }
 
+namespace {
+
+// The Ceres options of a solve. Check() asks Ceres's own validation of them, so
+// that every pair Ceres refuses (DOGLEG needs an exact factorisation: not
+// CGNR) is refused by Check with one line, before a Deformer is set up.
+ceres::Solver::Options CeresSolverOptions(const CeresOptions& options,
+                                          const StoppingRule& stopping, int num_threads) {
+  ceres::Solver::Options solver;
+  solver.minimizer_type = ceres::TRUST_REGION;
+  solver.trust_region_strategy_type = options.trust_region;
+  solver.dogleg_type = ceres::TRADITIONAL_DOGLEG;
+  solver.linear_solver_type = options.linear_solver;
+  solver.preconditioner_type = ceres::JACOBI;
+  solver.sparse_linear_algebra_library_type = options.sparse_library;
+  solver.max_num_iterations = stopping.max_iterations;
+  solver.function_tolerance = stopping.function_tolerance;
+  solver.gradient_tolerance = stopping.gradient_tolerance;
+  solver.parameter_tolerance = stopping.parameter_tolerance;
+  solver.num_threads = num_threads;
+  solver.logging_type = ceres::SILENT;
+  solver.minimizer_progress_to_stdout = false;
+  return solver;
+}
+
+}  // namespace
+
 bool CeresOptions::Check(std::string* error) const {
   if (trust_region != ceres::LEVENBERG_MARQUARDT && trust_region != ceres::DOGLEG) {
     *error = "Ceres trust_region must be levenberg_marquardt or dogleg";
@@ -88,6 +114,12 @@ bool CeresOptions::Check(std::string* error) const {
   if (!ceres::IsSparseLinearAlgebraLibraryTypeAvailable(sparse_library)) {
     *error = "Ceres sparse library " + SparseLibraryName(sparse_library) +
              " is not in this build of Ceres";
+    return false;
+  }
+  std::string invalid;
+  if (!CeresSolverOptions(*this, StoppingRule(), 1).IsValid(&invalid)) {
+    *error = "Ceres trust_region " + TrustRegionName(trust_region) + " with linear_solver " +
+             CeresLinearSolverName(linear_solver) + " is refused by Ceres: " + invalid;
     return false;
   }
   return true;
@@ -117,19 +149,7 @@ bool CeresSolver::Setup(const DeformationEnergy& energy, const NodeTransforms& t
   impl_ = std::make_unique<Impl>();
   Impl& impl = *impl_;
   ceres::Solver::Options& solver = impl.solver;
-  solver.minimizer_type = ceres::TRUST_REGION;
-  solver.trust_region_strategy_type = options_.trust_region;
-  solver.dogleg_type = ceres::TRADITIONAL_DOGLEG;
-  solver.linear_solver_type = options_.linear_solver;
-  solver.preconditioner_type = ceres::JACOBI;
-  solver.sparse_linear_algebra_library_type = options_.sparse_library;
-  solver.max_num_iterations = stopping_.max_iterations;
-  solver.function_tolerance = stopping_.function_tolerance;
-  solver.gradient_tolerance = stopping_.gradient_tolerance;
-  solver.parameter_tolerance = stopping_.parameter_tolerance;
-  solver.num_threads = num_threads_;
-  solver.logging_type = ceres::SILENT;
-  solver.minimizer_progress_to_stdout = false;
+  solver = CeresSolverOptions(options_, stopping_, num_threads_);
   std::string invalid;
   if (!solver.IsValid(&invalid)) {
     *error = "invalid Ceres solver options: " + invalid;
