@@ -7,6 +7,7 @@
 #include <sstream>
 #include <string>
 #include <utility>
+#include <mutex>
 
 #include <glog/logging.h>
 
@@ -42,26 +43,21 @@ std::vector<char> StillVertices(const Components& components, const HandleLayout
   return still;
 }
 
-// Makes Fixed every node of `graph` whose DG1 members hold only still
-// vertices (StillVertices): it gets no variables (and a free component with
-// no constraint cannot make the system singular).
-void FixNodesOfStillComponents(const std::vector<char>& still, const Lattice& lattice,
-                               const DeformationGraph& graph,
-                               std::vector<NodeClass>* node_classes) {
-  if (still.empty()) return;
+// Per surface cell (DG1 node): whether it holds only still vertices
+// (StillVertices); empty when the mesh has one component.
+std::vector<char> StillCells(const Lattice& lattice, const std::vector<char>& still_vertices) {
+  if (still_vertices.empty()) return {};
   const CompressedLists& vertices = lattice.vertices_of_cell();
-  for (int j = 0; j < graph.num_nodes(); ++j) {
-    bool touches_handle = false;
-    for (const int* m = graph.members.begin(j); m != graph.members.end(j) && !touches_handle; ++m) {
-      for (const int* v = vertices.begin(*m); v != vertices.end(*m); ++v) {
-        if (!still[*v]) {
-          touches_handle = true;
-          break;
-        }
+  std::vector<char> still(lattice.num_surface_cells(), 1);
+  for (int cell = 0; cell < lattice.num_surface_cells(); ++cell) {
+    for (const int* v = vertices.begin(cell); v != vertices.end(cell); ++v) {
+      if (!still_vertices[*v]) {
+        still[cell] = 0;
+        break;
       }
     }
-    if (!touches_handle) (*node_classes)[j] = NodeClass::kFixed;
   }
+  return still;
 }
 
 // Whether vertex v has a non-Fixed node of non-zero weight: only such a
@@ -281,8 +277,15 @@ Deformer::~Deformer() = default;
 
 bool Deformer::Init(const Mesh& mesh, const DeformerOptions& options, std::string* error) {
   const auto start = std::chrono::steady_clock::now();
+  // Bad options or a bad mesh leave the object as it was; a failure after
+  // this point (the lattice, the graphs) leaves it empty: every call but Init
+  // is refused until an Init succeeds.
   if (!options.Check(error)) return false;
   if (!ValidateMesh(mesh, error)) return false;
+  ResetLayout();
+  stage_ = Stage::kEmpty;
+  graphs_.clear();
+  rigidity_estimator_.reset();
   options_ = options;
   mesh_ = mesh;
   rest_normals_ = VertexNormals(mesh_);
@@ -318,33 +321,73 @@ bool Deformer::Init(const Mesh& mesh, const DeformerOptions& options, std::strin
     rigidity_estimator_ = std::make_unique<RigidityEstimator>();
     if (!rigidity_estimator_->Init(lattice_, options_.rigidity, error)) return false;
   }
+  active_graph_ = std::max(static_graph_, 0);
   deformed_vertices_ = mesh_.vertices;
   deformed_normals_ = rest_normals_;
   normals_stale_ = false;
   precompute_ms_ = MillisecondsSince(start);
+  stage_ = Stage::kInitialised;
   return true;
 }
 
-bool Deformer::SetHandles(const HandleLayout& layout, std::string* error) {
-  CHECK(!graphs_.empty()) << "Init first";
-  if (!ValidateHandles(layout, mesh_.num_vertices(), error)) return false;
-  layout_ = layout;
-  still_vertices_ = StillVertices(components_, layout_);
+void Deformer::ResetLayout() {
+  solver_.reset();
+  layout_ = HandleLayout();
+  still_vertices_.clear();
   rigidity_ = RigidityEstimate();
   selection_ = ScaleSelection();
+  active_graph_ = std::max(static_graph_, 0);
+  node_classes_.clear();
+  transforms_ = NodeTransforms();
+  previous_transforms_ = NodeTransforms();
+  energy_ = DeformationEnergy();
+  frames_since_layout_ = 0;
+  skinned_vertices_.clear();
+  skin_all_ = true;
+  num_position_terms_ = 0;
+  num_coherence_terms_ = 0;
+  deformed_vertices_ = mesh_.vertices;
+  deformed_normals_ = rest_normals_;
+  normals_stale_ = false;
   rigidity_ms_ = 0.0;
+  setup_ms_ = 0.0;
+  if (stage_ == Stage::kHandlesSet) stage_ = Stage::kInitialised;
+}
 
+bool Deformer::SetHandles(const HandleLayout& layout, std::string* error) {
+  if (stage_ == Stage::kEmpty) {
+    *error = "SetHandles before a successful Init";
+    return false;
+  }
+  // An invalid layout leaves the current one in place; a failure after this
+  // point leaves no layout (Drag is refused until a SetHandles succeeds).
+  if (!ValidateHandles(layout, mesh_.num_vertices(), error)) return false;
+  ResetLayout();
+  if (!BuildLayout(layout, error)) {
+    ResetLayout();
+    return false;
+  }
+  stage_ = Stage::kHandlesSet;
+  return true;
+}
+
+bool Deformer::BuildLayout(const HandleLayout& layout, std::string* error) {
+  layout_ = layout;
+  still_vertices_ = StillVertices(components_, layout_);
+  const std::vector<char> still_cells = StillCells(lattice_, still_vertices_);
+  const auto setup_start = std::chrono::steady_clock::now();
   if (options_.method == Method::kMultiScale) {
     const auto start = std::chrono::steady_clock::now();
     HandleNodes handles;
     handles.holds_fixed = CellsHolding(lattice_, layout_.fixed);
     handles.holds_moveable = CellsHolding(lattice_, layout_.moveable);
+    handles.still = still_cells;
     if (!rigidity_estimator_->Estimate(Indices(handles.holds_fixed),
                                        Indices(handles.holds_moveable), &rigidity_, error)) {
       return false;
     }
     rigidity_ms_ = MillisecondsSince(start);
-    const auto setup_start = std::chrono::steady_clock::now();
+    const auto selection_start = std::chrono::steady_clock::now();
     const std::vector<double> dg1_extent(
         rigidity_.relative_extent.data(),
         rigidity_.relative_extent.data() + lattice_.num_surface_cells());
@@ -357,21 +400,21 @@ bool Deformer::SetHandles(const HandleLayout& layout, std::string* error) {
       return false;
     }
     active_graph_ = selection_.scale - 1;
+    // Every class, the still components' Fixed nodes included, was decided
+    // by SelectScale before the alpha weights (docs/method.md §4).
     node_classes_ = selection_.node_class;
-    FixNodesOfStillComponents(still_vertices_, lattice_, graphs_[active_graph_], &node_classes_);
-    BuildProblem();
-    setup_ms_ = MillisecondsSince(setup_start);
+    if (!BuildProblem(error)) return false;
+    setup_ms_ = MillisecondsSince(selection_start);
   } else {
-    const auto setup_start = std::chrono::steady_clock::now();
     active_graph_ = static_graph_;
+    const std::vector<char> still_nodes = StillNodes(graphs_[active_graph_], still_cells);
     node_classes_.assign(graphs_[active_graph_].num_nodes(), NodeClass::kTotallyFree);
-    FixNodesOfStillComponents(still_vertices_, lattice_, graphs_[active_graph_], &node_classes_);
-    BuildProblem();
+    for (size_t j = 0; j < still_nodes.size(); ++j) {
+      if (still_nodes[j]) node_classes_[j] = NodeClass::kFixed;
+    }
+    if (!BuildProblem(error)) return false;
     setup_ms_ = MillisecondsSince(setup_start);
   }
-  deformed_vertices_ = mesh_.vertices;
-  deformed_normals_ = rest_normals_;
-  normals_stale_ = false;
   return true;
 }
 
@@ -407,7 +450,7 @@ int Deformer::num_variables() const {
   return variables;
 }
 
-void Deformer::BuildProblem() {
+bool Deformer::BuildProblem(std::string* error) {
   const DeformationGraph& graph = graphs_[active_graph_];
   transforms_ = NodeTransforms::Identity(graph.num_nodes());
   BuildEnergy();
@@ -425,16 +468,31 @@ void Deformer::BuildProblem() {
   skin_all_ = static_cast<int>(skinned_vertices_.size()) == weights.num_vertices();
   if (skin_all_) std::vector<int>().swap(skinned_vertices_);
 
+  // A moveable-handle vertex that no non-Fixed node skins cannot follow the
+  // handle: every frame would leave it at rest.
+  for (int v : layout_.moveable) {
+    if (MovesWithANode(weights, node_classes_, v)) continue;
+    *error = "moveable handle vertex " + std::to_string(v) + " is skinned only by Fixed nodes at " +
+             (options_.method == Method::kMultiScale
+                  ? "scale " + std::to_string(active_graph_ + 1)
+                  : std::string("the static graph")) +
+             " and cannot move; use a finer lattice (--cells_per_diagonal) or another --border";
+    return false;
+  }
+
   if (options_.backend == Solver::kGaussNewton) {
     solver_ = std::make_unique<GaussNewtonSolver>(options_.gauss_newton, options_.stopping);
   } else {
     solver_ = std::make_unique<CeresSolver>(options_.ceres, options_.stopping,
                                             options_.num_threads);
   }
-  std::string error;
-  CHECK(solver_->Setup(energy_, transforms_, &error)) << error;  // options were checked in Init
+  if (!solver_->Setup(energy_, transforms_, error)) {
+    *error = "setting up the " + std::string(SolverName(options_.backend)) + " solve: " + *error;
+    return false;
+  }
   previous_transforms_ = transforms_;
   frames_since_layout_ = 0;
+  return true;
 }
 
 void Deformer::BuildEnergy() {
@@ -511,7 +569,11 @@ void Deformer::BuildEnergy() {
 
 bool Deformer::Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats,
                     std::string* error) {
-  CHECK(solver_ != nullptr) << "SetHandles first";
+  if (stage_ != Stage::kHandlesSet) {
+    *error = stage_ == Stage::kEmpty ? "Drag before a successful Init"
+                                     : "Drag before a successful SetHandles";
+    return false;
+  }
   const auto frame_start = std::chrono::steady_clock::now();
   if (!deformed_from_rest.matrix().allFinite()) {
     *error = "the handle transform is not finite";
@@ -577,6 +639,8 @@ bool Deformer::Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats,
 }
 
 const Eigen::Matrix3Xd& Deformer::deformed_normals() const {
+  // Skinned on first use; the lock makes concurrent const readers safe.
+  std::lock_guard<std::mutex> lock(*normals_mutex_);
   if (normals_stale_) {
     SkinningOptions skinning;
     skinning.num_threads = options_.num_threads;

@@ -29,6 +29,7 @@
 
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -166,14 +167,23 @@ class Deformer {
   Deformer();
   ~Deformer();
 
+  // The calls go Init, SetHandles, then any number of Drags; a new
+  // SetHandles or Init starts over from that stage. A call out of order
+  // returns false with a message.
+
   // Builds everything that depends only on the mesh. Returns false with a
-  // message on invalid options or a mesh the lattice cannot take.
+  // message on invalid options or a mesh the lattice cannot take: invalid
+  // options or an invalid mesh leave the object as it was, a later failure
+  // leaves it empty (only Init is accepted).
   bool Init(const Mesh& mesh, const DeformerOptions& options, std::string* error);
 
   // A new handle layout: rigidity estimation, scale selection and node
   // classes (multi-scale), and the backend's problem (a Ceres problem, or the
   // Gauss-Newton system with its symbolic factorisation) reused by every
-  // Drag. Resets the deformation to the rest pose.
+  // Drag. Resets the deformation to the rest pose. An invalid layout leaves
+  // the previous one in place; a failure after validation (handles in one
+  // lattice cell, a moveable vertex no free node skins, a solver that cannot
+  // be set up) leaves no layout, and Drag is refused until one succeeds.
   bool SetHandles(const HandleLayout& layout, std::string* error);
 
   // Moves the moveable handle to deformed_from_rest * (its rest position),
@@ -186,8 +196,8 @@ class Deformer {
   const Eigen::Matrix3Xd& deformed_vertices() const { return deformed_vertices_; }
   // The deformed unit normals (Eq. 10) of the last Drag, skinned on the first
   // call after it: a Drag skins positions only, so a program that never asks
-  // (the command line, the experiments) does not pay for normals. Not to be
-  // called during a Drag from another thread.
+  // (the command line, the experiments) does not pay for normals. Safe to
+  // call from several threads at once (const readers); not during a Drag.
   const Eigen::Matrix3Xd& deformed_normals() const;
   const DeformerOptions& options() const { return options_; }
   const Lattice& lattice() const { return lattice_; }
@@ -225,9 +235,15 @@ class Deformer {
   double setup_ms() const { return setup_ms_; }
 
  private:
-  void BuildProblem();
+  enum class Stage { kEmpty, kInitialised, kHandlesSet };
+  // Back to "initialised, no layout": the per-layout state cleared and the
+  // mesh at rest.
+  void ResetLayout();
+  bool BuildLayout(const HandleLayout& layout, std::string* error);
+  bool BuildProblem(std::string* error);
   void BuildEnergy();
 
+  Stage stage_ = Stage::kEmpty;
   DeformerOptions options_;
   Mesh mesh_;
   Eigen::Matrix3Xd rest_normals_;
@@ -258,6 +274,7 @@ class Deformer {
   Eigen::Matrix3Xd deformed_vertices_;
   mutable Eigen::Matrix3Xd deformed_normals_;
   mutable bool normals_stale_ = false;  // a Drag moved the positions since
+  std::unique_ptr<std::mutex> normals_mutex_ = std::make_unique<std::mutex>();
   double precompute_ms_ = 0.0;
   double rigidity_ms_ = 0.0;
   double setup_ms_ = 0.0;

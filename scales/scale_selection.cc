@@ -128,6 +128,18 @@ double GeodesicHandleDistance(const DeformationGraph& dg1, const HandleNodes& ha
 
 }  // namespace
 
+std::vector<char> StillNodes(const DeformationGraph& graph, const std::vector<char>& still_dg1) {
+  std::vector<char> still(graph.num_nodes(), 0);
+  if (still_dg1.empty()) return still;
+  for (int j = 0; j < graph.num_nodes(); ++j) {
+    still[j] = graph.members.begin(j) != graph.members.end(j);
+    for (const int* m = graph.members.begin(j); m != graph.members.end(j) && still[j]; ++m) {
+      still[j] = still_dg1[*m] != 0;
+    }
+  }
+  return still;
+}
+
 bool SelectScale(const std::vector<DeformationGraph>& graphs,
                  const std::vector<double>& dg1_extent, const HandleNodes& handles,
                  int nodes_per_scale, double diagonal, const ScaleSelectionOptions& options,
@@ -153,6 +165,7 @@ bool SelectScale(const std::function<const DeformationGraph&(int scale)>& graph_
   CHECK_EQ(static_cast<int>(dg1_extent.size()), d1);
   CHECK_EQ(static_cast<int>(handles.holds_fixed.size()), d1);
   CHECK_EQ(static_cast<int>(handles.holds_moveable.size()), d1);
+  CHECK(handles.still.empty() || static_cast<int>(handles.still.size()) == d1);
   ScaleSelection& result = *selection;
   result = ScaleSelection();
 
@@ -177,6 +190,7 @@ bool SelectScale(const std::function<const DeformationGraph&(int scale)>& graph_
     const DeformationGraph& graph = graph_at(scale);
     const int n = graph.num_nodes();
     bool conflict = false;
+    const std::vector<char> still = StillNodes(graph, handles.still);
     std::vector<char> holds_fixed(n, 0);
     result.node_extent.assign(n, 0.0);
     result.node_class.assign(n, NodeClass::kFixed);
@@ -192,6 +206,7 @@ bool SelectScale(const std::function<const DeformationGraph&(int scale)>& graph_
       if (options.member_extent == MemberExtent::kMean) extent /= graph.members.size(j);
       result.node_extent[j] = extent;
       conflict = holds_fixed[j] && moveable;
+      if (still[j]) continue;  // Fixed, before anything reads the classes
       if (!holds_fixed[j] && (moveable || extent > result.threshold)) {
         result.node_class[j] = NodeClass::kTotallyFree;
       }
@@ -205,7 +220,7 @@ bool SelectScale(const std::function<const DeformationGraph&(int scale)>& graph_
       }
     }
     for (int j = 0; j < n; ++j) {
-      if (result.node_class[j] == NodeClass::kTotallyFree) continue;
+      if (result.node_class[j] == NodeClass::kTotallyFree || still[j]) continue;
       if (holds_fixed[j]) {
         if (options.half_free == HalfFreeRule::kEveryFixedHandleNode ||
             (options.half_free == HalfFreeRule::kNextToTotallyFree && borders_free[j])) {

@@ -14,7 +14,8 @@
 //                joint; the paper's rule, every fixed-handle node Half Free, is
 //                HalfFreeRule::kEveryFixedHandleNode),
 //   Totally Free if it holds a moveable-handle vertex or has e' > T (12),
-//   Fixed        otherwise (0).
+//   Fixed        otherwise (0), and always when all its members are still
+//                (HandleNodes::still: in components with no moveable handle).
 // BorderRule then decides what the Fixed nodes next to a Totally Free one
 // become (by default Totally Free: one more ring; the paper keeps them Fixed).
 // A node holding both fixed and moveable vertices cannot serve both, so the
@@ -95,7 +96,15 @@ struct ScaleSelectionOptions {
 struct HandleNodes {
   std::vector<char> holds_fixed;     // per DG1 node
   std::vector<char> holds_moveable;  // per DG1 node
+  // Per DG1 node: it holds only vertices of mesh components without a
+  // moveable-handle vertex, which nothing moves. Empty: none (one component).
+  std::vector<char> still;
 };
+
+// Per node of `graph`: whether all its DG1 members are still (`still_dg1` as
+// HandleNodes::still; empty gives all false). Such a node is Fixed whatever
+// its extent: it gets no variables.
+std::vector<char> StillNodes(const DeformationGraph& graph, const std::vector<char>& still_dg1);
 
 struct ScaleSelection {
   double threshold = 0.0;        // T (Eq. 7)

@@ -38,7 +38,7 @@ std::vector<DeformationGraph> LineGraphs(int d1, int num_scales) {
 }
 
 HandleNodes NoHandles(int d1) {
-  return {std::vector<char>(d1, 0), std::vector<char>(d1, 0)};
+  return {std::vector<char>(d1, 0), std::vector<char>(d1, 0), {}};
 }
 
 ScaleSelection Select(const std::vector<DeformationGraph>& graphs, const std::vector<double>& e,
@@ -68,6 +68,41 @@ TEST(ScaleSelectionTest, Eq7ThresholdFromFixedHandleNodes) {
   handles.holds_fixed[8] = 0;
   handles.holds_fixed[5] = 1;  // only e' = 0.7 >= 0.5: as if none.
   EXPECT_DOUBLE_EQ(Select(graphs, e, handles).threshold, 0.5);
+}
+
+// Nodes of a component that nothing moves (HandleNodes::still) are Fixed
+// before the border ring and the alpha weights: they neither free their
+// neighbours nor widen the omega range, whatever their extent.
+TEST(ScaleSelectionTest, StillNodesAreFixedBeforeBorderAndAlpha) {
+  const auto graphs = LineGraphs(10, 1);
+  const std::vector<double> e = {1.0, 0.6, 0.4, 0.0, 0.0, 0.0, 0.9, 0.95, 0.9, 0.9};
+  HandleNodes handles = NoHandles(10);
+  handles.holds_moveable[0] = 1;
+  handles.holds_fixed[3] = 1;
+  handles.still.assign(10, 0);
+  for (int i = 6; i < 10; ++i) handles.still[i] = 1;
+  // A diagonal of 1: the fixed node, 3 away, is not a local-detail edit.
+  const ScaleSelection selection = Select(graphs, e, handles, {}, /*diagonal=*/1.0);
+  EXPECT_DOUBLE_EQ(selection.threshold, 0.1);
+  using C = NodeClass;
+  const std::vector<NodeClass> expected = {C::kTotallyFree, C::kTotallyFree, C::kTotallyFree,
+                                           C::kHalfFree,    C::kFixed,       C::kFixed,
+                                           C::kFixed,       C::kFixed,       C::kFixed,
+                                           C::kFixed};
+  EXPECT_EQ(selection.node_class, expected);
+  EXPECT_EQ(selection.num_totally_free, 3);
+  EXPECT_EQ(selection.num_half_free, 1);
+  EXPECT_EQ(selection.num_fixed, 6);
+  // omega over e' in [0.4, 1]: 4, 1 + 3 * 0.2 / 0.6 = 2, 1.
+  EXPECT_DOUBLE_EQ(selection.omega[0], 4.0);
+  EXPECT_DOUBLE_EQ(selection.omega[1], 2.0);
+  EXPECT_DOUBLE_EQ(selection.omega[2], 1.0);
+  EXPECT_DOUBLE_EQ(selection.Alpha(0, 1), 2.0);
+  EXPECT_DOUBLE_EQ(selection.Alpha(5, 6), 1.0);
+  // A node of a coarse scale is still only when all its members are.
+  const std::vector<char> coarse = StillNodes(LineGraphs(10, 3)[2], handles.still);
+  EXPECT_EQ(coarse, std::vector<char>({0, 0, 1, 1}));  // members {0-2} {3-5} {6-8} {9}
+  EXPECT_EQ(StillNodes(graphs[0], {}), std::vector<char>(10, 0));
 }
 
 TEST(ScaleSelectionTest, Eq6ScaleIsSmallestIWithP1BelowIP) {
