@@ -461,19 +461,17 @@ Eigen::Vector3d Centroid(const Mesh& mesh, const std::vector<int>& ids) {
   return ids.empty() ? sum : Eigen::Vector3d(sum / static_cast<double>(ids.size()));
 }
 
-// The motion carried `fraction` of the way (0 = identity, 1 = all of it).
-Eigen::Affine3d PartialMotion(const HandleMotion& motion, const Eigen::Vector3d& centroid,
-                              double diagonal, double fraction) {
-  const Eigen::Vector3d center = motion.rotate_about_centroid ? centroid : motion.rotation_center;
-  const Eigen::Vector3d translation =
+// The scenario's motion, "rotate about the centre c, then translate by t", as
+// a drag motion: x -> R (x - c) + c + t, pivot c, no stretch.
+DragMotion ScenarioDragMotion(const HandleMotion& motion, const Eigen::Vector3d& centroid,
+                              double diagonal) {
+  DragMotion drag;
+  drag.pivot = motion.rotate_about_centroid ? centroid : motion.rotation_center;
+  drag.rotation =
+      Eigen::AngleAxisd(motion.rotation_angle_deg * M_PI / 180.0, motion.rotation_axis);
+  drag.pivot_displacement =
       motion.translation * (motion.translation_is_relative ? diagonal : 1.0);
-  const double angle = fraction * motion.rotation_angle_deg * M_PI / 180.0;
-  Eigen::Affine3d transform = Eigen::Affine3d::Identity();
-  transform.translate(fraction * translation);
-  transform.translate(center);
-  transform.rotate(Eigen::AngleAxisd(angle, motion.rotation_axis));
-  transform.translate(-center);
-  return transform;
+  return drag;
 }
 
 }  // namespace
@@ -540,7 +538,9 @@ bool ResolveScenario(const Scenario& scenario, const Mesh& mesh, HandleLayout* l
   *deformed_from_rest =
       scenario.uses_sel_def()
           ? scenario.def_transform
-          : PartialMotion(scenario.motion, Centroid(mesh, result.moveable), frame.diagonal, 1.0);
+          : DragFrame(ScenarioDragMotion(scenario.motion, Centroid(mesh, result.moveable),
+                                         frame.diagonal),
+                      1.0);
   *layout = std::move(result);
   *watch = std::move(watched);
   return true;
@@ -552,13 +552,7 @@ std::vector<Eigen::Affine3d> DragPath(const Scenario& scenario, const Mesh& mesh
   const double diagonal = BoundingBoxDiagonal(mesh);
   const int frames = std::max(1, scenario.frames);
   if (scenario.uses_sel_def()) return InterpolateDragPath(scenario.def_transform, centroid, frames);
-  std::vector<Eigen::Affine3d> path;
-  path.reserve(frames);
-  for (int k = 1; k <= frames; ++k) {
-    path.push_back(
-        PartialMotion(scenario.motion, centroid, diagonal, static_cast<double>(k) / frames));
-  }
-  return path;
+  return InterpolateDragPath(ScenarioDragMotion(scenario.motion, centroid, diagonal), frames);
 }
 
 }  // namespace msdeform

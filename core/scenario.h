@@ -137,8 +137,11 @@ bool ResolveScenario(const Scenario& scenario, const Mesh& mesh, HandleLayout* l
                      std::string* error);
 
 // The drag path: scenario.frames transforms, frame k (1-based) carrying the
-// fraction k / frames of the motion; the last equals ResolveScenario's
-// transform. `layout` is the resolved layout (its handle gives the centroid).
+// fraction k / frames of the motion (core/drag_path.h: k / frames of the angle
+// about the rotation centre, which moves by k / frames of the translation;
+// a .def's rotation part slerped, its rest blended linearly); the last equals
+// ResolveScenario's transform. `layout` is the resolved layout (its handle
+// gives the centroid).
 std::vector<Eigen::Affine3d> DragPath(const Scenario& scenario, const Mesh& mesh,
                                       const HandleLayout& layout);
 

@@ -145,8 +145,8 @@ void BindIo(py::module_& m) {
   m.def("drag_path", &DragPathOf, py::arg("M"), py::arg("pivot"), py::arg("frames"),
         "The drag from the identity to M in `frames` equal steps about `pivot` (3 numbers, "
         "the handle's rest centroid for msdeform's --sel/--def drags) as a (frames, 4, 4) "
-        "array; the last equals M (core/drag_path.h: slerp of M's rotation, linear "
-        "translation of the pivot).");
+        "array; the last equals M (core/drag_path.h: the polar rotation of M slerped, the rest "
+        "of M (scale, shear) blended linearly, the pivot moved on a straight line).");
   m.def(
       "bounding_box_diagonal",
       [](const py::object& vertices) {

@@ -216,6 +216,24 @@ TEST(ScenarioTest, DragPathSplitsTheMotionIntoEqualSteps) {
       (path[1] * Eigen::Vector3d(10, 0, 0)).isApprox(Eigen::Vector3d(10 + h, 0.5 - h, 0.5)));
 }
 
+TEST(ScenarioTest, DragPathTurnsTheLongWayPastHalfATurn) {
+  // 270 degrees about z: the mid frame has turned 135 degrees, not -45 (the
+  // short way round that a slerp to the final rotation would take).
+  const Resolved resolved = ReadAndResolve(R"({"mesh": "m.off", "handle": {"vertices": [20, 21]},
+      "transform": {"rotation": {"axis": [0, 0, 1], "angle_deg": 270}}, "frames": 2})");
+  ASSERT_TRUE(resolved.ok) << resolved.error;
+  const std::vector<Eigen::Affine3d> path = DragPath(resolved.scenario, Strip(), resolved.layout);
+  ASSERT_EQ(path.size(), 2u);
+  const Eigen::Matrix3d turn_135 =
+      Eigen::AngleAxisd(0.75 * M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  EXPECT_LT((path[0].linear() - turn_135).norm(), 1e-12) << path[0].linear();
+  // About the centroid (10, 0.5, 0): (10, 0, 0) is 0.5 below it.
+  const double h = 0.5 * std::sqrt(0.5);
+  EXPECT_TRUE(
+      (path[0] * Eigen::Vector3d(10, 0, 0)).isApprox(Eigen::Vector3d(10 + h, 0.5 + h, 0), 1e-12));
+  EXPECT_EQ(path[1].matrix(), resolved.deformed_from_rest.matrix());
+}
+
 TEST(ScenarioTest, MeshPathIsRelativeToTheScenarioFolderAndNameDefaultsToStem) {
   const std::string folder = FreshFolder();
   const std::string path =

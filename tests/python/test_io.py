@@ -97,5 +97,19 @@ def test_drag_path_ends_at_the_target_and_starts_one_step_from_identity():
     assert np.array_equal(path[-1], M)
 
 
+def test_drag_path_of_a_six_digit_rotation_is_rigid_at_every_frame():
+    # data/meshes/cactus.def's matrix: a rotation printed with six digits.
+    M = np.array([[0.999641, 0.021031, 0.016579, -0.019322],
+                  [-0.022776, 0.342021, 0.939416, -0.134331],
+                  [0.014087, -0.939457, 0.342378, 0.821073],
+                  [0.0, 0.0, 0.0, 1.0]])
+    path = msdeform.drag_path(M, [0.1, 0.2, 0.3], 30)
+    for frame in path:
+        A = frame[:3, :3]
+        assert np.abs(A.T @ A - np.eye(3)).max() < 1e-5
+        assert abs(np.linalg.det(A) - 1.0) < 1e-5
+    assert np.array_equal(path[-1], M)
+
+
 def test_bounding_box_diagonal():
     assert msdeform.bounding_box_diagonal([[0, 0, 0], [3, 4, 12]]) == 13.0
