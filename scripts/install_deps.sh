@@ -19,6 +19,7 @@ packages=(
   pybind11-dev python3-dev         # the Python module
   python3-numpy python3-pytest     # its arrays and its tests
   python3-dask python3-distributed # sweeps over many runs (python/msdeform/sweep)
+  openssl                          # the sweep tests' TLS certificates (not in a minimal image)
   python3-matplotlib               # the charts of paper_figures/ and of sweeps
   libglfw3-dev libimgui-dev        # the editor's window and interface (apps/msdeform_editor)
   libstb-dev                       # its PNG screenshots

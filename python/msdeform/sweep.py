@@ -1,7 +1,8 @@
 """Sweeps on Dask: a grid of scenario runs, one row of metrics per task, merged into a table.
 
     python3 -m msdeform.sweep SWEEP.json --out DIR                  # local Dask cluster
-    python3 -m msdeform.sweep SWEEP.json --out DIR --scheduler tcp://HOST:8786
+    python3 -m msdeform.sweep SWEEP.json --out DIR --scheduler tls://HOST:8786 \
+        --tls-ca-file ca.pem --tls-cert client.pem --tls-key client.key
     python3 -m msdeform.sweep SWEEP.json --out DIR --resume         # run only what is missing
     python3 -m msdeform.sweep SWEEP.json --out DIR --serial         # in this process, in order
     python3 -m msdeform.sweep SWEEP.json --list                     # the task grid, nothing run
@@ -19,7 +20,6 @@ Exit status: 0 when every task has a row (tasks that failed included: their rows
 import argparse
 import datetime
 import json
-import logging
 import os
 import shutil
 import signal
@@ -30,8 +30,10 @@ import time
 
 import msdeform
 from msdeform import _sweep_report as report
+from msdeform._sweep_cluster import (add_security_arguments, check_security_arguments,
+                                     start_client)
 from msdeform._sweep_grid import SweepError, describe_task, load_sweep, task_id
-from msdeform._sweep_task import FAILED, LOST, OK, probe, run_reference, run_task
+from msdeform._sweep_task import FAILED, LOST, OK, run_reference, run_task
 
 EXIT_OK, EXIT_BAD_INPUT, EXIT_LOST, EXIT_INTERRUPTED, EXIT_TERMINATED = 0, 1, 2, 130, 143
 
@@ -182,89 +184,6 @@ def run_serial(sweep, todo, record):
         record(task, run_task(task, reference))
 
 
-def _dashboard(client):
-    """The scheduler's dashboard address, or None when there is none up: no HTTP service, or
-    Debian's Dask without bokeh, whose page only says that bokeh is needed."""
-    import urllib.request
-
-    port = client.scheduler_info().get("services", {}).get("dashboard")
-    if not port:
-        return None
-    host = client.scheduler.address.split("://")[-1].rsplit(":", 1)[0]
-    link = f"http://{host}:{port}/status"
-    try:
-        with urllib.request.urlopen(link, timeout=2) as page:
-            if b"needs bokeh" in page.read(4096):
-                return None
-    except OSError:
-        return None
-    return link
-
-
-def _check_workers(client, timeout):
-    """Waits for a worker, then checks that every worker imports this msdeform build."""
-    try:
-        client.wait_for_workers(1, timeout=timeout)
-    except TimeoutError:
-        raise SweepError(f"no Dask worker joined the scheduler within {timeout:g} s (start "
-                         f"dask-worker {client.scheduler.address} with "
-                         f"PYTHONPATH=<build>/python)") from None
-    answers = client.run(probe, on_error="return")
-    for worker, answer in sorted(answers.items()):
-        if isinstance(answer, BaseException):
-            raise SweepError(f"Dask worker {worker} cannot import msdeform "
-                             f"({type(answer).__name__}: {answer}); start it with "
-                             f"PYTHONPATH=<build>/python")
-        if answer["commit"] != msdeform.COMMIT:
-            raise SweepError(f"Dask worker {worker} runs msdeform {answer['commit']} from "
-                             f"{answer['package']}; this driver is {msdeform.COMMIT}")
-    return len(answers)
-
-
-def _worker_environment():
-    """PYTHONPATH with this msdeform's folder first, for local worker processes."""
-    folder = os.path.dirname(os.path.dirname(os.path.abspath(msdeform.__file__)))
-    paths = [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
-    if folder not in paths:
-        os.environ["PYTHONPATH"] = os.pathsep.join([folder] + paths)
-
-
-def start_client(args, say, scratch):
-    """(client, cluster, engine description): a Client on --scheduler, or on a LocalCluster of
-    --workers processes (default: one per core) with one thread each, their scratch files in
-    the folder `scratch`."""
-    from distributed import Client, LocalCluster
-
-    if args.scheduler:
-        try:
-            client = Client(args.scheduler, timeout=args.worker_timeout)
-        except (OSError, TimeoutError, ValueError) as error:
-            raise SweepError(f"--scheduler {args.scheduler}: cannot connect within "
-                             f"{args.worker_timeout:g} s ({type(error).__name__}: "
-                             f"{error})") from None
-        cluster = None
-    else:
-        import dask
-
-        _worker_environment()
-        for name in ("distributed", "distributed.diskutils", "distributed.nanny"):
-            logging.getLogger(name).setLevel(logging.WARNING)
-        # How many worker deaths a task may see before Dask gives up on it (the scheduler's
-        # setting; a running scheduler keeps its own).
-        dask.config.set({"distributed.scheduler.allowed-failures": args.retries})
-        cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True,
-                               dashboard_address=":8787", silence_logs=logging.ERROR,
-                               local_directory=scratch)
-        client = Client(cluster)
-    workers = _check_workers(client, args.worker_timeout)
-    where = args.scheduler or "a local cluster"
-    engine = f"Dask at {where}, {workers} worker(s)"
-    link = _dashboard(client)
-    say(f"sweep: {engine}; dashboard: " +
-        (link if link else "none (the Dask dashboard needs bokeh on the scheduler)"))
-    return client, cluster, engine
-
-
 def run_dask(sweep, todo, record, client, columns, retries):
     """Submits every task (and each CGAL reference once) to Dask and records the rows as they
     arrive. A task whose worker dies is rescheduled by Dask's scheduler on another worker (up
@@ -394,12 +313,15 @@ def parse_args(argv):
     parser.add_argument("--resume", action="store_true",
                         help="continue a sweep in --out: run only the tasks without a row")
     engine = parser.add_mutually_exclusive_group()
-    engine.add_argument("--scheduler", metavar="tcp://HOST:PORT",
-                        help="a running Dask scheduler (default: a local cluster)")
+    engine.add_argument("--scheduler", metavar="tls://HOST:PORT",
+                        help="a running Dask scheduler, tls:// with the --tls-* flags or tcp:// "
+                             "(no authentication: README.md, 'Sweeps'); default: a local "
+                             "cluster on 127.0.0.1")
     engine.add_argument("--workers", type=int, metavar="N",
                         help="worker processes of the local cluster (default: one per core)")
     engine.add_argument("--serial", action="store_true",
                         help="run the tasks in this process, in order, without Dask")
+    add_security_arguments(parser)
     parser.add_argument("--retries", type=int, default=3, metavar="N",
                         help="worker deaths a task may see before Dask gives up on it (the "
                              "local cluster's allowed-failures; a running scheduler has its "
@@ -419,6 +341,9 @@ def parse_args(argv):
         parser.error("--workers: expected an integer >= 1")
     if args.retries < 0:
         parser.error("--retries: expected an integer >= 0")
+    security = check_security_arguments(args)
+    if security:
+        parser.error(security)
     if args.workers is None:
         args.workers = len(os.sched_getaffinity(0))
     return args

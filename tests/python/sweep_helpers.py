@@ -1,5 +1,6 @@
-"""Helpers of test_sweep.py: the environment, sweep files, the sweep driver as a subprocess, a
-real Dask cluster (dask-scheduler and dask-worker processes on 127.0.0.1), and result tables.
+"""Helpers of test_sweep.py and test_sweep_cluster.py: the environment, sweep files, the sweep
+driver as a subprocess, a real Dask cluster (dask-scheduler and dask-worker processes on
+127.0.0.1, optionally with TLS), certificates made with openssl, and result tables.
 """
 
 import contextlib
@@ -120,15 +121,51 @@ def stop(process, timeout=10):
             process.wait()
 
 
+def make_certificates(folder):
+    """Makes, with openssl, a cluster CA, a certificate it signs (one for the scheduler, the
+    workers and the driver, as README.md's "On a cluster" does) and a stranger's self-signed
+    certificate. Returns {"ca", "cert", "key", "other_cert", "other_key"}: PEM file paths."""
+    openssl = shutil.which("openssl")
+    if openssl is None:
+        raise RuntimeError("openssl: not on PATH (scripts/install_deps.sh installs it)")
+    folder = str(folder)
+    paths = {name: os.path.join(folder, name + ".pem")
+             for name in ("ca", "ca_key", "cert", "key", "request", "other_cert", "other_key")}
+
+    def run(*args):
+        """Runs openssl ARGS; raises with its message when it fails."""
+        done = subprocess.run([openssl] + list(args), capture_output=True, text=True)
+        if done.returncode != 0:
+            raise RuntimeError(f"openssl {' '.join(args)}: {done.stderr.strip()}")
+
+    new_key = ["-newkey", "rsa:2048", "-nodes", "-days", "2"]
+    run("req", "-x509", *new_key, "-keyout", paths["ca_key"], "-out", paths["ca"],
+        "-subj", "/CN=msdeform test cluster CA")
+    run("req", *new_key[:3], "-keyout", paths["key"], "-out", paths["request"],
+        "-subj", "/CN=msdeform test node")
+    run("x509", "-req", "-in", paths["request"], "-CA", paths["ca"], "-CAkey", paths["ca_key"],
+        "-CAcreateserial", "-days", "2", "-out", paths["cert"])
+    run("req", "-x509", *new_key, "-keyout", paths["other_key"], "-out", paths["other_cert"],
+        "-subj", "/CN=a stranger")
+    return {name: paths[name] for name in ("ca", "cert", "key", "other_cert", "other_key")}
+
+
+def tls_flags(ca, cert, key):
+    """The TLS flags shared by dask-scheduler, dask-worker and msdeform.sweep."""
+    return ["--tls-ca-file", ca, "--tls-cert", cert, "--tls-key", key]
+
+
 class DaskCluster:
     """A real Dask cluster on 127.0.0.1: `dask-scheduler` and `workers` `dask-worker`
     processes (one process, one thread each, no nanny: killing one kills that worker), all
     ended on exit, also when the test fails. Use as a context manager."""
 
-    def __init__(self, folder, workers=2, config=None):
+    def __init__(self, folder, workers=2, config=None, tls=None):
         """folder: where the scheduler file and the logs go; config: Dask settings as
-        environment variables (DASK_DISTRIBUTED__...) of the scheduler and the workers."""
+        environment variables (DASK_DISTRIBUTED__...) of the scheduler and the workers; tls:
+        make_certificates' paths for a TLS cluster (every process uses "cert" and "key")."""
         self.folder, self.count, self.config = str(folder), workers, dict(config or {})
+        self.tls = tls
         self.scheduler = None
         self.workers = []
         self.address = None
@@ -147,9 +184,13 @@ class DaskCluster:
             scheduler_file = os.path.join(self.folder, "scheduler.json")
             env = environment()
             env.update(self.config)
+            security = []
+            if self.tls:
+                security = tls_flags(self.tls["ca"], self.tls["cert"], self.tls["key"])
             self.scheduler = subprocess.Popen(
                 [dask_command("dask-scheduler"), "--host", "127.0.0.1", "--port", "0",
-                 "--no-dashboard", "--scheduler-file", scheduler_file],
+                 "--no-dashboard", "--scheduler-file", scheduler_file] +
+                (["--protocol", "tls"] + security if self.tls else []),
                 env=env, stdout=subprocess.DEVNULL, stderr=self._log("scheduler"),
                 start_new_session=True)
             wait_until(lambda: os.path.exists(scheduler_file) or self.scheduler.poll() is not None,
@@ -163,12 +204,17 @@ class DaskCluster:
                 self.workers.append(subprocess.Popen(
                     [dask_command("dask-worker"), self.address, "--nworkers", "1",
                      "--nthreads", "1", "--no-dashboard", "--no-nanny", "--name", f"worker-{i}",
-                     "--local-directory", os.path.join(self.folder, f"worker-{i}")],
+                     "--local-directory", os.path.join(self.folder, f"worker-{i}")] + security,
                     env=env, stdout=subprocess.DEVNULL, stderr=self._log(f"worker-{i}"),
                     start_new_session=True))
             from distributed import Client
+            from distributed.security import Security
 
-            self.client = Client(self.address, timeout=30)
+            security = None
+            if self.tls:
+                security = Security(tls_ca_file=self.tls["ca"], tls_client_cert=self.tls["cert"],
+                                    tls_client_key=self.tls["key"], require_encryption=True)
+            self.client = Client(self.address, timeout=30, security=security)
             self._stack.callback(self.client.close)
             self.client.wait_for_workers(self.count, timeout=60)
         except BaseException:
