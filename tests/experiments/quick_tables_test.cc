@@ -1,24 +1,36 @@
 // Runs the quick subset of the experiment runner (as `msdeform_experiments
 // --quick` does) into a temporary folder and checks its tables for sanity:
 // the columns are there, every number is finite, and the multi-scale method
-// optimises fewer variables than the dense static graph.
+// optimises fewer variables than the dense static graph. Then runs the same
+// runner on three edits of a procedural bar whose every table cell is known
+// (rigid motions and a rest pose) and checks the cells against those values.
 
 #include "experiments/runner.h"
 
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include "experiments/tables.h"
+#include "msdeform/core/mesh_io.h"
+#include "msdeform/core/procedural_meshes.h"
 
 namespace msdeform {
 namespace {
 
 namespace fs = std::filesystem;
+
+// A folder under the system's temporary one, named for this process so that
+// runs of this test from several checkouts at once do not share it.
+std::string TemporaryFolder(const std::string& stem) {
+  return (fs::temp_directory_path() / (stem + "_" + std::to_string(::getpid()))).string();
+}
 
 struct CsvTable {
   std::vector<std::string> columns;
@@ -38,7 +50,7 @@ class QuickTablesTest : public ::testing::Test {
       error_ = "real meshes missing: run data/fetch_meshes.sh";  // every test fails
       return;
     }
-    out_dir_ = new std::string((fs::temp_directory_path() / "msdeform_quick_tables").string());
+    out_dir_ = new std::string(TemporaryFolder("msdeform_quick_tables"));
     fs::remove_all(*out_dir_);
     RunnerOptions options;
     options.scenario_dir = std::string(MSDEFORM_SOURCE_DIR) + "/experiments/scenarios";
@@ -86,6 +98,32 @@ class QuickTablesTest : public ::testing::Test {
   static bool ok_;
   static std::string error_;
 };
+
+// The cell of `column` in the row of `scenario` and `method` (first two
+// columns), as written; a test failure when either is missing.
+std::string Cell(const CsvTable& table, const std::string& scenario, const std::string& method,
+                 const std::string& column) {
+  const int c = table.Column(column);
+  EXPECT_GE(c, 0) << column;
+  for (const auto& row : table.rows) {
+    if (c >= 0 && row[0] == scenario && row[1] == method) return row[c];
+  }
+  ADD_FAILURE() << "no row " << scenario << " / " << method << " with " << column;
+  return "";
+}
+
+// The same as a number; NaN (and a failure) when the cell is empty or not a number.
+double Number(const CsvTable& table, const std::string& scenario, const std::string& method,
+              const std::string& column) {
+  const std::string cell = Cell(table, scenario, method, column);
+  char* end = nullptr;
+  const double value = std::strtod(cell.c_str(), &end);
+  if (cell.empty() || *end != '\0') {
+    ADD_FAILURE() << scenario << " / " << method << " " << column << ": '" << cell << "'";
+    return std::nan("");
+  }
+  return value;
+}
 
 std::string* QuickTablesTest::out_dir_ = nullptr;
 bool QuickTablesTest::ok_ = false;
@@ -144,6 +182,192 @@ TEST_F(QuickTablesTest, OtherTablesAreComplete) {
   EXPECT_EQ(ablations.rows.size(), 13u);  // the cactus x thirteen variants
   ExpectFinite(ablations, {"scenario", "variant"},
                {"leakage_rel", "arap_energy_joint", "arap_distance_rel"});
+}
+
+// Three edits of MakeBar(8): the box [0, 8] x [0, 1] x [0, 1] whose faces
+// carry a grid of spacing 0.5, so 17 x 3 x 3 - 15 x 1 x 1 = 138 vertices and
+// 2 x (8 + 8 + 1) unit squares x 4 quads x 2 = 272 triangles; bounding-box
+// diagonal sqrt(8^2 + 1 + 1) = sqrt(66). "The first voxel" (x <= 1, slab
+// 0 .. 1/8 of the extent) holds the x = 0 cap's 9 vertices and the rings of 8
+// at x = 0.5 and 1: 25 vertices, of which 12 are edge-of-box corners at
+// distance sqrt(0.5) from the bar's axis (y = z = 0.5), 12 edge midpoints at
+// 0.5 and the cap's centre on the axis. The last voxel (x >= 7) likewise.
+//   bar_translate  handle: last voxel, no fixed region, translated by
+//                  (0, 0, 0.5). Nothing holds the rest, so the only result
+//                  of zero energy that meets the handle (ARAP's, and the
+//                  deformation graph's) is the bar translated rigidly: every
+//                  vertex moves 0.5, distortion is 0.
+//   bar_twist      handle: the whole bar, turned 90 degrees about x through
+//                  its centroid (4, 0.5, 0.5), on its axis: every vertex moves
+//                  sqrt(2) x its distance from the axis, so the first voxel's
+//                  mean is (12 x 1 + 12 x sqrt(0.5)) / 25 and its max is 1.
+//   bar_rest       fixed: first voxel, handle: last voxel, identity target:
+//                  nothing moves.
+// Every scenario watches the first voxel.
+class KnownAnswerTablesTest : public ::testing::Test {
+ protected:
+  static constexpr int kVertices = 138;
+  static constexpr int kFaces = 272;
+  static constexpr int kFirstVoxelVertices = 25;
+
+  static void SetUpTestSuite() {
+    dir_ = new std::string(TemporaryFolder("msdeform_known_tables"));
+    fs::remove_all(*dir_);
+    fs::create_directories(*dir_ + "/scenarios");
+    const Mesh bar = MakeBar(8);
+    ASSERT_EQ(bar.num_vertices(), kVertices);  // the counts above, as the generator makes them
+    ASSERT_EQ(bar.num_faces(), kFaces);
+    ASSERT_TRUE(WriteMesh(*dir_ + "/scenarios/bar.off", bar, &error_)) << error_;
+    const std::string first_voxel = R"({"slab": {"axis": "x", "from": 0.0, "to": 0.125}})";
+    const std::string last_voxel = R"({"slab": {"axis": "x", "from": 0.875, "to": 1.0}})";
+    const std::string whole_bar = R"({"slab": {"axis": "x", "from": 0.0, "to": 1.0}})";
+    const std::map<std::string, std::string> scenarios = {
+        {"bar_translate", R"("handle": )" + last_voxel +
+                              R"(, "transform": {"translation": [0, 0, 0.5]}, "frames": 3)"},
+        // 30 degrees a frame: Gauss-Newton converges in about 8 iterations
+        // (90 degrees in one frame does not within the 20 allowed).
+        {"bar_twist", R"("handle": )" + whole_bar +
+                          R"(, "transform": {"rotation": {"axis": [1, 0, 0], "angle_deg": 90}},)"
+                          R"( "frames": 3)"},
+        {"bar_rest", R"("fixed": [)" + first_voxel + R"(], "handle": )" + last_voxel +
+                         R"(, "frames": 1)"},
+    };
+    for (const auto& [name, body] : scenarios) {
+      std::ofstream(*dir_ + "/scenarios/" + name + ".json")
+          << R"({"mesh": "bar.off", "watch": )" << first_voxel << ", " << body << "}\n";
+    }
+    RunnerOptions options;
+    options.scenario_dir = *dir_ + "/scenarios";
+    options.out_dir = *dir_ + "/tables";
+    options.ablation_scenarios = {};
+    ok_ = RunExperiments(options, &error_);
+    if (!ok_) return;
+    for (const char* stem : {"table1", "table2"}) {
+      CsvTable& table = std::string(stem) == "table1" ? table1_ : table2_;
+      ok_ = ReadTableCsv(options.out_dir + "/" + stem + ".csv", &table.columns, &table.rows,
+                         &error_);
+      if (!ok_) return;
+    }
+  }
+  static void TearDownTestSuite() {
+    if (dir_ != nullptr) fs::remove_all(*dir_);
+    delete dir_;
+    dir_ = nullptr;
+  }
+  void SetUp() override { ASSERT_TRUE(ok_) << error_; }
+
+  static std::string* dir_;
+  static bool ok_;
+  static std::string error_;
+  static CsvTable table1_, table2_;
+};
+
+std::string* KnownAnswerTablesTest::dir_ = nullptr;
+bool KnownAnswerTablesTest::ok_ = false;
+std::string KnownAnswerTablesTest::error_;
+CsvTable KnownAnswerTablesTest::table1_;
+CsvTable KnownAnswerTablesTest::table2_;
+
+// Tolerances. Lengths over the diagonal: a rigid motion is reached to the
+// solver's tolerance (today 1e-11 or better), far below what a wrongly
+// computed or misplaced column makes here (1e-3 of the diagonal or 4% of a
+// value and more). The ARAP energy is a squared relative length. Known
+// non-zero values are written with 4 significant digits.
+constexpr double kLength = 1e-6;
+constexpr double kEnergy = 1e-10;
+constexpr double kPrinted = 1e-3;  // relative
+
+TEST_F(KnownAnswerTablesTest, Table2HoldsTheKnownValuesOfRigidMotionsAndARestPose) {
+  const std::vector<std::string> methods = {"multiscale", "static", "static_dense", "cgal_arap"};
+  ASSERT_EQ(table2_.rows.size(), 3 * methods.size());
+  const double diag = std::sqrt(66.0);
+  // Mean and max displacement of the first voxel, over the diagonal.
+  const std::map<std::string, std::pair<double, double>> watch = {
+      {"bar_translate", {0.5 / diag, 0.5 / diag}},
+      {"bar_twist", {(12.0 + 12.0 * std::sqrt(0.5)) / 25.0 / diag, 1.0 / diag}},
+      {"bar_rest", {0.0, 0.0}}};
+  for (const auto& [scenario, leakage] : watch) {
+    for (const std::string& method : methods) {
+      SCOPED_TRACE(scenario + " / " + method);
+      auto number = [&](const std::string& column) {
+        return Number(table2_, scenario, method, column);
+      };
+      EXPECT_EQ(number("vertices"), kVertices);
+      EXPECT_NEAR(number("handle_rms_rel"), 0.0, kLength);
+      EXPECT_NEAR(number("fixed_max_rel"), 0.0, kLength);
+      EXPECT_NEAR(number("arap_energy"), 0.0, kEnergy);
+      EXPECT_NEAR(number("strain"), 0.0, kLength);
+      EXPECT_NEAR(number("arap_distance_rel"), 0.0, kLength);
+      EXPECT_NEAR(number("leakage_rel"), leakage.first, kPrinted * leakage.first + kLength);
+      EXPECT_NEAR(number("leakage_max_rel"), leakage.second, kPrinted * leakage.second + kLength);
+      EXPECT_EQ(number("unconverged_frames"), 0);
+      EXPECT_GT(number("frame_ms"), 0.0);
+      // The band within 0.05 diag = 0.41 of the fixed region along edges is
+      // empty (the nearest other vertices are 0.5 away), and there is no band
+      // without a fixed region: not applicable.
+      EXPECT_EQ(Cell(table2_, scenario, method, "arap_energy_joint"), "");
+      if (method == "cgal_arap") {
+        // ROI: every vertex but the fixed ones, 3 variables each.
+        const int roi = kVertices - (scenario == "bar_rest" ? kFirstVoxelVertices : 0);
+        EXPECT_EQ(number("nodes_optimized"), roi);
+        EXPECT_EQ(number("variables"), 3 * roi);
+        EXPECT_EQ(Cell(table2_, scenario, method, "orthogonality"), "");
+        EXPECT_EQ(number("precompute_ms"), 0.0);
+        EXPECT_EQ(number("rigidity_ms"), 0.0);
+      } else {
+        EXPECT_NEAR(number("orthogonality"), 0.0, kLength);
+        if (method != "multiscale") {
+          EXPECT_EQ(number("rigidity_ms"), 0.0);  // the rigidity estimate is multiscale's
+        }
+        // Timed with the other backend too, except the dense graph.
+        EXPECT_EQ(Cell(table2_, scenario, method, "other_backend_frame_ms").empty(),
+                  method == "static_dense");
+      }
+    }
+  }
+}
+
+TEST_F(KnownAnswerTablesTest, NodeAndVariableCountsFollowTheClasses) {
+  // The lattice cells are smaller than the vertex spacing (a cell's diagonal
+  // cell_width sqrt(3) < 0.5), so every vertex has a surface cell of its own:
+  // DG1 has one node per vertex, and 138 / P = 100 gives one scale.
+  ASSERT_EQ(table1_.rows.size(), 3u);
+  for (const std::string scenario : {"bar_translate", "bar_twist", "bar_rest"}) {
+    SCOPED_TRACE(scenario);
+    auto number = [&](const std::string& column) {
+      return Number(table1_, "bar", scenario, column);
+    };
+    ASSERT_LT(number("cell_width") * std::sqrt(3.0), 0.5);
+    EXPECT_EQ(number("vertices"), kVertices);
+    EXPECT_EQ(number("faces"), kFaces);
+    EXPECT_EQ(number("d1"), kVertices);
+    EXPECT_EQ(number("scales_n"), 1);
+    EXPECT_EQ(number("selected_scale"), 1);
+    EXPECT_EQ(number("scale_nodes"), kVertices);
+    const double totally_free = number("totally_free"), half_free = number("half_free");
+    EXPECT_EQ(number("nodes_optimized"), totally_free + half_free);
+    EXPECT_EQ(number("variables"), 12 * totally_free + 9 * half_free);
+    EXPECT_EQ(Number(table2_, scenario, "multiscale", "variables"), number("variables"));
+    EXPECT_EQ(Number(table2_, scenario, "multiscale", "nodes_optimized"),
+              number("nodes_optimized"));
+    if (scenario != "bar_rest") {
+      // No fixed region: every node holds a handle vertex or moves with it
+      // (Totally Free), in every method's graph.
+      EXPECT_EQ(totally_free, kVertices);
+      EXPECT_EQ(half_free, 0);
+      for (const char* method : {"multiscale", "static", "static_dense"}) {
+        EXPECT_EQ(Number(table2_, scenario, method, "nodes_optimized"), kVertices) << method;
+        EXPECT_EQ(Number(table2_, scenario, method, "variables"), 12 * kVertices) << method;
+      }
+    } else {
+      // Half Free nodes hold the fixed vertices next to the free part; the
+      // x = 0 cap's centre node is Fixed: it is 1.5 or more from any node
+      // that holds no fixed vertex, and a graph edge joins two of some
+      // vertex's 4 nearest nodes, which lie within sqrt(0.5) of it here.
+      EXPECT_GT(half_free, 0);
+      EXPECT_LT(totally_free + half_free, kVertices);
+    }
+  }
 }
 
 }  // namespace
