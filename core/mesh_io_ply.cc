@@ -192,7 +192,9 @@ bool CheckAsciiPlyData(TextLines* lines, const PlyHeader& header, long long num_
         if (!ParseDouble(token, &value) || !std::isfinite(value)) {
           return lines->Fail(problem, Quote(token), " is not a finite number");
         }
-        if (!read_faces && std::abs(value) > std::numeric_limits<float>::max()) {
+        float single = 0.0f;
+        if (!read_faces && std::abs(value) > std::numeric_limits<float>::max() &&
+            (!ParseFloat(token, &single) || !std::isfinite(single))) {
           return lines->Fail(problem, Quote(token),
                              " is beyond the float range, which OpenMesh's reader of this PLY "
                              "layout cannot take; keep only a vertex and a face element");

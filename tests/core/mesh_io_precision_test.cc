@@ -348,5 +348,26 @@ TEST(MeshIoPrecisionTest, DecimalsReadAsStrtodAndBeyondTheDoubleRangeAreRefused)
   }
 }
 
+// OpenMesh reads the PLY layouts msdeform does not read itself, and its
+// stream input cannot take an ASCII value beyond the float range (it read the
+// rest of the file out of step): such a value is refused with its line.
+TEST(MeshIoPrecisionTest, AsciiPlyBeyondTheFloatRangeInOpenMeshsLayoutIsRefused) {
+  Mesh mesh = AwkwardMesh();
+  const std::string path = FreshFolder() + "/extra.ply";
+  WriteBytes(path, PlyText(mesh, "ascii", "double", /*extra_element=*/true));
+  Mesh read;
+  std::string error;
+  EXPECT_FALSE(ReadMesh(path, &read, &error));
+  // kAwkward[8] = 1e300, vertex 2's z, is the first value beyond the float
+  // range; the header takes 11 lines, so vertex 2 is on line 14.
+  EXPECT_EQ(error, path + ": line 14: '1e+300' is beyond the float range, which OpenMesh's "
+                          "reader of this PLY layout cannot take; keep only a vertex and a face "
+                          "element");
+  // Within the float range the same layout reads exactly.
+  WriteBytes(path, PlyText(FloatRangeAwkwardMesh(), "ascii", "double", true));
+  ASSERT_TRUE(ReadMesh(path, &read, &error)) << error;
+  EXPECT_EQ(BitDifference(read.vertices, FloatRangeAwkwardMesh().vertices), "");
+}
+
 }  // namespace
 }  // namespace msdeform
