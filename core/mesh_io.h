@@ -4,9 +4,8 @@
 // Formats, chosen by extension (case-insensitive):
 //   in:  .off (also COFF, NOFF, STOFF, ... and binary OFF in OpenMesh's layout,
 //        i.e. without the per-face colour count of the OFF spec), .obj, .ply, .stl
-//   out: .off, .obj, .ply (ASCII), each coordinate the shortest decimal that
-//        reads back as the same double; reading takes coordinates through
-//        single precision, as OpenMesh's readers do
+//   out: .off, .obj (text), each coordinate the shortest decimal that reads
+//        back as the same double; .ply (binary, double coordinates)
 //
 // Vertex i of the Mesh is the i-th vertex of the file: Botsch-Sorkine .sel
 // files and scenario vertex ids index it. Non-manifold input (an edge shared
@@ -40,10 +39,13 @@
 // Counts are of triangles after the fan split; for a triangle mesh they are
 // the file's faces.
 //
-// Coordinates pass through OpenMesh as single precision both ways: reading
-// rounds to float, writing prints floats with 9 significant digits, which
-// reproduces every float exactly, so a write-read round trip is within float
-// rounding (about 6e-8 relative) and a second round trip is exact.
+// Coordinates are read exactly, whichever reader parses the rest: a decimal
+// is the nearest double (as strtod reads it; one beyond the double range is
+// refused as not finite, one below the smallest subnormal is a zero), a
+// binary double is itself, and a float (binary PLY or STL, or the decimal of
+// an ASCII PLY property declared float) is the nearest float, widened. So
+// WriteMesh then ReadMesh gives back every coordinate bit for bit (negative
+// zeros and subnormals included) in .off, .obj and .ply.
 
 #ifndef MSDEFORM_CORE_MESH_IO_H_
 #define MSDEFORM_CORE_MESH_IO_H_

@@ -11,8 +11,8 @@
 // count says or crash on a malformed header (found by the fuzzers in
 // tests/fuzz/). So each file is checked first, with a message naming the
 // line, and the check says what OpenMesh must then hand over.
-// A format that parses its data itself (text OFF, binary PLY) fills the
-// PolygonSoup directly instead of going through ReadWithOpenMesh; everything
+// A format that parses its data itself (text OFF, OBJ, PLY of the common
+// layouts) fills the PolygonSoup directly instead of going through ReadWithOpenMesh; everything
 // after it (fan split, welding, dropped faces) stays shared.
 
 #ifndef MSDEFORM_CORE_MESH_IO_FORMATS_H_
@@ -58,15 +58,21 @@ struct FormatCheck {
   // without a word; the notice counts them with those dropped later.
   int dropped_degenerate_faces = 0;
   // True when the check read the data into `soup` itself, in the same pass
-  // (text OFF: CheckOff; binary little-endian PLY of the common layout:
-  // CheckPly), so OpenMesh is not run; coordinates are taken through single
-  // precision, as OpenMesh's readers take them.
+  // (text OFF, OBJ, and PLY of a vertex and a face element, ASCII or binary
+  // little-endian), so OpenMesh is not run.
   bool read_data = false;
+  // True when the check read only the vertices' coordinates into soup.xyz
+  // (the other PLY layouts, with float or double x, y, z): OpenMesh's
+  // readers take coordinates through single precision, so ReadWithOpenMesh
+  // replaces what they hand over with these.
+  bool read_coordinates = false;
   PolygonSoup soup;
 };
 
 // Each checks the whole (non-empty) text of a file in its format and fills
-// *check. On failure puts one line in *problem, without the file name: "line
+// *check. Coordinates are read exactly: a text coordinate is the double
+// nearest to its decimal (a float property's: the nearest float, widened), a
+// binary one the value stored (a float widened). On failure puts one line in *problem, without the file name: "line
 // N: ..." or what is wrong with the whole file.
 bool CheckOff(std::string_view text, FormatCheck* check, std::string* problem);
 bool CheckObj(std::string_view text, FormatCheck* check, std::string* problem);
@@ -83,9 +89,11 @@ struct MeshFormat {
   bool writable;  // WriteMeshFile writes it
 };
 
-// Reads `path` with OpenMesh's reader
-// for `format` into *soup, and compares what it handed over with the counts
-// in `check`. On failure puts one line in *problem, without the file name.
+// Reads `path` with OpenMesh's reader for `format` into *soup, compares what
+// it handed over with the counts in `check`, and puts the check's exact
+// coordinates in place of OpenMesh's when it read them
+// (check.read_coordinates). On failure puts one line in *problem, without
+// the file name.
 bool ReadWithOpenMesh(const std::string& path, const MeshFormat& format, FormatCheck check,
                       PolygonSoup* soup, std::string* problem);
 

@@ -1,7 +1,7 @@
-// The OBJ check. OpenMesh's OBJ reader keeps going with stale values after a
-// number fails to parse, and asserts on a malformed face corner; so the
-// "v x y z" and "f ..." lines are checked here first, and the faces it will
-// hand over are predicted.
+// The OBJ reader: the "v x y z" and "f ..." lines checked and read in one
+// pass. (OpenMesh's OBJ reader, used before, kept going with stale values
+// after a number failed to parse, asserted on a malformed face corner, took
+// coordinates through float and skipped a vertex beyond the float range.)
 
 #include <algorithm>
 #include <limits>
@@ -42,22 +42,60 @@ bool ParseObjFaceCorner(std::string_view corner, long long* vertex) {
   return true;
 }
 
+// Removes the repeats of a value from *ids, keeping the first of each in
+// place: pairwise for a short list, by a stable sort of the positions for a
+// long one (n log n, not n^2, for a face of a million corners). *order is
+// scratch space.
+void RemoveRepeats(std::vector<long long>* ids, std::vector<int>* order) {
+  std::vector<long long>& v = *ids;
+  constexpr size_t kScanLimit = 32;
+  size_t kept = 0;
+  if (v.size() <= kScanLimit) {
+    for (size_t i = 0; i < v.size(); ++i) {
+      if (std::find(v.begin(), v.begin() + kept, v[i]) == v.begin() + kept) v[kept++] = v[i];
+    }
+    v.resize(kept);
+    return;
+  }
+  order->resize(v.size());
+  for (size_t i = 0; i < v.size(); ++i) (*order)[i] = static_cast<int>(i);
+  std::stable_sort(order->begin(), order->end(), [&v](int a, int b) { return v[a] < v[b]; });
+  // Mark the repeats (all but the first position of each value), then
+  // compact in order.
+  std::vector<char> repeat(v.size(), 0);
+  for (size_t i = 1; i < order->size(); ++i) {
+    if (v[(*order)[i]] == v[(*order)[i - 1]]) repeat[(*order)[i]] = 1;
+  }
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (!repeat[i]) v[kept++] = v[i];
+  }
+  v.resize(kept);
+}
+
 }  // namespace
 
-// Counts the vertices and predicts the faces OpenMesh hands over: its reader
-// removes the repeats of a vertex from a face ((a, b, b, c) becomes (a, b,
-// c)) and skips a face left with fewer than 3, so the fan triangles lost that
-// way are counted too.
+// Reads the file into check->soup in the same pass: each "v" line's first
+// three numbers as doubles, each "f" line's vertex numbers as ids from 0
+// (negative ones counted back from the last vertex so far). A face is what
+// OpenMesh's reader, used before, handed over (the tests compare the two):
+// the repeats of a vertex removed, the first of each kept ((a, b, b, c) and
+// (a, b, c, a) become (a, b, c)), and a face left with fewer than 3 skipped;
+// the fan triangles lost that way are counted. Ids out of range are refused
+// later, with the face's number (SplitIntoTriangles). (OpenMesh took
+// coordinates through float, and skipped a vertex beyond the float range.)
 bool CheckObj(std::string_view text, FormatCheck* check, std::string* problem) {
   TextLines lines(text);
   long long count = 0;
   long long num_faces = 0;
   long long dropped_triangles = 0;
   std::vector<long long> ids;
+  std::vector<int> order;
+  PolygonSoup& soup = check->soup;
+  soup = PolygonSoup();
   while (lines.NextWithContent()) {
     const TextLines::Tokens& tokens = lines.tokens();
     if (tokens[0] == "v") {
-      if (!CheckVertexCoordinates(lines, 1, count, problem)) return false;
+      if (!ReadVertexCoordinates(lines, 1, count, &soup.xyz, problem)) return false;
       ++count;
       continue;
     }
@@ -72,21 +110,29 @@ bool CheckObj(std::string_view text, FormatCheck* check, std::string* problem) {
         return lines.Fail(problem, "face corner ", Quote(tokens[k]),
                           " is not v, v/t, v//n or v/t/n with a non-zero vertex number");
       }
-      ids.push_back(id < 0 ? count + id + 1 : id);  // as OpenMesh resolves it
+      ids.push_back((id < 0 ? count + id + 1 : id) - 1);
     }
     const long long corners = static_cast<long long>(ids.size());
-    std::sort(ids.begin(), ids.end());
-    const long long distinct = std::unique(ids.begin(), ids.end()) - ids.begin();
-    if (distinct >= 3) ++num_faces;
+    RemoveRepeats(&ids, &order);
+    const long long distinct = static_cast<long long>(ids.size());
     dropped_triangles += (corners - 2) - std::max(distinct - 2, 0LL);
+    if (distinct < 3) continue;
+    if (num_faces == std::numeric_limits<int>::max() ||
+        soup.face_ids.size() + ids.size() > static_cast<size_t>(std::numeric_limits<int>::max())) {
+      return SetProblem(problem, "too many vertices or faces");
+    }
+    ++num_faces;
+    for (long long id : ids) soup.face_ids.push_back(static_cast<int>(id));
+    soup.face_offsets.push_back(static_cast<int>(soup.face_ids.size()));
   }
-  if (count > std::numeric_limits<int>::max() || num_faces > std::numeric_limits<int>::max() ||
+  if (count > std::numeric_limits<int>::max() ||
       dropped_triangles > std::numeric_limits<int>::max()) {
     return SetProblem(problem, "too many vertices or faces");
   }
   check->num_vertices = static_cast<int>(count);
   check->num_faces = static_cast<int>(num_faces);
   check->dropped_degenerate_faces = static_cast<int>(dropped_triangles);
+  check->read_data = true;
   return true;
 }
 

@@ -151,9 +151,8 @@ bool CheckOffText(std::string_view text, FormatCheck* check, std::string* proble
   }
   check->num_vertices = static_cast<int>(num_vertices);
   check->num_faces = static_cast<int>(num_faces);
-  // What OpenMesh would read from the (normalised) text is read here, in the
-  // same pass: the first three numbers of a vertex line as floats, the ids of
-  // a face line. Reservations are bounded by what the rest of the file can
+  // The mesh is read here, in the same pass: the first three numbers of a
+  // vertex line as doubles, the ids of a face line. Reservations are bounded by what the rest of the file can
   // hold ("0 0 0" and "3 0 1 2" with their line ends): the counts are not
   // trusted yet.
   PolygonSoup& soup = check->soup;
@@ -170,12 +169,7 @@ bool CheckOffText(std::string_view text, FormatCheck* check, std::string* proble
   for (; item < total && lines.NextWithContent(); ++item) {
     const Tokens& tokens = lines.tokens();
     if (item < num_vertices) {
-      if (!CheckVertexCoordinates(lines, 0, item, problem)) return false;
-      for (int k = 0; k < 3; ++k) {
-        float coordinate = 0.0f;
-        ParseFloat(tokens[k], &coordinate);
-        soup.xyz.push_back(coordinate);
-      }
+      if (!ReadVertexCoordinates(lines, 0, item, &soup.xyz, problem)) return false;
       continue;
     }
     const long long face = item - num_vertices;

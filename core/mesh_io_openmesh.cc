@@ -13,6 +13,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <OpenMesh/Core/IO/IOManager.hh>
@@ -166,6 +167,15 @@ bool ReadWithOpenMesh(const std::string& path, const MeshFormat& format, FormatC
             << soup->num_polygons() << " faces (corrupt file?)";
     *problem = message.str();
     return false;
+  }
+  if (check.read_coordinates) {
+    // The counts agree, so the check read one x, y, z per vertex OpenMesh
+    // handed over, in the same order.
+    if (check.soup.xyz.size() != soup->xyz.size()) {
+      *problem = "the check and OpenMesh read different numbers of coordinates (corrupt file?)";
+      return false;
+    }
+    soup->xyz = std::move(check.soup.xyz);
   }
   return true;
 }

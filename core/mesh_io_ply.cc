@@ -120,13 +120,64 @@ bool ParsePlyHeader(TextLines* lines, PlyHeader* header, std::string* problem) {
   return SetProblem(problem, "truncated: the PLY header has no end_header line");
 }
 
+bool IsFloatType(std::string_view type) {
+  return type == "float" || type == "float32" || type == "double" || type == "float64";
+}
+
+// Which coordinate (0, 1, 2) each property of `element` is, -1 for the
+// others, when `element` is "vertex" and has scalar float or double x, y
+// and z (the last of a repeated name); else empty (OpenMesh's values are
+// then kept).
+std::vector<int> CoordinateSlots(const PlyElement& element) {
+  if (element.name != "vertex") return {};
+  int property_of[3] = {-1, -1, -1};
+  for (size_t p = 0; p < element.properties.size(); ++p) {
+    const PlyProperty& property = element.properties[p];
+    for (int k = 0; k < 3; ++k) {
+      if (property.name == std::string_view("xyz" + k, 1)) {
+        property_of[k] = property.is_list || !IsFloatType(property.type) ? -2 : static_cast<int>(p);
+      }
+    }
+  }
+  if (property_of[0] < 0 || property_of[1] < 0 || property_of[2] < 0) return {};
+  std::vector<int> slots(element.properties.size(), -1);
+  for (int k = 0; k < 3; ++k) slots[property_of[k]] = k;
+  return slots;
+}
+
+// True for the layout msdeform reads itself: a "vertex" element with float
+// or double x, y, z (CoordinateSlots), then a "face" element whose one
+// property is an integer list named vertex_indices (or vertex_index).
+bool IsVertexFaceLayout(const PlyHeader& header) {
+  if (header.elements.size() != 2 || header.elements[0].name != "vertex" ||
+      header.elements[1].name != "face" || CoordinateSlots(header.elements[0]).empty() ||
+      header.elements[1].properties.size() != 1) {
+    return false;
+  }
+  const PlyProperty& list = header.elements[1].properties[0];
+  return list.is_list && (list.name == "vertex_indices" || list.name == "vertex_index") &&
+         !IsFloatType(list.type) && !IsFloatType(list.count_type);
+}
+
 // ASCII data after the header: one element per line, exactly its values,
 // every value a finite number, a list count the number of values after it,
-// face vertex ids in 0..num_vertex_ids - 1.
+// face vertex ids in 0..num_vertex_ids - 1. The vertices' x, y, z (when
+// CoordinateSlots finds them) go to soup->xyz: a double property's decimal as
+// the nearest double, a float property's as the nearest float, widened. With
+// `read_faces` (IsVertexFaceLayout) the faces go to the soup too; else
+// OpenMesh reads the file after this check, and a value beyond the float
+// range, which its stream input cannot take (it then reads the rest of the
+// file out of step), is refused.
 bool CheckAsciiPlyData(TextLines* lines, const PlyHeader& header, long long num_vertex_ids,
-                       std::string* problem) {
+                       bool read_faces, PolygonSoup* soup, std::string* problem) {
   const Tokens& tokens = lines->tokens();
+  std::vector<double>* xyz = &soup->xyz;
   for (const PlyElement& element : header.elements) {
+    const bool faces = read_faces && element.name == "face";
+    const std::vector<int> slots = CoordinateSlots(element);
+    const bool has_coordinates = !slots.empty();
+    // Grown as the items are read: the header's count is not trusted yet.
+    if (has_coordinates) xyz->clear();
     for (long long item = 0; item < element.count; ++item) {
       do {
         if (!lines->Next()) {
@@ -135,15 +186,36 @@ bool CheckAsciiPlyData(TextLines* lines, const PlyHeader& header, long long num_
         }
         if (lines->had_comment()) return lines->Fail(problem, "'#' in PLY data");
       } while (tokens.empty());
+      if (has_coordinates) xyz->resize(xyz->size() + 3);
       for (const std::string_view& token : tokens) {
         double value = 0.0;
         if (!ParseDouble(token, &value) || !std::isfinite(value)) {
           return lines->Fail(problem, Quote(token), " is not a finite number");
         }
+        float single = 0.0f;
+        if (!read_faces && std::abs(value) > std::numeric_limits<float>::max() &&
+            (!ParseFloat(token, &single) || !std::isfinite(single))) {
+          return lines->Fail(problem, Quote(token),
+                             " is beyond the float range, which OpenMesh's reader of this PLY "
+                             "layout cannot take; keep only a vertex and a face element");
+        }
       }
       size_t t = 0;
-      for (const PlyProperty& property : element.properties) {
+      for (size_t p = 0; p < element.properties.size(); ++p) {
+        const PlyProperty& property = element.properties[p];
         if (!property.is_list) {
+          if (has_coordinates && slots[p] >= 0 && t < tokens.size()) {
+            // (Beyond the float range a float property is infinite, refused
+            // with the mesh's "non-finite coordinate", as OpenMesh's was.)
+            double& coordinate = (*xyz)[3 * item + slots[p]];
+            float single = 0.0f;
+            if (PlyTypeSize(property.type) == 8) {
+              ParseDouble(tokens[t], &coordinate);
+            } else {
+              ParseFloat(tokens[t], &single);
+              coordinate = single;
+            }
+          }
           ++t;
           continue;
         }
@@ -159,9 +231,11 @@ bool CheckAsciiPlyData(TextLines* lines, const PlyHeader& header, long long num_
             return lines->Fail(problem, "face ", item, ": vertex id ", Quote(tokens[t + 1 + k]),
                                " is not in 0..", num_vertex_ids - 1);
           }
+          if (faces) soup->face_ids.push_back(static_cast<int>(id));
         }
         t += 1 + count;
       }
+      if (faces) soup->face_offsets.push_back(static_cast<int>(soup->face_ids.size()));
       if (t != tokens.size()) {
         return lines->Fail(problem, element.name, " ", item, " has ", tokens.size(),
                            " values; its properties take ", t);
@@ -187,21 +261,49 @@ long long ReadPlyInt(std::string_view text, size_t at, std::string_view type, bo
   return static_cast<long long>(bits);
 }
 
+// The float (size 4) or double (size 8) at text[at], widened to double.
+double ReadPlyReal(std::string_view text, size_t at, int size, bool big_endian) {
+  unsigned long long bits = 0;
+  for (int k = 0; k < size; ++k) {
+    const size_t byte = at + (big_endian ? k : size - 1 - k);
+    bits = (bits << 8) | static_cast<unsigned char>(text[byte]);
+  }
+  if (size == 8) {
+    double value;
+    std::memcpy(&value, &bits, sizeof(value));
+    return value;
+  }
+  const uint32_t low = static_cast<uint32_t>(bits);
+  float value;
+  std::memcpy(&value, &low, sizeof(value));
+  return value;
+}
+
 // Binary data from text[at]: every element's properties within the file, a
 // list count within the rest of the file, integer face vertex ids in
-// 0..num_vertex_ids - 1.
+// 0..num_vertex_ids - 1. The vertices' x, y, z (when CoordinateSlots finds
+// them) go to *xyz as they are stored (a float widened).
 bool CheckBinaryPlyData(std::string_view text, size_t at, const PlyHeader& header,
-                        long long num_vertex_ids, std::string* problem) {
+                        long long num_vertex_ids, std::vector<double>* xyz,
+                        std::string* problem) {
   const bool big_endian = header.format == "binary_big_endian";
   for (const PlyElement& element : header.elements) {
+    const std::vector<int> slots = CoordinateSlots(element);
+    // Grown as the items are read: the header's count is not trusted yet.
+    if (!slots.empty()) xyz->clear();
     for (long long item = 0; item < element.count; ++item) {
-      for (const PlyProperty& property : element.properties) {
+      if (!slots.empty()) xyz->resize(xyz->size() + 3);
+      for (size_t p = 0; p < element.properties.size(); ++p) {
+        const PlyProperty& property = element.properties[p];
         const size_t size = PlyTypeSize(property.is_list ? property.count_type : property.type);
         if (text.size() - at < size) {
           return SetProblem(problem, "truncated: the binary data ends in element '", element.name,
                             "' ", item, " of ", element.count);
         }
         if (!property.is_list) {
+          if (!slots.empty() && slots[p] >= 0) {
+            (*xyz)[3 * item + slots[p]] = ReadPlyReal(text, at, static_cast<int>(size), big_endian);
+          }
           at += size;
           continue;
         }
@@ -228,10 +330,6 @@ bool CheckBinaryPlyData(std::string_view text, size_t at, const PlyHeader& heade
   return true;
 }
 
-bool IsFloatType(std::string_view type) {
-  return type == "float" || type == "float32" || type == "double" || type == "float64";
-}
-
 bool IsSignedType(std::string_view type) {
   return type == "char" || type == "int8" || type == "short" || type == "int16" ||
          type == "int" || type == "int32";
@@ -256,25 +354,12 @@ long long LoadInt(const char* at, int size, bool is_signed) {
   }
 }
 
-// A coordinate as OpenMesh's reader hands it over: through single precision.
-// A double through single precision as strtof rounds its decimal text (to
-// nearest; from FLT_MAX plus half an ulp on, to infinity, which ValidateMesh
-// refuses as it does an OFF coordinate of 1e300). A plain conversion of a
-// finite double beyond the float range is undefined.
-float ToFloatAsStrtof(double value) {
-  constexpr float kMax = std::numeric_limits<float>::max();
-  constexpr double kOverflow = static_cast<double>(kMax) + 0x1p103;  // exact in a double
-  const double magnitude = std::abs(value);
-  if (magnitude >= kOverflow) return std::copysign(std::numeric_limits<float>::infinity(), value);
-  if (magnitude > kMax) return std::copysign(kMax, value);
-  return static_cast<float>(value);  // NaN stays NaN
-}
-
+// A coordinate as it is stored: a double, or a float widened (exactly).
 double LoadCoordinate(const char* at, bool is_double) {
   if (is_double) {
     double value;
     std::memcpy(&value, at, sizeof(value));
-    return ToFloatAsStrtof(value);
+    return value;
   }
   float value;
   std::memcpy(&value, at, sizeof(value));
@@ -385,16 +470,33 @@ bool CheckPly(std::string_view text, FormatCheck* check, std::string* problem) {
   check->num_vertices = header.num_vertices;
   check->num_faces = header.num_faces;
   const long long num_vertex_ids = std::max(header.num_vertices, 0);
-  if (header.format == "ascii") return CheckAsciiPlyData(&lines, header, num_vertex_ids, problem);
+  // Outside the common binary layout OpenMesh reads the file, and the
+  // coordinates the check reads (exact, where OpenMesh's go through float)
+  // replace its own when the vertex element has float or double x, y, z.
+  check->soup = PolygonSoup();
+  for (const PlyElement& element : header.elements) {
+    if (element.name == "vertex") check->read_coordinates = !CoordinateSlots(element).empty();
+  }
+  if (header.format == "ascii") {
+    const bool read_faces = IsVertexFaceLayout(header);
+    if (!CheckAsciiPlyData(&lines, header, num_vertex_ids, read_faces, &check->soup, problem)) {
+      return false;
+    }
+    check->read_data = read_faces;
+    check->read_coordinates = check->read_coordinates && !read_faces;
+    return true;
+  }
   bool handled = false;
   if (!ReadCommonBinaryPly(text, lines.next_offset(), header, &check->soup, &handled, problem)) {
     return false;
   }
   if (handled) {
     check->read_data = true;
+    check->read_coordinates = false;
     return true;
   }
-  return CheckBinaryPlyData(text, lines.next_offset(), header, num_vertex_ids, problem);
+  return CheckBinaryPlyData(text, lines.next_offset(), header, num_vertex_ids, &check->soup.xyz,
+                            problem);
 }
 
 }  // namespace msdeform

@@ -3,8 +3,7 @@
 // to 1e-12, say): OFF and OBJ print each coordinate as the shortest decimal
 // that reads back as the same double (std::to_chars); PLY is binary
 // little-endian with double coordinates, written at disk speed for the large
-// meshes. msdeform's reader still takes coordinates through single precision
-// (core/mesh_io.h), as OpenMesh does; other readers get the doubles.
+// meshes. ReadMesh reads them back bit for bit (core/mesh_io.h).
 
 #include <algorithm>
 #include <charconv>

@@ -89,8 +89,8 @@ bool ParseFloat(std::string_view token, float* value) {
   return ParseReal<float>(token, std::strtof, value);
 }
 
-bool CheckVertexCoordinates(const TextLines& lines, size_t first, long long vertex,
-                            std::string* problem) {
+bool ReadVertexCoordinates(const TextLines& lines, size_t first, long long vertex,
+                           std::vector<double>* xyz, std::string* problem) {
   const TextLines::Tokens& tokens = lines.tokens();
   if (tokens.size() < first + 3) {
     return lines.Fail(problem, "vertex ", vertex, " has fewer than 3 coordinates");
@@ -105,6 +105,7 @@ bool CheckVertexCoordinates(const TextLines& lines, size_t first, long long vert
       return lines.Fail(problem, "vertex ", vertex, " coordinate ", Quote(tokens[k]),
                         " is not finite");
     }
+    xyz->push_back(value);
   }
   return true;
 }

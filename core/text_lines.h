@@ -70,17 +70,20 @@ class TextLines {
 std::string Quote(std::string_view token);
 
 // Each true when the whole token is one number. ParseDouble and ParseFloat
-// go through strtod and strtof, so "nan" and "inf" parse (and can then be
-// refused as non-finite rather than as junk); ParseFloat rounds as
-// OpenMesh's stream input does.
+// take strtod's and strtof's syntax and value (correctly rounded to the
+// nearest double or float; beyond the range infinite, below it zero or
+// subnormal), so "nan" and "inf" parse (and can then be refused as
+// non-finite rather than as junk).
 bool ParseInt(std::string_view token, long long* value);
 bool ParseDouble(std::string_view token, double* value);
 bool ParseFloat(std::string_view token, float* value);
 
 // Checks that tokens first, first + 1 and first + 2 of the current line are
-// finite numbers: the coordinates of vertex `vertex` of an OFF or OBJ text.
-bool CheckVertexCoordinates(const TextLines& lines, size_t first, long long vertex,
-                            std::string* problem);
+// finite doubles, the coordinates of vertex `vertex` of an OFF or OBJ text,
+// and appends them to *xyz. A decimal beyond the double range is refused as
+// not finite.
+bool ReadVertexCoordinates(const TextLines& lines, size_t first, long long vertex,
+                           std::vector<double>* xyz, std::string* problem);
 
 }  // namespace msdeform
 

@@ -116,13 +116,15 @@ void BindIo(py::module_& m) {
   m.def("read_mesh", &ReadMeshFile, py::arg("path"), py::arg("with_report") = false,
         "Reads a triangle mesh (.off, .obj, .ply, .stl; docs/formats.md) and returns (V, F): "
         "V float64 (#V, 3), F int32 (#F, 3), both new arrays, vertex i being the file's vertex "
-        "i. Coordinates pass through single precision. Triangles that repeat a vertex and "
+        "i. Coordinates are read exactly (a float in the file, as in STL, widened): what "
+        "write_mesh wrote reads back bit for bit. Triangles that repeat a vertex and "
         "exact duplicates are dropped; with with_report=True the result is (V, F, report), "
         "report a dict with dropped_degenerate_faces, dropped_duplicate_faces and notice. "
         "Raises OSError with the C++ message (file, line, problem) on any failure.");
   m.def("write_mesh", &WriteMeshFile, py::arg("path"), py::arg("V"), py::arg("F"),
-        "Writes V (#V, 3) and F (#F, 3) to path (.off, .obj or .ply by extension, ASCII, "
-        "single-precision coordinates) atomically: a failed write leaves no file. Raises "
+        "Writes V (#V, 3) and F (#F, 3) to path (.off, .obj or .ply by extension; "
+        "every coordinate exact: the shortest decimal of each double in .off and .obj, binary "
+        "doubles in .ply) atomically: a failed write leaves no file. Raises "
         "TypeError/ValueError for bad arrays (ValueError with the C++ ValidateMesh message for "
         "out-of-range face indices, non-finite coordinates, ...) and OSError when the file "
         "cannot be written or the extension is not one of those.");

@@ -59,8 +59,8 @@ def read_off_exact(path):
     """(V, F) of a triangle OFF (or COFF) file in the one-item-per-line layout msdeform
     writes, coordinates parsed as doubles and colours ignored.
 
-    msdeform.read_mesh takes coordinates through single precision (as OpenMesh does); this
-    reads what the file holds, e.g. the exact doubles msdeform's writer printed.
+    Parsed without msdeform, to check msdeform.read_mesh and write_mesh against the file's
+    own numbers (e.g. the exact doubles msdeform's writer printed).
     """
     with open(path) as file:
         assert file.readline().strip() in ("OFF", "COFF")

@@ -213,13 +213,17 @@ TEST(DeformerTest, BotschSorkineCactusReachesItsTarget) {
   // 620 vertices give nodes that skin fixed and free vertices together, and
   // the fixed vertices drift (3.4%; experiments/results/README.md, claim 2).
   // The paper's procedure holds the lower trunk Fixed (R = I, t = 0): its
-  // fixed vertices stay within 0.3%, its handle at 1.47%.
+  // fixed vertices stay within 0.3%, its handle at about 1.5%. (1.67% with
+  // the file's coordinates read exactly, 1.47% when they were rounded to
+  // float, 1.5-1.6% with each coordinate moved by 1e-12 relative: which edges
+  // the coarse graph keeps turns on near-ties; docs/decisions.md,
+  // "Correctness review (issue 26): coordinates read exactly".)
   const auto [multiscale_rms, multiscale_fixed] =
       CactusErrors(Method::kMultiScale, Solver::kCeres);
   EXPECT_LT(multiscale_rms, 0.015);
   const auto [paper_rms, paper_fixed] =
       CactusErrors(Method::kMultiScale, Solver::kCeres, PaperProcedure(DeformerOptions()));
-  EXPECT_LT(paper_rms, 0.015);
+  EXPECT_LT(paper_rms, 0.02);
   EXPECT_LT(paper_fixed, 3e-3);
   EXPECT_LT(multiscale_rms, paper_rms);
   // The same minimum as Ceres (tests/scales/gauss_newton_solver_test.cc), faster.
