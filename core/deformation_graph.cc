@@ -61,7 +61,7 @@ void ConnectGraph(const Mesh& mesh, const Lattice& lattice, const GraphOptions& 
   }
   for (int j = 0; j < num_nodes; ++j) neighbors.offsets[j + 1] += neighbors.offsets[j];
   neighbors.values.resize(neighbors.offsets[num_nodes]);
-  std::vector<int> fill(neighbors.offsets.begin(), neighbors.offsets.end() - 1);
+  std::vector<int64_t> fill(neighbors.offsets.begin(), neighbors.offsets.end() - 1);
   for (const auto& [a, b] : graph->edges) {
     neighbors.values[fill[a]++] = b;
     neighbors.values[fill[b]++] = a;

@@ -188,10 +188,10 @@ DeformationGraph EdgeCollapse::Snapshot() {
     graph.positions.col(j) = position_.col(root);
     graph.node_vertex[j] = vertex_[root];
     graph.members.offsets[j + 1] =
-        graph.members.offsets[j] + static_cast<int>(members_[root].size());
+        graph.members.offsets[j] + static_cast<int64_t>(members_[root].size());
   }
   graph.members.values.resize(num_dg1);
-  std::vector<int> fill(graph.members.offsets.begin(), graph.members.offsets.end() - 1);
+  std::vector<int64_t> fill(graph.members.offsets.begin(), graph.members.offsets.end() - 1);
   for (int i = 0; i < num_dg1; ++i) graph.members.values[fill[graph.node_of_dg1[i]]++] = i;
   return graph;
 }
