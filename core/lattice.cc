@@ -29,17 +29,17 @@ CompressedLists ListsFromPairs(int num_rows, const std::vector<std::pair<int, in
   std::vector<int>& values = lists.values;
   values.resize(pairs.size());
   {
-    std::vector<int> fill(lists.offsets.begin(), lists.offsets.end() - 1);
+    std::vector<int64_t> fill(lists.offsets.begin(), lists.offsets.end() - 1);
     for (const auto& [row, value] : pairs) values[fill[row]++] = value;
   }
   // Sort each row and drop its repeats, moving the rows down over the gaps:
   // row r's old bounds are read before offsets[r] is rewritten.
-  int kept = 0;
+  int64_t kept = 0;
   for (int r = 0; r < num_rows; ++r) {
-    const int begin = lists.offsets[r], end = lists.offsets[r + 1];
+    const int64_t begin = lists.offsets[r], end = lists.offsets[r + 1];
     std::sort(values.begin() + begin, values.begin() + end);
     lists.offsets[r] = kept;
-    for (int i = begin; i < end; ++i) {
+    for (int64_t i = begin; i < end; ++i) {
       if (i == begin || values[i] != values[i - 1]) values[kept++] = values[i];
     }
   }

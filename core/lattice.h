@@ -21,6 +21,7 @@
 #ifndef MSDEFORM_CORE_LATTICE_H_
 #define MSDEFORM_CORE_LATTICE_H_
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -42,13 +43,15 @@ struct LatticeOptions {
 };
 
 // A compressed list of lists: the entries of row r are
-// values[offsets[r] .. offsets[r + 1]).
+// values[offsets[r] .. offsets[r + 1]). Offsets are 64-bit: the particle
+// adjacency of a grid of max_grid_cells = 2^28 cells (26 neighbours each)
+// passes INT_MAX entries in all, though every row is short.
 struct CompressedLists {
-  std::vector<int> offsets{0};
+  std::vector<int64_t> offsets{0};
   std::vector<int> values;
 
   int num_rows() const { return static_cast<int>(offsets.size()) - 1; }
-  int size(int row) const { return offsets[row + 1] - offsets[row]; }
+  int size(int row) const { return static_cast<int>(offsets[row + 1] - offsets[row]); }
   const int* begin(int row) const { return values.data() + offsets[row]; }
   const int* end(int row) const { return values.data() + offsets[row + 1]; }
 };

@@ -130,7 +130,7 @@ CompressedLists CandidateNodesOfCells(const Lattice& lattice, const std::vector<
   candidates.offsets.resize(num_cells + 1);
   candidates.offsets[0] = 0;
   for (int c = 0; c < num_cells; ++c) {
-    candidates.offsets[c + 1] = candidates.offsets[c] + static_cast<int>(found[c].size());
+    candidates.offsets[c + 1] = candidates.offsets[c] + static_cast<int64_t>(found[c].size());
   }
   candidates.values.reserve(candidates.offsets[num_cells]);
   for (int c = 0; c < num_cells; ++c) {

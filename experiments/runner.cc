@@ -275,6 +275,7 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
 
   DeformerOptions base = options.deformer;
   base.num_threads = options.threads;
+  base.graph.num_threads = options.threads;
 
   Table table1{"Table 1: the multi-scale method per model (paper Table 1)",
                {"model", "scenario", "vertices", "faces", "cell_width", "particles", "d1",

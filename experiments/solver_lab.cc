@@ -453,6 +453,7 @@ bool MakePlan(const SolverLabOptions& options, LabPlan* plan, std::string* error
   plan->base = options.deformer;
   ResetSolverFields(&plan->base);
   plan->base.num_threads = options.threads;
+  plan->base.graph.num_threads = options.threads;
   return true;
 }
 

@@ -457,7 +457,8 @@ void BindDeformerOptions(py::module_& m) {
              "Ablation: keep E(j, k) for Half Free j.")
       .Field("fix_fixed_handle_nodes", &DO::fix_fixed_handle_nodes,
              "Ablation: fixed-handle nodes are Fixed, not Half Free.")
-      .Field("num_threads", &DO::num_threads, "Threads for skinning and the Ceres solve.")
+      .Field("num_threads", &DO::num_threads,
+             "Threads for skinning and the Ceres solve; as a keyword, also graph.num_threads.")
       .Field("cached_scales", &DO::cached_scales,
              "Multi-scale: coarse scales whose skinning data is kept once built (when first "
              "used); the least recently used is dropped beyond this.")
@@ -507,7 +508,15 @@ DeformerOptions DeformerOptionsFrom(const py::handle& options, const py::kwargs&
                    Repr(options));
   }
   ApplyKeywords(result, kwargs);
-  return result.cast<DeformerOptions>();
+  DeformerOptions resolved = result.cast<DeformerOptions>();
+  // `num_threads` is the one thread count, as --threads is: it bounds the
+  // graph building too unless `graph` is given with its own.
+  const auto given = [&](const char* key) {
+    return kwargs.contains(key) ||
+           (py::isinstance<py::dict>(options) && options.cast<py::dict>().contains(key));
+  };
+  if (given("num_threads") && !given("graph")) resolved.graph.num_threads = resolved.num_threads;
+  return resolved;
 }
 
 void BindOptions(py::module_& m) {

@@ -53,7 +53,7 @@ CompressedLists RingsOf(const CompressedLists& adjacency, int half_width) {
     }
     std::sort(ring.begin(), ring.end());
     rings.values.insert(rings.values.end(), ring.begin(), ring.end());
-    rings.offsets.push_back(static_cast<int>(rings.values.size()));
+    rings.offsets.push_back(static_cast<int64_t>(rings.values.size()));
   }
   return rings;
 }
@@ -218,7 +218,7 @@ bool RigidityEstimator::Init(const Lattice& lattice, const RigidityOptions& opti
         if (inserted) cells->push_back(cell);
         members->values.push_back(it->second);
       }
-      members->offsets.push_back(static_cast<int>(members->values.size()));
+      members->offsets.push_back(static_cast<int64_t>(members->values.size()));
     }
   };
   std::vector<Eigen::Vector3i> box_cells, plate_cells, bar_cells;
@@ -230,7 +230,7 @@ bool RigidityEstimator::Init(const Lattice& lattice, const RigidityOptions& opti
       const int particle = lattice.ParticleAt(cell + Eigen::Vector3i(d, 0, 0));
       if (particle >= 0) bar_members_.values.push_back(particle);
     }
-    bar_members_.offsets.push_back(static_cast<int>(bar_members_.values.size()));
+    bar_members_.offsets.push_back(static_cast<int64_t>(bar_members_.values.size()));
   }
   bar_sums_.resize(12, bar_members_.num_rows());
   plate_sums_.resize(12, plate_members_.num_rows());

@@ -233,8 +233,9 @@ void EditorApp::RenderFrame() { CaptureFrame(false, nullptr); }
 
 void EditorApp::CaptureFrame(bool with_ui, std::vector<std::uint8_t>* rgb) {
   if (session_->Poll() && session_->has_mesh() && !session_->error().empty()) {
-    message_ = session_->error();
+    status_.Show(session_->error());
   }
+  status_.Update(*session_);
   const auto start = Clock::now();
   const bool busy = session_->busy();
   SyncGpu();
@@ -289,8 +290,11 @@ void EditorApp::MouseButton(int button, bool press, int mods) {
     gesture_ = Gesture::kOrbit;
   } else if (button == GLFW_MOUSE_BUTTON_LEFT && tool_ == Tool::kDrag) {
     if (!session_->ready()) {
-      message_ = session_->busy() ? "wait: the new layout is being set up"
-                                  : "paint a moveable handle (H) before dragging";
+      if (session_->busy()) {
+        status_.Show("wait: the new layout is being set up", Until::kSetUp);
+      } else {
+        status_.Show("paint a moveable handle (H) before dragging", Until::kMoveableHandle);
+      }
       return;
     }
     gesture_ = Gesture::kDrag;
@@ -457,7 +461,7 @@ void EditorApp::EndStroke() {
   }
   gesture_ = Gesture::kNone;
   std::string why;
-  if (!session_->CommitLayout(&why)) message_ = why;
+  if (!session_->CommitLayout(&why)) status_.Show(why, Until::kMoveableHandle);
 }
 
 void EditorApp::PaintBrush(VertexLabel label, const Eigen::Vector2d& center, double radius,
@@ -502,7 +506,7 @@ void EditorApp::DragHandleBy(const Eigen::Vector2d& delta, DragMode mode) {
     change.translate(-pivot);
   }
   std::string error;
-  if (!session_->Drag(change * current, &error)) message_ = error;
+  if (!session_->Drag(change * current, &error)) status_.Show(error);
 }
 
 bool EditorApp::MouseDragHandle(const Eigen::Vector2d& by, int steps, DragMode mode,
@@ -532,13 +536,13 @@ void EditorApp::TakeScreenshot(const std::string& path) {
   std::string error;
   if (!CheckOutputs({{path, "screenshot", {".png"}}}, session_->inputs().files(), overwrite_,
                     &error)) {
-    message_ = PanelMessage(error);
+    status_.Show(PanelMessage(error));
     return;
   }
   std::vector<std::uint8_t> rgb;
   CaptureFrame(view_.ui, &rgb);
   const Viewport vp = viewport();
-  message_ = WritePng(path, vp.width, vp.height, rgb, &error) ? "wrote " + path : error;
+  status_.Show(WritePng(path, vp.width, vp.height, rgb, &error) ? "wrote " + path : error);
 }
 
 // ---------------------------------------------------------------------------

@@ -27,6 +27,7 @@
 #include "apps/editor/gl.h"
 #include "apps/editor/renderer.h"
 #include "apps/editor/selection.h"
+#include "apps/editor/status_line.h"
 
 namespace msdeform {
 namespace editor {
@@ -156,7 +157,7 @@ class EditorApp {
   std::string save_mesh_, save_sel_, save_def_, save_scenario_, save_png_;
   int save_frames_ = 30;
   bool overwrite_ = false;
-  std::string message_;
+  StatusLine status_;
   std::string browse_folder_;
 
   std::string pending_screenshot_;  // asked for during a frame, taken after it

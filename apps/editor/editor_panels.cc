@@ -83,9 +83,9 @@ void EditorApp::DrawPanels() {
                ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoInputs |
                    ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
   ImGui::TextUnformatted(session_->Status().c_str());
-  if (!message_.empty()) {
+  if (!status_.text().empty()) {
     ImGui::SameLine();
-    ImGui::TextDisabled("| %s", message_.c_str());
+    ImGui::TextDisabled("| %s", status_.text().c_str());
   }
   ImGui::End();
 }
@@ -198,7 +198,7 @@ void EditorApp::DrawToolPanel() {
   if (ImGui::Button("Clear selection")) {
     session_->ClearLabels();
     std::string why;
-    if (!session_->CommitLayout(&why)) message_ = why;
+    if (!session_->CommitLayout(&why)) status_.Show(why, Until::kMoveableHandle);
   }
   ImGui::SameLine();
   if (ImGui::Button("Rest pose (Space)")) session_->ResetPose();
@@ -214,10 +214,10 @@ void EditorApp::SetFlagFromPanel(const std::string& name, const std::string& val
   DeformerOptions options = session_->options();
   std::string error;
   if (!SetDeformerFlag(name, value, &options, &error)) {
-    message_ = error;
+    status_.Show(error);
     return;
   }
-  message_.clear();
+  status_.Clear();
   ApplyOptions(options);
 }
 
@@ -276,7 +276,7 @@ void EditorApp::DrawMethodPanel() {
                                                           {"border", "fixed"},
                                                           {"hold_fixed_vertices", "false"}};
     for (const auto& [flag, value] : kPaper) {
-      if (!SetDeformerFlag(flag, value, &options, &error)) message_ = error;
+      if (!SetDeformerFlag(flag, value, &options, &error)) status_.Show(error);
     }
     ApplyOptions(options);
   }
@@ -423,14 +423,14 @@ void EditorApp::OpenFromPanel() {
   EditInputs inputs;
   std::string error;
   if (request.mesh.empty() && request.scenario.empty()) {
-    message_ = "give a mesh or a scenario";
+    status_.Show("give a mesh or a scenario");
     return;
   }
   if (!LoadEditInputs(request, &inputs, &error)) {
-    message_ = error;
+    status_.Show(error);
     return;
   }
-  message_ = inputs.read_report.notice;
+  status_.Show(inputs.read_report.notice);
   session_->Open(std::move(inputs), session_->options());
   MeshOpened();
 }
@@ -448,10 +448,10 @@ void EditorApp::SaveFromPanel(const std::string& which) {
   if (!CheckOutputs({{path, which, EditFileExtensions(kind)}}, session_->inputs().files(),
                     overwrite_, &error) ||
       !WriteEditFile(*session_, kind, path, path, save_frames_, &error)) {
-    message_ = PanelMessage(error);
+    status_.Show(PanelMessage(error));
     return;
   }
-  message_ = "wrote " + path;
+  status_.Show("wrote " + path);
 }
 
 }  // namespace editor

@@ -1,5 +1,7 @@
 #include "msdeform/core/lattice.h"
 
+#include <climits>
+#include <cstdint>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -9,6 +11,20 @@
 
 namespace msdeform {
 namespace {
+
+// A padded grid of max_grid_cells = 2^28 cells has up to 26 neighbours per
+// particle: lists of more than INT_MAX entries. Their offsets hold such
+// totals (the rows stay small); with int offsets they wrapped negative.
+TEST(LatticeTest, CompressedListsOffsetsPassIntMax) {
+  const int64_t big = int64_t{26} << 28;  // 26 neighbours of 2^28 particles
+  ASSERT_GT(big, INT_MAX);
+  CompressedLists lists;
+  lists.offsets.push_back(big - 4);
+  lists.offsets.push_back(big + 3);
+  EXPECT_EQ(lists.num_rows(), 2);
+  EXPECT_EQ(lists.offsets.back(), big + 3);
+  EXPECT_EQ(lists.size(1), 7);
+}
 
 TEST(LatticeTest, Eq1CoordinatesOnHandCheckedPoints) {
   // One triangle spanning x in [1, 3.2], y in [-1, 0], z = 5; w = 1.

@@ -137,6 +137,17 @@ def test_keywords_are_the_options_fields_with_the_cpp_defaults():
     assert msdeform.options_from_flags({"w_con": 1000, "max_iterations": 5}) == changed
 
 
+def test_the_one_thread_count_bounds_the_graph_building_too(meshes):
+    assert msdeform.options_from_flags({"threads": 1}).graph.num_threads == 1
+    assert dict(msdeform.describe_options({"num_threads": 3}))["graph.num_threads"] == "3"
+    d = msdeform.Deformer(*msdeform.read_mesh(meshes / "cactus.off"), num_threads=1)
+    assert d.options.num_threads == 1 and d.options.graph.num_threads == 1
+    # A graph of its own keeps its count; no keyword keeps the default (0: OpenMP's).
+    own = {"num_threads": 1, "graph": {"num_threads": 2}}
+    assert dict(msdeform.describe_options(own))["graph.num_threads"] == "2"
+    assert msdeform.DeformerOptions(num_threads=1).graph.num_threads == 0
+
+
 def test_the_gil_is_released_while_dragging(meshes):
     """A Python thread keeps running while another thread drags.
 

@@ -1,0 +1,47 @@
+// The command-line flags of DeformerOptions (scales/deformer_flags.h).
+
+#include "msdeform/scales/deformer_flags.h"
+
+#include <string>
+
+#include <gflags/gflags.h>
+#include <gtest/gtest.h>
+
+namespace msdeform {
+namespace {
+
+// The one --threads bounds every threaded stage: the graph building (nearest
+// nodes, the per-scale connection) as well as the skinning and Ceres.
+TEST(DeformerFlagsTest, ThreadsReachesTheGraphBuilding) {
+  gflags::FlagSaver saver;
+  for (const char* threads : {"1", "3"}) {
+    ASSERT_FALSE(gflags::SetCommandLineOption("threads", threads).empty());
+    DeformerOptions options;
+    std::string error;
+    ASSERT_TRUE(DeformerOptionsFromFlags(&options, &error)) << error;
+    EXPECT_EQ(options.num_threads, std::stoi(threads));
+    EXPECT_EQ(options.graph.num_threads, std::stoi(threads));
+  }
+}
+
+// Without --threads the options are DeformerOptions()'s: the graph building
+// keeps GraphOptions's default.
+TEST(DeformerFlagsTest, NoThreadsFlagKeepsTheGraphDefault) {
+  DeformerOptions options;
+  std::string error;
+  ASSERT_TRUE(DeformerOptionsFromFlags(&options, &error)) << error;
+  EXPECT_EQ(options.num_threads, DeformerOptions().num_threads);
+  EXPECT_EQ(options.graph.num_threads, GraphOptions().num_threads);
+}
+
+TEST(DeformerFlagsTest, BadThreadsNamesTheFlag) {
+  gflags::FlagSaver saver;
+  ASSERT_FALSE(gflags::SetCommandLineOption("threads", "0").empty());
+  DeformerOptions options;
+  std::string error;
+  EXPECT_FALSE(DeformerOptionsFromFlags(&options, &error));
+  EXPECT_EQ(error, "--threads=0: expected an integer in 1..1024");
+}
+
+}  // namespace
+}  // namespace msdeform
