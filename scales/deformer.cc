@@ -297,14 +297,14 @@ bool Deformer::Init(const Mesh& mesh, const DeformerOptions& options, std::strin
   switch (options_.method) {
     case Method::kMultiScale:
       // The coarse scales are connected when first used (ConnectedGraph).
-      if (!BuildMultiScaleGraphs(mesh_, lattice_, options_.graph, &graphs_, error,
+      if (!BuildMultiScaleGraphs(mesh_, lattice_, GraphBuildOptions(), &graphs_, error,
                                  Connect::kFinestOnly)) {
         return false;
       }
       break;
     case Method::kStatic: {
       // DG1 and one graph of static_nodes nodes by the same edge collapse.
-      if (!BuildCollapsedGraphs(mesh_, lattice_, options_.graph,
+      if (!BuildCollapsedGraphs(mesh_, lattice_, GraphBuildOptions(),
                                 {std::min(options_.static_nodes, lattice_.num_surface_cells())},
                                 &graphs_, error)) {
         return false;
@@ -313,7 +313,9 @@ bool Deformer::Init(const Mesh& mesh, const DeformerOptions& options, std::strin
       break;
     }
     case Method::kStaticDense:
-      if (!BuildCollapsedGraphs(mesh_, lattice_, options_.graph, {}, &graphs_, error)) return false;
+      if (!BuildCollapsedGraphs(mesh_, lattice_, GraphBuildOptions(), {}, &graphs_, error)) {
+        return false;
+      }
       static_graph_ = 0;
       break;
   }
@@ -328,6 +330,13 @@ bool Deformer::Init(const Mesh& mesh, const DeformerOptions& options, std::strin
   precompute_ms_ = MillisecondsSince(start);
   stage_ = Stage::kInitialised;
   return true;
+}
+
+GraphOptions Deformer::GraphBuildOptions() const {
+  // One thread count for the whole Deformer unless the graphs ask for their own.
+  GraphOptions graph = options_.graph;
+  if (graph.num_threads == 0) graph.num_threads = options_.num_threads;
+  return graph;
 }
 
 void Deformer::ResetLayout() {
@@ -425,7 +434,7 @@ const DeformationGraph& Deformer::ConnectedGraph(int index) {
   const auto used = std::find(connected_coarse_.begin(), connected_coarse_.end(), index);
   if (used != connected_coarse_.end()) connected_coarse_.erase(used);
   connected_coarse_.push_back(index);
-  if (!graph.is_connected()) ConnectGraph(mesh_, lattice_, options_.graph, &graph);
+  if (!graph.is_connected()) ConnectGraph(mesh_, lattice_, GraphBuildOptions(), &graph);
   // Evict the least recently used, never the graph being solved on.
   for (size_t i = 0; static_cast<int>(connected_coarse_.size()) > options_.cached_scales &&
                      i < connected_coarse_.size();) {

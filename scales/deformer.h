@@ -107,7 +107,8 @@ struct DeformerOptions {
   // Ablation "Deformed 3": fixed-handle nodes get no rotation (Fixed, not Half
   // Free); overrides selection.half_free with HalfFreeRule::kNone.
   bool fix_fixed_handle_nodes = false;
-  // Threads for skinning and the Ceres solve.
+  // Threads for skinning, the Ceres solve and, when graph.num_threads is 0,
+  // the graph building.
   int num_threads = 2;
   // Multi-scale: coarse scales whose skinning data (nearest nodes, weights,
   // edges: a pass over every vertex each) is kept once built. A scale's data
@@ -240,6 +241,8 @@ class Deformer {
   // mesh at rest.
   void ResetLayout();
   bool BuildLayout(const HandleLayout& layout, std::string* error);
+  // options_.graph with num_threads = options_.num_threads where it is 0.
+  GraphOptions GraphBuildOptions() const;
   bool BuildProblem(std::string* error);
   void BuildEnergy();
 
