@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <unordered_map>
 
 #include <Eigen/IterativeLinearSolvers>
@@ -641,6 +642,12 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
                      options_.factorization != Factorization::kLagged ||
                      levenberg_marquardt;
   bool fresh = false;  // the factorisation is of J^T J at the current x and mu
+  // A frame fails when it ends on a system that could not be factorised
+  // before any step was taken (the start would come back as a result), or
+  // when even the largest damping does not make it factorisable.
+  bool factor_failed = false;  // the last factorisation (or its solve) failed
+  bool unfactorisable = false;
+  int accepted_steps = 0;
   bool assembled = false;  // `system` holds J^T J + mu D at the current x and mu
   while (!done && summary.iterations < stopping_.max_iterations) {
     if (need_factor || !cholesky) {
@@ -652,13 +659,14 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
       need_factor = false;
       impl.factor_valid = impl.Factorize();
       fresh = true;
+      factor_failed = !impl.factor_valid;
       if (!impl.factor_valid) {
         ++summary.iterations;
         summary.trace.push_back({elapsed_ms(), cost});
         mu *= 10.0;
         need_factor = true;
         if (mu > 1e32) {
-          summary.message = "the damped normal equations could not be factorised";
+          unfactorisable = true;
           break;
         }
         continue;
@@ -670,11 +678,13 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
         std::sqrt(gradient_norm / std::max(impl.forcing_reference, 1e-300)));
     if (!impl.SolveSystem(-gradient, eta, &delta)) {
       summary.trace.push_back({elapsed_ms(), cost});
+      factor_failed = true;
       impl.factor_valid = false;
       need_factor = true;
       if (fresh) mu *= 10.0;
       continue;
     }
+    factor_failed = false;
     if (delta.norm() <=
         stopping_.parameter_tolerance * (x.norm() + stopping_.parameter_tolerance)) {
       summary.trace.push_back({elapsed_ms(), cost});
@@ -699,6 +709,7 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
       rho = predicted > 0.0 ? (cost - new_cost) / predicted : -1.0;
     }
     if (new_cost < cost) {
+      ++accepted_steps;
       const double decrease = cost - new_cost;
       x.swap(x_new);
       hx += h_delta;
@@ -748,8 +759,18 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
   if (!done && summary.message.empty()) summary.message = "iteration cap";
   impl.refactor_next = need_factor && !summary.converged;
   summary.final_cost = cost;
-  summary.failed = !std::isfinite(cost);
-  if (summary.failed) summary.message = "the cost is not finite";
+  if (unfactorisable || (factor_failed && accepted_steps == 0)) {
+    summary.failed = true;
+    summary.message = "the damped normal equations could not be factorised (" +
+                      std::to_string(summary.factorizations) + " tries); " +
+                      (accepted_steps == 0 ? std::string("the nodes were not moved")
+                                           : "stopped after " + std::to_string(accepted_steps) +
+                                                 " accepted steps");
+  }
+  if (!std::isfinite(cost)) {
+    summary.failed = true;
+    summary.message = "the cost is not finite";
+  }
 
   // Scatter x.
   for (int j = 0; j < num_nodes; ++j) {

@@ -26,6 +26,9 @@
 // a rejected step; Damping::kLevenbergMarquardt adapts mu from the gain ratio
 // every step. Stops on the StoppingRule (every linear solve counts as an
 // iteration). Costs are reported as Ceres does: 1/2 sum of squared residuals.
+// A frame fails (SolveSummary::failed, with a message) when its cost is not
+// finite, when it ends on a system that could not be factorised before any
+// step was accepted, or when no damping up to 1e32 makes it factorisable.
 
 #ifndef MSDEFORM_SCALES_GAUSS_NEWTON_SOLVER_H_
 #define MSDEFORM_SCALES_GAUSS_NEWTON_SOLVER_H_

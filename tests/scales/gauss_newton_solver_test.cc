@@ -478,6 +478,42 @@ TEST(GaussNewtonSolverTest, CeresVariantsAndInitialGuessesReachTheSameMinimum) {
   }
 }
 
+// A coherence edge so stiff (sqrt weight 2^150) that every damping the solver
+// can add (mu up to 1e32, times diag(J^T J) clamped at 1e32) is below the
+// rounding of J^T J (2^300): R_j e and t_j enter only through their sum, so
+// the system is singular and no factorisation succeeds. The cost (1/2 2^300
+// |t_j|^2) is finite: the frame failed because nothing could be solved, and
+// the summary must say so instead of returning the start as a result.
+TEST(GaussNewtonSolverTest, AFrameThatNeverFactorisesFails) {
+  DeformationEnergy energy;
+  energy.node_class = {NodeClass::kTotallyFree, NodeClass::kFixed};
+  energy.rot_nodes = {0};
+  energy.sqrt_rot = 1.0;
+  energy.coherence = {{0, 1, Eigen::Vector3d(1.0, 0.0, 0.0), std::ldexp(1.0, 150)}};
+  for (int budget : {1, 20, 1000}) {
+    for (GaussNewtonOptions::Cholesky cholesky :
+         {GaussNewtonOptions::Cholesky::kEigenLLT, GaussNewtonOptions::Cholesky::kEigenLDLT}) {
+      GaussNewtonOptions gn;
+      gn.cholesky = cholesky;
+      StoppingRule stopping;
+      stopping.max_iterations = budget;
+      GaussNewtonSolver solver(gn, stopping);
+      NodeTransforms transforms = NodeTransforms::Identity(2);
+      transforms.translations(0, 1) = 1.0;  // the Fixed node, read by Setup
+      std::string error;
+      ASSERT_TRUE(solver.Setup(energy, transforms, &error)) << error;
+      const SolveSummary summary = solver.Solve(Eigen::Affine3d::Identity(), &transforms);
+      const std::string what = std::string(CholeskyName(cholesky)) + " budget " +
+                               std::to_string(budget) + ": " + summary.message;
+      EXPECT_TRUE(std::isfinite(summary.final_cost)) << what;
+      EXPECT_GT(summary.factorizations, 0) << what;
+      EXPECT_TRUE(summary.failed) << what;
+      EXPECT_FALSE(summary.converged) << what;
+      EXPECT_NE(summary.message.find("factoris"), std::string::npos) << what;
+    }
+  }
+}
+
 TEST(GaussNewtonSolverTest, OptionsCheckAndSolverNames) {
   std::string error;
   GaussNewtonOptions options;
