@@ -120,8 +120,9 @@ bool ListScenarios(const SolverLabOptions& options, const std::vector<std::strin
 // it by rounding; cost_error shows it. The Gauss-Newton backend evaluates its
 // cost from compressed residuals: at most 1.3e-13 of the energy on the
 // cactus, cylinder_bend, man_knee_bend and both claws, where the quadratic
-// form it used before lost up to 4e-7 (416K claw). Ceres's grouped position blocks add back a constant
-// 1/2 (sum |y_l|^2 - |b|^2) computed in expanded form: up to 1.3e-6.)
+// form it used before lost up to 4e-7 (416K claw). Ceres's grouped position
+// blocks add back a constant 1/2 (sum |y_l|^2 - |b|^2) computed in expanded
+// form: up to 1.3e-6.)
 struct LabFrame {
   int frame = 0;
   DragStats stats;
