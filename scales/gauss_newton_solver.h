@@ -16,7 +16,14 @@
 // (g0 = A^T c - A^T P tau, O(#variables)), and an iteration only rewrites the
 // rotation blocks and factorises numerically. The cost of an iteration does
 // not depend on the number of handle vertices: they enter through H, A^T P
-// (#variables by 12) and a 13x13 Gram matrix for the constant.
+// (#variables by 12) and at most 3 (4 k + 7) compressed residuals per group
+// of position terms on the same k nodes: costs are not taken from the
+// expanded quadratic 1/2 (x^T H x + 2 g0^T x + |c - P tau|^2), which loses
+// about 1e-16 of |c - P tau|^2 (4e-7 of the energy on the 416K claw), but
+// from the linear residuals kept compressed (A's Coherence and gauge rows,
+// and per group of position terms the R of a QR of their rows: the same sum
+// of squares), at the start of a frame and after each accepted step; a
+// trial step adds the change of the quadratic to the last of those.
 //
 // Iteration: solve (J^T J + mu D) delta = -g, D = diag(J^T J), by sparse
 // Cholesky or by preconditioned conjugate gradients (GaussNewtonOptions);
@@ -26,6 +33,9 @@
 // a rejected step; Damping::kLevenbergMarquardt adapts mu from the gain ratio
 // every step. Stops on the StoppingRule (every linear solve counts as an
 // iteration). Costs are reported as Ceres does: 1/2 sum of squared residuals.
+// A frame fails (SolveSummary::failed, with a message) when its cost is not
+// finite, when it ends on a system that could not be factorised before any
+// step was accepted, or when no damping up to 1e32 makes it factorisable.
 
 #ifndef MSDEFORM_SCALES_GAUSS_NEWTON_SOLVER_H_
 #define MSDEFORM_SCALES_GAUSS_NEWTON_SOLVER_H_

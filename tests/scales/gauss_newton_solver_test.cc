@@ -478,6 +478,94 @@ TEST(GaussNewtonSolverTest, CeresVariantsAndInitialGuessesReachTheSameMinimum) {
   }
 }
 
+// One Totally Free node far from the origin (1e3) pulled by 2N position
+// terms: N follow a handle translated by d, N stay at rest, offsets in +/-
+// pairs (sum zero in each half). With R = I, t the cost is
+//   1/2 s^2 (N |t - d|^2 + N |t|^2),
+// minimised at R = I, t = d / 2 with value 1/2 s^2 (N / 2) |d|^2. The old
+// expanded form 1/2 (x^T H x + 2 g0^T x + kappa) lost about 1e-16 of kappa =
+// |c - P tau|^2 ~ 2N s^2 |rest|^2: 4e-7 of this value, 40x the function
+// tolerance (1e-8). Cost and the reported costs must be exact to 1e-10.
+TEST(GaussNewtonSolverTest, CostIsExactFarFromTheOrigin) {
+  const int kPairs = 500;  // N = 2 kPairs per half
+  const double s = 10.0;
+  const Eigen::Vector3d node(1e3, -1.7e3, 0.6e3);
+  DeformationEnergy energy;
+  energy.node_class = {NodeClass::kTotallyFree};
+  energy.rot_nodes = {0};
+  energy.sqrt_rot = 1.0;
+  for (bool follows : {true, false}) {
+    for (int l = 0; l < kPairs; ++l) {
+      const Eigen::Vector3d o(std::cos(0.37 * l), std::sin(0.91 * l), 0.5 * std::cos(1.3 * l));
+      for (double sign : {1.0, -1.0}) {
+        DeformationEnergy::Position position;
+        position.nodes = {0};
+        position.terms = {{1.0, sign * o, node}};
+        position.rest = node + sign * o;
+        position.follows_handle = follows;
+        position.sqrt_weight = s;
+        energy.positions.push_back(position);
+      }
+    }
+  }
+  const double n = 2.0 * kPairs;
+  const Eigen::Vector3d d(0.06, -0.05, 0.07);
+  const Eigen::Affine3d handle{Eigen::Translation3d(d)};
+  GaussNewtonSolver solver(GaussNewtonOptions(), TightStopping());
+  NodeTransforms transforms = NodeTransforms::Identity(1);
+  std::string error;
+  ASSERT_TRUE(solver.Setup(energy, transforms, &error)) << error;
+  // Away from the minimum (t = 0.3 d), by hand.
+  transforms.translations.col(0) = 0.3 * d;
+  const double away = 0.5 * s * s * n * ((0.3 * d - d).squaredNorm() + (0.3 * d).squaredNorm());
+  EXPECT_NEAR(solver.Cost(handle, transforms), away, 1e-10 * away);
+  EXPECT_NEAR(EvaluateEnergy(energy, transforms, handle), away, 1e-10 * away);
+  const double minimum = 0.5 * s * s * (n / 2.0) * d.squaredNorm();
+  const SolveSummary summary = solver.Solve(handle, &transforms);
+  EXPECT_TRUE(summary.converged) << summary.message;
+  EXPECT_NEAR(summary.initial_cost, away, 1e-10 * away);
+  EXPECT_NEAR(summary.final_cost, minimum, 1e-10 * minimum);
+  EXPECT_NEAR(solver.Cost(handle, transforms), minimum, 1e-10 * minimum);
+  EXPECT_LT((transforms.translations.col(0) - 0.5 * d).norm(), 1e-9 * d.norm());
+  EXPECT_LT((transforms.rotation(0) - Eigen::Matrix3d::Identity()).norm(), 1e-10);
+}
+
+// A coherence edge so stiff (sqrt weight 2^150) that every damping the solver
+// can add (mu up to 1e32, times diag(J^T J) clamped at 1e32) is below the
+// rounding of J^T J (2^300): R_j e and t_j enter only through their sum, so
+// the system is singular and no factorisation succeeds. The cost (1/2 2^300
+// |t_j|^2) is finite: the frame failed because nothing could be solved, and
+// the summary must say so instead of returning the start as a result.
+TEST(GaussNewtonSolverTest, AFrameThatNeverFactorisesFails) {
+  DeformationEnergy energy;
+  energy.node_class = {NodeClass::kTotallyFree, NodeClass::kFixed};
+  energy.rot_nodes = {0};
+  energy.sqrt_rot = 1.0;
+  energy.coherence = {{0, 1, Eigen::Vector3d(1.0, 0.0, 0.0), std::ldexp(1.0, 150)}};
+  for (int budget : {1, 20, 1000}) {
+    for (GaussNewtonOptions::Cholesky cholesky :
+         {GaussNewtonOptions::Cholesky::kEigenLLT, GaussNewtonOptions::Cholesky::kEigenLDLT}) {
+      GaussNewtonOptions gn;
+      gn.cholesky = cholesky;
+      StoppingRule stopping;
+      stopping.max_iterations = budget;
+      GaussNewtonSolver solver(gn, stopping);
+      NodeTransforms transforms = NodeTransforms::Identity(2);
+      transforms.translations(0, 1) = 1.0;  // the Fixed node, read by Setup
+      std::string error;
+      ASSERT_TRUE(solver.Setup(energy, transforms, &error)) << error;
+      const SolveSummary summary = solver.Solve(Eigen::Affine3d::Identity(), &transforms);
+      const std::string what = std::string(CholeskyName(cholesky)) + " budget " +
+                               std::to_string(budget) + ": " + summary.message;
+      EXPECT_TRUE(std::isfinite(summary.final_cost)) << what;
+      EXPECT_GT(summary.factorizations, 0) << what;
+      EXPECT_TRUE(summary.failed) << what;
+      EXPECT_FALSE(summary.converged) << what;
+      EXPECT_NE(summary.message.find("factoris"), std::string::npos) << what;
+    }
+  }
+}
+
 TEST(GaussNewtonSolverTest, OptionsCheckAndSolverNames) {
   std::string error;
   GaussNewtonOptions options;
