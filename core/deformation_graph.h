@@ -79,7 +79,8 @@ struct GraphOptions {
   // Cell rings searched for candidates beyond the first ring that reaches
   // k + 1 distinct nodes (core/nearest_nodes.h, docs/decisions.md).
   int extra_rings = 1;
-  // OpenMP threads for building; 0 uses the OpenMP default.
+  // OpenMP threads for building; 0 uses the OpenMP default (the Deformer
+  // passes its own num_threads instead).
   int num_threads = 0;
 
   // The nearest-node part of these options.

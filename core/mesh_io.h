@@ -43,7 +43,8 @@
 // is the nearest double (as strtod reads it; one beyond the double range is
 // refused as not finite, one below the smallest subnormal is a zero), a
 // binary double is itself, and a float (binary PLY or STL, or the decimal of
-// an ASCII PLY property declared float) is the nearest float, widened. So
+// an ASCII PLY property declared float) is the nearest float, widened. (PLY
+// coordinates of an integer type go through OpenMesh's float, as before.) So
 // WriteMesh then ReadMesh gives back every coordinate bit for bit (negative
 // zeros and subnormals included) in .off, .obj and .ply.
 

@@ -193,6 +193,8 @@ class Deformer {
   // handle vertex; the others stay at rest).
   bool Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats, std::string* error);
 
+  // The accessors below read the last successful stage: after a failed Init
+  // (the object empty) they are not to be used until an Init succeeds.
   const Mesh& rest_mesh() const { return mesh_; }
   const Eigen::Matrix3Xd& deformed_vertices() const { return deformed_vertices_; }
   // The deformed unit normals (Eq. 10) of the last Drag, skinned on the first

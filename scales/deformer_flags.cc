@@ -27,8 +27,8 @@ DEFINE_double(cell_width, kDefaults.lattice.cell_width,
               "[method] Lattice cell width in mesh units (0: bounding-box diagonal / 48).");
 DEFINE_uint64(seed, kDefaults.graph.seed,
               "[method] Seed of every random choice (DG1 node vertices, the paper's handle kick).");
-DEFINE_int32(threads, kDefaults.num_threads, "[method] Threads for the skinning and Ceres, and when given for building the "
-             "graphs (left out: every core).");
+DEFINE_int32(threads, kDefaults.num_threads,
+             "[method] Threads for building the graphs, the skinning and Ceres.");
 
 // Solver.
 DEFINE_string(solver, msdeform::SolverName(kDefaults.backend),
@@ -215,8 +215,8 @@ bool DeformerOptionsFromFlags(DeformerOptions* options, std::string* error) {
   options->graph.seed = FLAGS_seed;
   options->rigidity.seed = FLAGS_seed;
   options->num_threads = FLAGS_threads;
-  // --threads given bounds the graph building too; left out, the graphs keep
-  // GraphOptions's default (OpenMP's), as DeformerOptions() has it.
+  // --threads given sets the graphs' count too; left out, graph.num_threads
+  // stays 0, which the Deformer reads as num_threads (as DeformerOptions() has it).
   if (!gflags::GetCommandLineFlagInfoOrDie("threads").is_default) {
     options->graph.num_threads = FLAGS_threads;
   }

@@ -292,8 +292,12 @@ void EditorApp::MouseButton(int button, bool press, int mods) {
     if (!session_->ready()) {
       if (session_->busy()) {
         status_.Show("wait: the new layout is being set up", Until::kSetUp);
-      } else {
+      } else if (session_->committed_layout().moveable.empty()) {
         status_.Show("paint a moveable handle (H) before dragging", Until::kMoveableHandle);
+      } else {
+        // A handle is there but its layout was refused: say why, and keep it.
+        status_.Show(session_->error().empty() ? "the handle layout was not set up"
+                                               : session_->error());
       }
       return;
     }

@@ -213,7 +213,7 @@ TEST(DeformerTest, BotschSorkineCactusReachesItsTarget) {
   // 620 vertices give nodes that skin fixed and free vertices together, and
   // the fixed vertices drift (3.4%; experiments/results/README.md, claim 2).
   // The paper's procedure holds the lower trunk Fixed (R = I, t = 0): its
-  // fixed vertices stay within 0.3%, its handle at about 1.5%. (1.67% with
+  // fixed vertices stay within 0.3%, its handle at about 1.7% (1.67% with
   // the file's coordinates read exactly, 1.47% when they were rounded to
   // float, 1.5-1.6% with each coordinate moved by 1e-12 relative: which edges
   // the coarse graph keeps turns on near-ties; docs/decisions.md,
