@@ -1,6 +1,8 @@
 #include "msdeform/energies/position_group_cost.h"
 
-#include <Eigen/Eigenvalues>
+#include <algorithm>
+
+#include <Eigen/QR>
 #include <glog/logging.h>
 
 namespace msdeform {
@@ -12,53 +14,41 @@ PositionGroupCost::PositionGroupCost(const std::vector<std::vector<SkinningTerm>
   CHECK(!vertex_terms.empty());
   CHECK_EQ(vertex_terms.size(), rest.size());
   num_nodes_ = static_cast<int>(vertex_terms[0].size());
-  const int cols = 12 * num_nodes_;
+  const int num_vertices = static_cast<int>(rest.size());
+  const int node_cols = 4 * num_nodes_;
+  const int width = node_cols + 7;
   const double s = sqrt_weight;
-  Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(cols, cols);
-  Eigen::MatrixXd h_map = Eigen::MatrixXd::Zero(cols, 13);  // h = h_map [tau; 1]
-  gram_.setZero();
-  Eigen::MatrixXd jacobian(3, cols);
-  Eigen::Matrix<double, 3, 13> y_map;  // y_l = y_map [tau; 1]
-  for (size_t l = 0; l < vertex_terms.size(); ++l) {
+  for (const Eigen::Vector3d& p : rest) center_ += p;
+  center_ /= num_vertices;
+
+  Eigen::MatrixXd rows(num_vertices, width);  // M
+  for (int l = 0; l < num_vertices; ++l) {
     CHECK_EQ(static_cast<int>(vertex_terms[l].size()), num_nodes_);
-    jacobian.setZero();
-    Eigen::Vector3d blended = Eigen::Vector3d::Zero();  // sum_i w_i g_i
+    Eigen::Vector3d blended = Eigen::Vector3d::Zero();  // sum_i w_i (g_i - c)
     for (int i = 0; i < num_nodes_; ++i) {
       const SkinningTerm& term = vertex_terms[l][i];
-      for (int a = 0; a < 3; ++a) {
-        for (int c = 0; c < 3; ++c) jacobian(a, 12 * i + c * 3 + a) = s * term.weight * term.offset[c];
-        jacobian(a, 12 * i + 9 + a) = s * term.weight;
-      }
-      blended += term.weight * term.position;
+      rows.block<1, 3>(l, 4 * i) = s * term.weight * term.offset.transpose();
+      rows(l, 4 * i + 3) = s * term.weight;
+      blended += term.weight * (term.position - center_);
     }
-    y_map.setZero();
-    if (follows_handle) {
-      for (int a = 0; a < 3; ++a) {
-        for (int c = 0; c < 3; ++c) y_map(a, c * 3 + a) = s * rest[l][c];
-        y_map(a, 9 + a) = s;
-      }
-      y_map.col(12) = -s * blended;
-    } else {
-      y_map.col(12) = s * (rest[l] - blended);
-    }
-    gram.noalias() += jacobian.transpose() * jacobian;
-    h_map.noalias() += jacobian.transpose() * y_map;
-    gram_.noalias() += y_map.transpose() * y_map;
+    rows.block<1, 3>(l, node_cols) = s * (rest[l] - center_).transpose();
+    rows(l, node_cols + 3) = s;
+    rows.block<1, 3>(l, node_cols + 4) = s * blended.transpose();
   }
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(gram);
-  const Eigen::VectorXd& lambda = eigen.eigenvalues();  // increasing
-  const double cutoff = 1e-12 * std::max(lambda[cols - 1], 0.0);
-  int rank = 0;
-  for (int i = 0; i < cols; ++i) rank += lambda[i] > cutoff;
-  factor_.resize(rank, cols);
-  target_map_.resize(rank, 13);
-  for (int r = 0; r < rank; ++r) {
-    const int i = cols - rank + r;
-    const double root = std::sqrt(lambda[i]);
-    factor_.row(r) = root * eigen.eigenvectors().col(i).transpose();
-    target_map_.row(r) = eigen.eigenvectors().col(i).transpose() * h_map / root;
+  if (num_vertices <= node_cols) {
+    factor_ = rows.leftCols(node_cols);
+    factor_handle_ = rows.rightCols<7>();
+    constant_factor_.resize(0, 7);
+  } else {
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(rows);
+    const int kept = std::min(num_vertices, width);
+    const Eigen::MatrixXd upper =
+        qr.matrixQR().topRows(kept).triangularView<Eigen::Upper>();  // U
+    factor_ = upper.topLeftCorner(node_cols, node_cols);
+    factor_handle_ = upper.block(0, node_cols, node_cols, 7);
+    constant_factor_ = upper.bottomRightCorner(kept - node_cols, 7);
   }
-  set_num_residuals(rank);
+  set_num_residuals(3 * static_cast<int>(factor_.rows()));
   for (int i = 0; i < num_nodes_; ++i) {
     mutable_parameter_block_sizes()->push_back(9);
     mutable_parameter_block_sizes()->push_back(3);
@@ -67,38 +57,45 @@ PositionGroupCost::PositionGroupCost(const std::vector<std::vector<SkinningTerm>
 }
 
 void PositionGroupCost::SetHandle(const Eigen::Affine3d& handle) {
-  Eigen::Matrix<double, 13, 1> tau1;
+  Eigen::Matrix3d linear = Eigen::Matrix3d::Identity();  // A
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();       // d = (A - I) c + u
   if (follows_handle_) {
-    Eigen::Map<Eigen::Matrix3d>(tau1.data()) = handle.linear();
-    tau1.segment<3>(9) = handle.translation();
-  } else {
-    tau1.head<12>().setZero();
+    linear = handle.linear();
+    shift = (linear - Eigen::Matrix3d::Identity()) * center_ + handle.translation();
   }
-  tau1[12] = 1.0;
-  target_ = target_map_ * tau1;
-  constant_cost_ = 0.5 * (tau1.dot(gram_ * tau1) - target_.squaredNorm());
+  Eigen::Matrix<double, 7, 3> z;  // column a: [-A_a; -d_a; e_a]
+  z.topRows<3>() = -linear.transpose();
+  z.row(3) = -shift.transpose();
+  z.bottomRows<3>().setIdentity();
+  offset_ = factor_handle_ * z;
+  constant_cost_ = 0.5 * (constant_factor_ * z).squaredNorm();
 }
 
 bool PositionGroupCost::Evaluate(double const* const* parameters, double* residuals,
                                  double** jacobians) const {
-  const int rank = static_cast<int>(factor_.rows());
-  Eigen::Map<Eigen::VectorXd> r(residuals, rank);
-  r = -target_;
+  const int rows = static_cast<int>(factor_.rows());
+  const int node_cols = 4 * num_nodes_;
+  Eigen::Matrix<double, Eigen::Dynamic, 3> x(node_cols, 3);  // column a: x_a
   for (int i = 0; i < num_nodes_; ++i) {
-    r.noalias() += factor_.middleCols<9>(12 * i) * Eigen::Map<const Eigen::Matrix<double, 9, 1>>(
-                                                        parameters[2 * i]);
-    r.noalias() += factor_.middleCols<3>(12 * i + 9) *
-                   Eigen::Map<const Eigen::Vector3d>(parameters[2 * i + 1]);
+    x.middleRows<3>(4 * i) = Eigen::Map<const Eigen::Matrix3d>(parameters[2 * i]).transpose();
+    x.row(4 * i + 3) = Eigen::Map<const Eigen::RowVector3d>(parameters[2 * i + 1]);
   }
+  Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 3>> r(residuals, rows, 3);
+  r.noalias() = factor_ * x;
+  r += offset_;
   if (jacobians == nullptr) return true;
   for (int i = 0; i < num_nodes_; ++i) {
     if (double* J = jacobians[2 * i]) {
-      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 9, Eigen::RowMajor>>(J, rank, 9) =
-          factor_.middleCols<9>(12 * i);
+      // d r(j, a) / d R_i(a, c) = U(j, 4 i + c); R_i is column-major.
+      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 9, Eigen::RowMajor>> jacobian(J, 3 * rows, 9);
+      jacobian.setZero();
+      for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c) jacobian.block(a * rows, 3 * c + a, rows, 1) = factor_.col(4 * i + c);
     }
     if (double* J = jacobians[2 * i + 1]) {
-      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(J, rank, 3) =
-          factor_.middleCols<3>(12 * i + 9);
+      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>> jacobian(J, 3 * rows, 3);
+      jacobian.setZero();
+      for (int a = 0; a < 3; ++a) jacobian.block(a * rows, a, rows, 1) = factor_.col(4 * i + 3);
     }
   }
   return true;

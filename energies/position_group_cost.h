@@ -1,20 +1,26 @@
 // The position constraints (paper Eq. 16) of a group of handle vertices that
 // share the same nodes, as one small exact least-squares block.
 //
-// For vertex l of the group, residual r_l = s (sum_i w_li [R_i o_li + g_i + t_i] - q_l)
-// is linear in x = [R_1 (9, column-major), t_1 (3), ..., R_m, t_m]:
-// r_l = J_l x - y_l with y_l = s (q_l - sum_i w_li g_i). So
-//   sum_l |r_l|^2 = x^T G x - 2 x^T h + sum_l |y_l|^2,  G = sum J_l^T J_l,  h = sum J_l^T y_l.
-// With G = V Lambda V^T (eigenvalues above 1e-12 lambda_max kept, which loses
-// nothing: h lies in the range of G), L = Lambda^{1/2} V^T and
-// b = Lambda^{-1/2} V^T h, this equals |L x - b|^2 + sum_l |y_l|^2 - |b|^2:
-// the same minimiser, gradient and Gauss-Newton Hessian, with rank(G) <= 12 m
-// residuals however many vertices the group holds. q_l = handle * rest_l is
-// linear in the handle's 12 numbers tau, so a frame sets b = D [tau; 1] and
-// the dropped constant 1/2 (sum_l |y_l|^2 - |b|^2) (ConstantCost(), for
-// reporting the true Eq. 17 cost) from precomputed 13-column matrices.
+// For vertex l of the group, residual r_l = s (sum_i w_li [R_i o_li + g_i + t_i] - q_l).
+// Its component a involves only row a of each R_i and component a of each t_i,
+// with the same coefficients for every a. With c the group's mean rest
+// position and the handle q = A p + u written as q_l = A (p_l - c) + d + c,
+// d = (A - I) c + u (d = 0 when the targets stay at rest):
+//   r_la = m_l^T [x_a; -A_a; -d_a; e_a],
+//   m_l = s [w_l1 o_l1, w_l1, ..., w_lk o_lk, w_lk, p_l - c, 1, blended_l - c],
+// x_a = [R_1(a, :), t_1(a), ..., R_k(a, :), t_k(a)], A_a row a of A, e_a the
+// a-th unit 3-vector, blended_l = sum_i w_li g_i. The rows m_l^T stack into M,
+// #vertices by 4 k + 7, and a Householder QR gives M = Q U with sum_l |r_l|^2 =
+// sum_a |U z_a|^2 for every z_a. U's first 4 k rows are the block's residuals
+// (3 of them per row, one per axis); its last 7 columns' trailing rows hold the
+// part no x can change, 1/2 sum_a |U_22 [-A_a; -d_a; e_a]|^2 (ConstantCost(),
+// for reporting the true Eq. 17 cost). The QR is backward stable and every
+// entry is relative to the group (c), so the cost is exact to the rounding
+// of the residuals themselves, however far from the origin the group lies.
+// A group of at most 4 k vertices keeps its rows M as they are.
 //
-// Parameter blocks: R_1, t_1, ..., R_m, t_m (9 and 3 doubles). Residuals: rank(G).
+// Parameter blocks: R_1, t_1, ..., R_k, t_k (9 doubles column-major, and 3).
+// Residuals: 3 min(4 k, #vertices), ordered axis by axis.
 
 #ifndef MSDEFORM_ENERGIES_POSITION_GROUP_COST_H_
 #define MSDEFORM_ENERGIES_POSITION_GROUP_COST_H_
@@ -43,18 +49,20 @@ class PositionGroupCost : public ceres::CostFunction {
 
   // Moves the targets to handle * rest (a drag frame).
   void SetHandle(const Eigen::Affine3d& handle);
-  // 1/2 (sum_l |y_l|^2 - |b|^2) for the current handle: the Eq. 17 cost of
-  // the group is this plus the cost Ceres sees.
+  // The part of the group's Eq. 17 cost that no node transform changes, for
+  // the current handle: the group's cost is this plus the cost Ceres sees.
   double ConstantCost() const { return constant_cost_; }
   int num_nodes() const { return num_nodes_; }
 
  private:
   int num_nodes_ = 0;
   bool follows_handle_ = true;
-  Eigen::MatrixXd factor_;      // L, rank by 12 m
-  Eigen::MatrixXd target_map_;  // D, rank by 13: b = D [tau; 1]
-  Eigen::Matrix<double, 13, 13> gram_;  // sum_l Y_l^T Y_l, y_l = Y_l [tau; 1]
-  Eigen::VectorXd target_;      // b
+  Eigen::Vector3d center_ = Eigen::Vector3d::Zero();  // c
+  // U's leading rows: rows by 4 k (the nodes' columns) and rows by 7.
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> factor_;
+  Eigen::Matrix<double, Eigen::Dynamic, 7> factor_handle_;
+  Eigen::Matrix<double, Eigen::Dynamic, 7> constant_factor_;  // U_22: trailing rows by 7
+  Eigen::Matrix<double, Eigen::Dynamic, 3> offset_;  // per axis a: factor_handle_ z_a
   double constant_cost_ = 0.0;
 };
 

@@ -1,5 +1,6 @@
 #include "msdeform/energies/position_group_cost.h"
 
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -112,6 +113,115 @@ TEST(PositionGroupCostTest, EqualsTheSumOfPerVertexCosts) {
         }
         EXPECT_LT((gradient - reference_gradient).norm(),
                   1e-8 * (1.0 + reference_gradient.norm()));
+      }
+    }
+  }
+}
+
+// 1/2 sum_l |r_l|^2 in long double, r_l = s (sum_i w_li [R_i o_li + g_i + t_i] - q_l),
+// q_l = handle * rest_l (or rest_l): the cost with about 1e-19 relative rounding.
+long double ExactCost(const Group& group, const std::vector<Eigen::Matrix3d>& rotations,
+                      const std::vector<Eigen::Vector3d>& translations,
+                      const Eigen::Affine3d& handle, bool follows, double s) {
+  using Vector3l = Eigen::Matrix<long double, 3, 1>;
+  const Eigen::Matrix<long double, 3, 3> linear = handle.linear().cast<long double>();
+  const Vector3l shift = handle.translation().cast<long double>();
+  long double sum = 0.0L;
+  for (size_t l = 0; l < group.rest.size(); ++l) {
+    const Vector3l rest = group.rest[l].cast<long double>();
+    Vector3l r = follows ? Vector3l(-(linear * rest + shift)) : Vector3l(-rest);
+    for (size_t i = 0; i < rotations.size(); ++i) {
+      const SkinningTerm& term = group.terms[l][i];
+      r += static_cast<long double>(term.weight) *
+           (rotations[i].cast<long double>() * term.offset.cast<long double>() +
+            term.position.cast<long double>() + translations[i].cast<long double>());
+    }
+    sum += r.squaredNorm();
+  }
+  return 0.5L * static_cast<long double>(s) * static_cast<long double>(s) * sum;
+}
+
+// A group of 3,000 vertices on 3 nodes about 2e3 from the origin (spread
+// about 1.5), residuals about 0.1-1 a vertex. The block's cost, what Ceres
+// sees plus ConstantCost(), must be the exact sum of the per-vertex costs
+// (long double) and the per-vertex costs summed in double (the ungrouped
+// blocks) to 1e-12: rounding at the inputs' size (1e-16 of 2e3) against
+// these residuals leaves the double sum up to 5e-13 off. The constant formed
+// as 1/2 (sum_l |y_l|^2 - |b|^2) from expanded quadratics lost 1e-16 of
+// s^2 N |2e3|^2 and was up to 9e-7 off.
+TEST(PositionGroupCostTest, CostIsExactFarFromTheOrigin) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  const Eigen::Vector3d far(1.1e3, -1.7e3, 0.6e3);
+  const int kNodes = 3, kVertices = 3000;
+  const double s = 7.0;
+  std::vector<Eigen::Vector3d> nodes;
+  for (int i = 0; i < kNodes; ++i)
+    nodes.push_back(far + Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng)));
+  Group group;
+  for (int l = 0; l < kVertices; ++l) {
+    const Eigen::Vector3d v = far + 1.5 * Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng));
+    std::vector<SkinningTerm> terms;
+    double sum = 0.0;
+    for (int i = 0; i < kNodes; ++i) {
+      terms.push_back({1.1 + uniform(rng), v - nodes[i], nodes[i]});
+      sum += terms.back().weight;
+    }
+    for (auto& term : terms) term.weight /= sum;
+    group.terms.push_back(terms);
+    group.rest.push_back(v);
+  }
+  // Handles: a translation; a rotation of 0.3 rad about a point of the group.
+  const Eigen::Vector3d move(0.25, -0.125, 0.375);
+  Eigen::Affine3d turn = Eigen::Affine3d::Identity();
+  turn.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, -2, 2).normalized()).toRotationMatrix();
+  turn.translation() = far + move - turn.linear() * far;
+  for (bool follows : {true, false}) {
+    PositionGroupCost cost(group.terms, group.rest, follows, s);
+    for (const Eigen::Affine3d& handle : {Eigen::Affine3d(Eigen::Translation3d(move)), turn}) {
+      cost.SetHandle(handle);
+      // Nodes at rest, then nodes that nearly follow the handle.
+      for (double noise : {-1.0, 0.1}) {
+        if (!follows && noise < 0.0) continue;  // the rest pose: cost 0
+        std::vector<Eigen::Matrix3d> rotations;
+        std::vector<Eigen::Vector3d> translations;
+        std::vector<std::vector<double>> blocks;
+        for (int i = 0; i < kNodes; ++i) {
+          Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+          Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+          if (noise > 0.0 && follows) {
+            rotation = handle.linear();
+            translation = handle * nodes[i] - nodes[i];
+          }
+          if (noise > 0.0) {
+            for (int k = 0; k < 9; ++k) rotation.data()[k] += noise * uniform(rng);
+            for (int k = 0; k < 3; ++k) translation[k] += noise * uniform(rng);
+          }
+          rotations.push_back(rotation);
+          translations.push_back(translation);
+          blocks.emplace_back(rotation.data(), rotation.data() + 9);
+          blocks.emplace_back(translation.data(), translation.data() + 3);
+        }
+        std::vector<const double*> parameters;
+        for (const auto& block : blocks) parameters.push_back(block.data());
+        Eigen::VectorXd r(cost.num_residuals());
+        ASSERT_TRUE(cost.Evaluate(parameters.data(), r.data(), nullptr));
+        const long double exact = ExactCost(group, rotations, translations, handle, follows, s);
+        const long double block_cost =
+            0.5L * static_cast<long double>(r.squaredNorm()) + cost.ConstantCost();
+        double per_vertex = 0.0;
+        for (size_t l = 0; l < group.rest.size(); ++l) {
+          const Eigen::Vector3d target =
+              follows ? Eigen::Vector3d(handle * group.rest[l]) : group.rest[l];
+          PositionCostAnalytic vertex(group.terms[l], target, s);
+          Eigen::Vector3d rv;
+          vertex.Evaluate(parameters.data(), rv.data(), nullptr);
+          per_vertex += 0.5 * rv.squaredNorm();
+        }
+        EXPECT_LT(std::abs(static_cast<double>((block_cost - exact) / exact)), 1e-12)
+            << "follows " << follows << ", noise " << noise << ": cost " << static_cast<double>(exact)
+            << ", off by " << static_cast<double>(block_cost - exact);
+        EXPECT_LT(std::abs(static_cast<double>(block_cost) - per_vertex), 1e-12 * per_vertex);
       }
     }
   }
