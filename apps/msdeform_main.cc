@@ -273,20 +273,40 @@ bool ApplyRerun(const std::string& report_path, std::string* error) {
     *error = "--rerun=" + report_path + ": not a JSON report (" + e.what() + ")";
     return false;
   }
-  if (!report.contains("flags") || !report["flags"].is_object() || !report.contains("inputs")) {
+  if (!report.is_object() || !report.contains("flags") || !report["flags"].is_object() ||
+      !report.contains("inputs")) {
     *error = "--rerun=" + report_path + ": no \"flags\" and \"inputs\" (not an msdeform report)";
     return false;
   }
+  const Json& inputs = report["inputs"];
+  if (!inputs.is_array()) {
+    *error = "--rerun=" + report_path + ": inputs: expected an array of {\"path\": string, " +
+             "\"sha256\": string}";
+    return false;
+  }
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    const Json& input = inputs[i];
+    if (!input.is_object() || !input.contains("path") || !input["path"].is_string() ||
+        !input.contains("sha256") || !input["sha256"].is_string()) {
+      *error = "--rerun=" + report_path + ": inputs[" + std::to_string(i) +
+               "]: expected {\"path\": string, \"sha256\": string}";
+      return false;
+    }
+  }
+  // Only msdeform's own flags: not gflags's --flagfile or --fromenv, which
+  // would read further files, nor glog's.
+  std::set<std::string> own_flags;
+  for (const auto& [name, value] : ProgramFlagValues()) own_flags.insert(name);
   for (const auto& [name, value] : report["flags"].items()) {
-    if (!value.is_string() ||
+    if (!value.is_string() || !own_flags.count(name) ||
         gflags::SetCommandLineOption(name.c_str(), value.get<std::string>().c_str()).empty()) {
       *error = "--rerun=" + report_path + ": flags." + name + ": not a flag of this msdeform";
       return false;
     }
   }
-  for (const Json& input : report["inputs"]) {
-    const std::string path = input.value("path", "");
-    const std::string recorded = input.value("sha256", "");
+  for (const Json& input : inputs) {
+    const std::string path = input["path"].get<std::string>();
+    const std::string recorded = input["sha256"].get<std::string>();
     std::string digest;
     if (!Sha256File(path, &digest, error)) {
       *error = "--rerun=" + report_path + ": " + *error;
@@ -529,3 +549,4 @@ int main(int argc, char** argv) {
   }
   return msdeform::Run(command_line);
 }
+
