@@ -325,5 +325,11 @@ int main(int argc, char** argv) {
     std::cerr << "msdeform_figure_data: unexpected argument '" << argv[1] << "'\n";
     return 1;
   }
+  if (FLAGS_frames < 0 || FLAGS_frames > msdeform::kMaxScenarioFrames) {
+    std::cerr << "msdeform_figure_data: --frames=" << FLAGS_frames << ": expected 0.."
+              << msdeform::kMaxScenarioFrames << "\n";
+    return 1;
+  }
   return msdeform::Run();
 }
+

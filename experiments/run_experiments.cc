@@ -17,6 +17,7 @@
 #include <glog/logging.h>
 
 #include "msdeform/core/build_info.h"
+#include "msdeform/core/scenario.h"
 #include "experiments/runner.h"
 #include "experiments/solver_lab.h"
 #include "msdeform/scales/deformer_flags.h"
@@ -145,6 +146,11 @@ int main(int argc, char** argv) {
               << "' (flags are --name=value)\n";
     return 1;
   }
+  if (FLAGS_frames < 0 || FLAGS_frames > msdeform::kMaxScenarioFrames) {
+    std::cerr << "msdeform_experiments: --frames=" << FLAGS_frames << ": expected 0.."
+              << msdeform::kMaxScenarioFrames << "\n";
+    return 1;
+  }
   std::string error;
   bool ok = false;
   if (FLAGS_solver_lab) {
@@ -160,3 +166,4 @@ int main(int argc, char** argv) {
   }
   return 0;
 }
+
