@@ -119,7 +119,14 @@ bool CheckRange(const char* name, double value, double lo, double hi, bool hi_op
                 const char* expected, std::string* error) {
   if (std::isfinite(value) && value >= lo && (hi_open ? value < hi : value <= hi)) return true;
   std::ostringstream text;
-  text << "--" << name << "=" << value << ": expected " << expected;
+  text << "--" << name << "=";
+  // Integer flags as typed: 2147483647, not 2.14748e+09.
+  if (std::isfinite(value) && value == std::floor(value) && std::abs(value) < 1e15) {
+    text << static_cast<long long>(value);
+  } else {
+    text << value;
+  }
+  text << ": expected " << expected;
   *error = text.str();
   return false;
 }
@@ -153,7 +160,8 @@ bool CheckNumericFlags(std::string* error) {
       {"rigidity_stiffness", FLAGS_rigidity_stiffness, 0, kInf, true, "a finite number >= 0"},
       {"rigidity_damping", FLAGS_rigidity_damping, 0, 1, true, "a number in [0, 1)"},
       {"rigidity_steps", double(FLAGS_rigidity_steps), 1, kIntMax, false, "an integer >= 1"},
-      {"rigidity_region", double(FLAGS_rigidity_region), 1, kIntMax, false, "an integer >= 1"},
+      {"rigidity_region", double(FLAGS_rigidity_region), 1, kMaxRegionHalfWidth, false,
+       "an integer in 1..8 (cost grows as r^3 per particle)"},
       {"threshold_floor", FLAGS_threshold_floor, 0, 1, true, "a number in [0, 1)"},
   };
   for (const Range& range : ranges) {
