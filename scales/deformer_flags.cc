@@ -69,7 +69,7 @@ DEFINE_string(ceres_sparse, msdeform::SparseLibraryName(kDefaults.ceres.sparse_l
 // Weights.
 DEFINE_double(w_rot, kDefaults.w_rot, "[weights] w_rot of Eq. 17, >= 0.");
 DEFINE_double(w_coh, kDefaults.w_coh, "[weights] w_coh of Eq. 17, >= 0.");
-DEFINE_double(w_con, kDefaults.w_con, "[weights] w_con of Eq. 17, >= 0.");
+DEFINE_double(w_con, kDefaults.w_con, "[weights] w_con of Eq. 17, > 0.");
 
 // Rigidity and scale selection.
 DEFINE_string(rigidity, msdeform::RigidityModelName(kDefaults.rigidity.model),
@@ -156,7 +156,8 @@ bool CheckNumericFlags(std::string* error) {
       {"gn_refactor_ratio", FLAGS_gn_refactor_ratio, 1e-300, kInf, true, "a number > 0"},
       {"w_rot", FLAGS_w_rot, 0, kInf, true, "a finite weight >= 0"},
       {"w_coh", FLAGS_w_coh, 0, kInf, true, "a finite weight >= 0"},
-      {"w_con", FLAGS_w_con, 0, kInf, true, "a finite weight >= 0"},
+      {"w_con", FLAGS_w_con, 1e-300, kInf, true,
+       "a finite weight > 0 (at 0 the handle would not follow its target)"},
       {"rigidity_stiffness", FLAGS_rigidity_stiffness, 0, kInf, true, "a finite number >= 0"},
       {"rigidity_damping", FLAGS_rigidity_damping, 0, 1, true, "a number in [0, 1)"},
       {"rigidity_steps", double(FLAGS_rigidity_steps), 1, kIntMax, false, "an integer >= 1"},
