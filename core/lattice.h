@@ -47,9 +47,10 @@ struct LatticeOptions {
 // 32-bit indices overflow when the factor passes INT_MAX nonzeros: on the
 // cactus the factor (AMD ordering) has 0.23 x INT_MAX nonzeros at 374K
 // particles, 0.53 x at 638K and 1.05 x at 1.0M (it grows as particles^1.55),
-// and 2.4M particles crashed. 500K keeps a margin of more than 2 for shapes
-// that fill worse; the default lattices (48 cells per diagonal) of every mesh
-// have at most about 25K particles, whatever the vertex count.
+// and 1.58M particles (the cactus at cell width 0.003) crashed. 500K keeps a
+// margin of more than 2 for shapes that fill worse; the default lattices (48
+// cells per diagonal) of every mesh have at most about 25K particles, whatever
+// the vertex count.
 constexpr int kMaxLatticeParticles = 500000;
 
 // A compressed list of lists: the entries of row r are

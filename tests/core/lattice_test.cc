@@ -216,7 +216,7 @@ TEST(LatticeTest, AdjacencyIsSymmetricAndFollowsMethod) {
 
 // A solid bar 4 x 1 x 1 at cell width 0.0185 holds about 4 / 0.0185^3 = 632K
 // particles, more than kMaxLatticeParticles: refused after the flood fill,
-// before the particles are numbered (a 2.4M-particle lattice crashed the
+// before the particles are numbered (a 1.58M-particle lattice crashed the
 // harmonic rigidity factorisation after minutes).
 TEST(LatticeTest, TooManyParticlesIsAnError) {
   LatticeOptions options;
