@@ -16,9 +16,12 @@
 
 #include <chrono>
 #include <cstdio>
+#include <iostream>
+#include <new>
+#include <stdexcept>
 #include <string>
-#include <vector>
 #include <utility>
+#include <vector>
 
 #include <gflags/gflags.h>
 #include <glog/logging.h>
@@ -149,7 +152,8 @@ int Run() {
 }  // namespace
 }  // namespace msdeform
 
-int main(int argc, char** argv) {
+// The program; main() below adds the out-of-memory report.
+static int Main(int argc, char** argv) {
   gflags::SetUsageMessage(
       "Writes armadillo_104k.off and armadillo_416k.off (Loop subdivision of "
       "armadillo.off) and cylinder.off (a capped cylinder) into --mesh_dir; with --huge also "
@@ -159,4 +163,19 @@ int main(int argc, char** argv) {
   google::InitGoogleLogging(argv[0]);
   FLAGS_logtostderr = true;
   return msdeform::Run();
+}
+
+// Out of memory (a mesh, lattice or frame count too large for this machine)
+// ends the run with one line and exit 1; unwinding the stack removes staged
+// outputs, so nothing partial is left. (An allocation that fails inside an
+// OpenMP region or a worker thread still terminates.)
+int main(int argc, char** argv) {
+  try {
+    return Main(argc, argv);
+  } catch (const std::bad_alloc& e) {
+    std::cerr << "msdeform_make_large: out of memory: " << e.what() << "\n";
+  } catch (const std::length_error& e) {
+    std::cerr << "msdeform_make_large: out of memory: " << e.what() << "\n";
+  }
+  return 1;
 }

@@ -21,7 +21,9 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <new>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -311,7 +313,8 @@ int Run() {
 }  // namespace
 }  // namespace msdeform
 
-int main(int argc, char** argv) {
+// The program; main() below adds the out-of-memory report.
+static int Main(int argc, char** argv) {
   const std::string usage =
       "msdeform_figure_data --mode=graphs|edit|nodes_vs_p --out=F.json "
       "[--mesh=M] [--scenario=S] [--method=...] (paper_figures/README.md)";
@@ -325,5 +328,25 @@ int main(int argc, char** argv) {
     std::cerr << "msdeform_figure_data: unexpected argument '" << argv[1] << "'\n";
     return 1;
   }
+  if (FLAGS_frames < 0 || FLAGS_frames > msdeform::kMaxScenarioFrames) {
+    std::cerr << "msdeform_figure_data: --frames=" << FLAGS_frames << ": expected 0.."
+              << msdeform::kMaxScenarioFrames << "\n";
+    return 1;
+  }
   return msdeform::Run();
+}
+
+// Out of memory (a mesh, lattice or frame count too large for this machine)
+// ends the run with one line and exit 1; unwinding the stack removes staged
+// outputs, so nothing partial is left. (An allocation that fails inside an
+// OpenMP region or a worker thread still terminates.)
+int main(int argc, char** argv) {
+  try {
+    return Main(argc, argv);
+  } catch (const std::bad_alloc& e) {
+    std::cerr << "msdeform_figure_data: out of memory: " << e.what() << "\n";
+  } catch (const std::length_error& e) {
+    std::cerr << "msdeform_figure_data: out of memory: " << e.what() << "\n";
+  }
+  return 1;
 }

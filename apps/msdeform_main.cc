@@ -15,8 +15,10 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <new>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -273,20 +275,40 @@ bool ApplyRerun(const std::string& report_path, std::string* error) {
     *error = "--rerun=" + report_path + ": not a JSON report (" + e.what() + ")";
     return false;
   }
-  if (!report.contains("flags") || !report["flags"].is_object() || !report.contains("inputs")) {
+  if (!report.is_object() || !report.contains("flags") || !report["flags"].is_object() ||
+      !report.contains("inputs")) {
     *error = "--rerun=" + report_path + ": no \"flags\" and \"inputs\" (not an msdeform report)";
     return false;
   }
+  const Json& inputs = report["inputs"];
+  if (!inputs.is_array()) {
+    *error = "--rerun=" + report_path + ": inputs: expected an array of {\"path\": string, " +
+             "\"sha256\": string}";
+    return false;
+  }
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    const Json& input = inputs[i];
+    if (!input.is_object() || !input.contains("path") || !input["path"].is_string() ||
+        !input.contains("sha256") || !input["sha256"].is_string()) {
+      *error = "--rerun=" + report_path + ": inputs[" + std::to_string(i) +
+               "]: expected {\"path\": string, \"sha256\": string}";
+      return false;
+    }
+  }
+  // Only msdeform's own flags: not gflags's --flagfile or --fromenv, which
+  // would read further files, nor glog's.
+  std::set<std::string> own_flags;
+  for (const auto& [name, value] : ProgramFlagValues()) own_flags.insert(name);
   for (const auto& [name, value] : report["flags"].items()) {
-    if (!value.is_string() ||
+    if (!value.is_string() || !own_flags.count(name) ||
         gflags::SetCommandLineOption(name.c_str(), value.get<std::string>().c_str()).empty()) {
       *error = "--rerun=" + report_path + ": flags." + name + ": not a flag of this msdeform";
       return false;
     }
   }
-  for (const Json& input : report["inputs"]) {
-    const std::string path = input.value("path", "");
-    const std::string recorded = input.value("sha256", "");
+  for (const Json& input : inputs) {
+    const std::string path = input["path"].get<std::string>();
+    const std::string recorded = input["sha256"].get<std::string>();
     std::string digest;
     if (!Sha256File(path, &digest, error)) {
       *error = "--rerun=" + report_path + ": " + *error;
@@ -498,7 +520,8 @@ int Run(const std::vector<std::string>& command_line) {
 }  // namespace
 }  // namespace msdeform
 
-int main(int argc, char** argv) {
+// The program; main() below adds the out-of-memory report.
+static int Main(int argc, char** argv) {
   const std::string usage =
       "msdeform: edit a mesh with the multi-scale method of Liu & Su 2008.\n"
       "  msdeform [--scenario=PATH | --mesh=PATH --sel=PATH --def=PATH] [flags]\n"
@@ -528,4 +551,19 @@ int main(int argc, char** argv) {
     return msdeform::Fail(error);
   }
   return msdeform::Run(command_line);
+}
+
+// Out of memory (a mesh, lattice or frame count too large for this machine)
+// ends the run with one line and exit 1; unwinding the stack removes staged
+// outputs, so nothing partial is left. (An allocation that fails inside an
+// OpenMP region or a worker thread still terminates.)
+int main(int argc, char** argv) {
+  try {
+    return Main(argc, argv);
+  } catch (const std::bad_alloc& e) {
+    std::cerr << "msdeform: out of memory: " << e.what() << "\n";
+  } catch (const std::length_error& e) {
+    std::cerr << "msdeform: out of memory: " << e.what() << "\n";
+  }
+  return 1;
 }

@@ -181,6 +181,19 @@ bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* la
     }
   }
 
+  // Refuse a lattice too fine for the rigidity estimate before numbering it.
+  long long num_particles = 0;
+  for (long long cell = 0; cell < grid_size; ++cell) num_particles += grid[cell] != kOutsideMark;
+  if (num_particles > kMaxLatticeParticles) {
+    std::ostringstream message;
+    message << "the lattice has " << num_particles << " particles, more than "
+            << kMaxLatticeParticles
+            << "; use a larger cell width (--cell_width / --cells_per_diagonal)";
+    *error = message.str();
+    l = Lattice();
+    return false;
+  }
+
   // Number particles: surface cells in grid order, then interior cells.
   auto coords_of = [&](long long cell) {
     return Eigen::Vector3i(static_cast<int>(cell % padded.x()) - 1,

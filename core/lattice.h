@@ -42,6 +42,17 @@ struct LatticeOptions {
   bool Check(std::string* error) const;
 };
 
+// The most particles a lattice may have. The harmonic rigidity estimate
+// factorises a Laplacian over the particles with Eigen's SimplicialLDLT, whose
+// 32-bit indices overflow when the factor passes INT_MAX nonzeros: on the
+// cactus the factor (AMD ordering) has 0.23 x INT_MAX nonzeros at 374K
+// particles, 0.53 x at 638K and 1.05 x at 1.0M (it grows as particles^1.55),
+// and 1.58M particles (the cactus at cell width 0.003) crashed. 500K keeps a
+// margin of more than 2 for shapes that fill worse; the default lattices (48
+// cells per diagonal) of every mesh have at most about 25K particles, whatever
+// the vertex count.
+constexpr int kMaxLatticeParticles = 500000;
+
 // A compressed list of lists: the entries of row r are
 // values[offsets[r] .. offsets[r + 1]). Offsets are 64-bit: the particle
 // adjacency of a grid of max_grid_cells = 2^28 cells (26 neighbours each)

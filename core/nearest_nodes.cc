@@ -66,8 +66,9 @@ bool NearestNodeOptions::Check(std::string* error) const {
     *error = "extra_rings must be >= 0, got " + std::to_string(extra_rings);
     return false;
   }
-  if (num_threads < 0) {
-    *error = "num_threads must be >= 0 (0: OpenMP default), got " + std::to_string(num_threads);
+  if (num_threads < 0 || num_threads > kMaxThreads) {
+    *error = "num_threads must be in 0.." + std::to_string(kMaxThreads) +
+             " (0: OpenMP default), got " + std::to_string(num_threads);
     return false;
   }
   return true;

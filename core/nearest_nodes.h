@@ -94,6 +94,11 @@ class SkinningWeights {
   std::vector<float> weights_;   // k by #V.
 };
 
+// The most threads any option accepts (msdeform --threads has the same range).
+// An OpenMP team of 100000 threads crashed inside libgomp; no machine this
+// runs on has anywhere near 1024 cores.
+constexpr int kMaxThreads = 1024;
+
 // The largest graph whose node ids SkinningWeights stores in 16 bits.
 constexpr int kMaxNodesFor16BitIds = 65536;
 
@@ -103,7 +108,8 @@ struct NearestNodeOptions {
   // Rings searched beyond the first ring that reaches k + 1 distinct nodes.
   // 1 ranks a node just beyond that ring by its true distance (decisions.md).
   int extra_rings = 1;
-  // OpenMP threads for the per-vertex work; 0 uses the OpenMP default.
+  // OpenMP threads for the per-vertex work, 0..kMaxThreads; 0 uses the OpenMP
+  // default.
   int num_threads = 0;
 
   bool Check(std::string* error) const;

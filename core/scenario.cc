@@ -115,9 +115,16 @@ class ScenarioParser {
     return true;
   }
 
-  bool Region(const Json& value, const std::string& field, VertexRegion* region) {
+  // `depth` counts the regions around this one (0 at the top).
+  bool Region(const Json& value, const std::string& field, VertexRegion* region, int depth = 0) {
     static const std::set<std::string> kKinds = {"vertices", "sphere", "slab", "any", "all",
                                                  "not"};
+    if (depth > kMaxRegionDepth) {
+      // The field spells every level; keep the message to one short line.
+      const size_t kShown = 40;
+      const std::string shown = field.size() > kShown ? field.substr(0, kShown) + "..." : field;
+      return Fail(shown, "regions nest more than " + std::to_string(kMaxRegionDepth) + " deep");
+    }
     if (!ExpectObject(value, field, kKinds)) return false;
     if (value.size() != 1) {
       return Fail(field,
@@ -195,7 +202,7 @@ class ScenarioParser {
       region->kind = VertexRegion::Kind::kNot;
       if (!ExpectType(body, at, body.is_object(), "a region")) return false;
       region->children.resize(1);
-      return Region(body, at, &region->children[0]);
+      return Region(body, at, &region->children[0], depth + 1);
     }
     // any / all
     region->kind = kind == "any" ? VertexRegion::Kind::kAny : VertexRegion::Kind::kAll;
@@ -203,7 +210,7 @@ class ScenarioParser {
     if (body.empty()) return Fail(at, "needs at least one region");
     region->children.resize(body.size());
     for (size_t i = 0; i < body.size(); ++i) {
-      if (!Region(body[i], Index(at, i), &region->children[i])) return false;
+      if (!Region(body[i], Index(at, i), &region->children[i], depth + 1)) return false;
     }
     return true;
   }
@@ -234,8 +241,13 @@ class ScenarioParser {
       }
       Eigen::Vector3d axis;
       if (!Vector3(rotation["axis"], Join(at, "axis"), &axis)) return false;
-      if (!(axis.norm() > 0.0)) return Fail(Join(at, "axis"), "must not be zero");
-      motion->rotation_axis = axis.normalized();
+      // A huge axis such as [1e300, 1e300, 1e300] has an infinite norm and
+      // normalises to zeros, so check the unit axis itself.
+      const Eigen::Vector3d unit = axis.normalized();
+      if (!(axis.norm() > 0.0) || !unit.allFinite() || std::abs(unit.norm() - 1.0) > 1e-9) {
+        return Fail(Join(at, "axis"), "must have a finite, non-zero length");
+      }
+      motion->rotation_axis = unit;
       if (!Number(rotation["angle_deg"], Join(at, "angle_deg"), &motion->rotation_angle_deg)) {
         return false;
       }

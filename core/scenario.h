@@ -102,6 +102,11 @@ struct HandleMotion {
 // and the drag path is held in memory.
 constexpr int kMaxScenarioFrames = 100000;
 
+// Upper bound of how deep "any", "all" and "not" nest: the parser and the
+// selection recurse once per level, so a deeper file is refused rather than
+// allowed to overflow the stack (20000 levels did). Real regions nest 2 or 3.
+constexpr int kMaxRegionDepth = 64;
+
 struct Scenario {
   std::string path;       // the scenario file itself, for messages.
   std::string name;       // "name", or the file stem.

@@ -433,8 +433,9 @@ void SkinVertices(const Eigen::Matrix3Xd* rest_vertices, const Eigen::Matrix3Xd*
 }  // namespace
 
 bool SkinningOptions::Check(std::string* error) const {
-  if (num_threads < 0) {
-    *error = "num_threads must be >= 0 (0: OpenMP default), got " + std::to_string(num_threads);
+  if (num_threads < 0 || num_threads > kMaxThreads) {
+    *error = "num_threads must be in 0.." + std::to_string(kMaxThreads) +
+             " (0: OpenMP default), got " + std::to_string(num_threads);
     return false;
   }
   return true;

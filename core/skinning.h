@@ -43,7 +43,8 @@
 namespace msdeform {
 
 struct SkinningOptions {
-  // OpenMP threads; 0 uses the OpenMP default (OMP_NUM_THREADS or all cores).
+  // Threads, 0..kMaxThreads; 0 uses the OpenMP default (OMP_NUM_THREADS or all
+  // cores).
   int num_threads = 0;
   // Use the AVX2+FMA kernel when the CPU has AVX2 and FMA (see above). false
   // forces the portable kernel (tests compare the two; they agree to rounding).

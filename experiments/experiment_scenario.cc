@@ -12,6 +12,11 @@ bool LoadExperimentScenario(const std::string& path, int frames, ExperimentScena
                             std::string* error, const std::string& mesh_path) {
   *scenario = ExperimentScenario();
   scenario->file = path;
+  if (frames < 0 || frames > kMaxScenarioFrames) {
+    *error = "frames: expected 0.." + std::to_string(kMaxScenarioFrames) +
+             " (0: the scenario's), got " + std::to_string(frames);
+    return false;
+  }
   Scenario parsed;
   if (!ReadScenario(path, &parsed, error)) return false;
   if (frames > 0) parsed.frames = frames;

@@ -9,7 +9,9 @@
 
 #include <cstdio>
 #include <iostream>
+#include <new>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -17,6 +19,7 @@
 #include <glog/logging.h>
 
 #include "msdeform/core/build_info.h"
+#include "msdeform/core/scenario.h"
 #include "experiments/runner.h"
 #include "experiments/solver_lab.h"
 #include "msdeform/scales/deformer_flags.h"
@@ -124,7 +127,8 @@ bool FillLabOptions(SolverLabOptions* options, std::string* error) {
 }  // namespace
 }  // namespace msdeform
 
-int main(int argc, char** argv) {
+// The program; main() below adds the out-of-memory report.
+static int Main(int argc, char** argv) {
   // The runner measures one core per run unless told otherwise.
   gflags::SetCommandLineOptionWithMode(
       "threads", std::to_string(msdeform::RunnerOptions().threads).c_str(),
@@ -145,6 +149,11 @@ int main(int argc, char** argv) {
               << "' (flags are --name=value)\n";
     return 1;
   }
+  if (FLAGS_frames < 0 || FLAGS_frames > msdeform::kMaxScenarioFrames) {
+    std::cerr << "msdeform_experiments: --frames=" << FLAGS_frames << ": expected 0.."
+              << msdeform::kMaxScenarioFrames << "\n";
+    return 1;
+  }
   std::string error;
   bool ok = false;
   if (FLAGS_solver_lab) {
@@ -159,4 +168,19 @@ int main(int argc, char** argv) {
     return 1;
   }
   return 0;
+}
+
+// Out of memory (a mesh, lattice or frame count too large for this machine)
+// ends the run with one line and exit 1; unwinding the stack removes staged
+// outputs, so nothing partial is left. (An allocation that fails inside an
+// OpenMP region or a worker thread still terminates.)
+int main(int argc, char** argv) {
+  try {
+    return Main(argc, argv);
+  } catch (const std::bad_alloc& e) {
+    std::cerr << "msdeform_experiments: out of memory: " << e.what() << "\n";
+  } catch (const std::length_error& e) {
+    std::cerr << "msdeform_experiments: out of memory: " << e.what() << "\n";
+  }
+  return 1;
 }

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "msdeform/core/build_info.h"
+#include "msdeform/core/scenario.h"
 #include "msdeform/core/timing.h"
 #include "experiments/metrics.h"
 #include "experiments/tables.h"
@@ -663,8 +664,8 @@ bool SolverLabOptions::Check(std::string* error) const {
     *error = "the scenario folder and the output folder must be given";
     return false;
   }
-  if (frames < 0) {
-    *error = "frames must be >= 0";
+  if (frames < 0 || frames > kMaxScenarioFrames) {
+    *error = "frames must be in 0.." + std::to_string(kMaxScenarioFrames) + " (0: the scenario's)";
     return false;
   }
   if (threads < 1) {

@@ -76,8 +76,10 @@ ExperimentScenario LoadScenario(const py::object& path_object, int frames,
   const std::string path = PathFromObject(path_object, "path");
   const std::string mesh_path =
       mesh_path_object.is_none() ? std::string() : PathFromObject(mesh_path_object, "mesh_path");
-  if (frames < 0) ThrowValueError("frames: expected >= 0 (0: the scenario's), got " +
-                                  std::to_string(frames));
+  if (frames < 0 || frames > kMaxScenarioFrames) {
+    ThrowValueError("frames: expected 0.." + std::to_string(kMaxScenarioFrames) +
+                    " (0: the scenario's), got " + std::to_string(frames));
+  }
   ExperimentScenario scenario;
   std::string error;
   bool ok;
@@ -277,6 +279,8 @@ void BindScenario(py::module_& m) {
       },
       "A one-line summary.");
 
+  // The most frames a scenario, load_scenario or a sweep may ask for.
+  m.attr("MAX_SCENARIO_FRAMES") = kMaxScenarioFrames;
   m.def("load_scenario", &LoadScenario, py::arg("path"), py::arg("frames") = 0,
         py::arg("mesh_path") = py::none(),
         "Loads a scenario file and its mesh (experiments/experiment_scenario.h). frames > 0 "

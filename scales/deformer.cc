@@ -261,8 +261,12 @@ bool DeformerOptions::Check(std::string* error) const {
       return false;
     }
   }
-  if (num_threads < 1) {
-    *error = "num_threads must be >= 1";
+  if (!(w_con > 0.0)) {
+    *error = "w_con must be > 0 (the handle would not follow its target)";
+    return false;
+  }
+  if (num_threads < 1 || num_threads > kMaxThreads) {
+    *error = "num_threads must be in 1.." + std::to_string(kMaxThreads);
     return false;
   }
   if (cached_scales < 1) {

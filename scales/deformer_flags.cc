@@ -69,7 +69,7 @@ DEFINE_string(ceres_sparse, msdeform::SparseLibraryName(kDefaults.ceres.sparse_l
 // Weights.
 DEFINE_double(w_rot, kDefaults.w_rot, "[weights] w_rot of Eq. 17, >= 0.");
 DEFINE_double(w_coh, kDefaults.w_coh, "[weights] w_coh of Eq. 17, >= 0.");
-DEFINE_double(w_con, kDefaults.w_con, "[weights] w_con of Eq. 17, >= 0.");
+DEFINE_double(w_con, kDefaults.w_con, "[weights] w_con of Eq. 17, > 0.");
 
 // Rigidity and scale selection.
 DEFINE_string(rigidity, msdeform::RigidityModelName(kDefaults.rigidity.model),
@@ -119,7 +119,14 @@ bool CheckRange(const char* name, double value, double lo, double hi, bool hi_op
                 const char* expected, std::string* error) {
   if (std::isfinite(value) && value >= lo && (hi_open ? value < hi : value <= hi)) return true;
   std::ostringstream text;
-  text << "--" << name << "=" << value << ": expected " << expected;
+  text << "--" << name << "=";
+  // Integer flags as typed: 2147483647, not 2.14748e+09.
+  if (std::isfinite(value) && value == std::floor(value) && std::abs(value) < 1e15) {
+    text << static_cast<long long>(value);
+  } else {
+    text << value;
+  }
+  text << ": expected " << expected;
   *error = text.str();
   return false;
 }
@@ -149,11 +156,13 @@ bool CheckNumericFlags(std::string* error) {
       {"gn_refactor_ratio", FLAGS_gn_refactor_ratio, 1e-300, kInf, true, "a number > 0"},
       {"w_rot", FLAGS_w_rot, 0, kInf, true, "a finite weight >= 0"},
       {"w_coh", FLAGS_w_coh, 0, kInf, true, "a finite weight >= 0"},
-      {"w_con", FLAGS_w_con, 0, kInf, true, "a finite weight >= 0"},
+      {"w_con", FLAGS_w_con, 1e-300, kInf, true,
+       "a finite weight > 0 (at 0 the handle would not follow its target)"},
       {"rigidity_stiffness", FLAGS_rigidity_stiffness, 0, kInf, true, "a finite number >= 0"},
       {"rigidity_damping", FLAGS_rigidity_damping, 0, 1, true, "a number in [0, 1)"},
       {"rigidity_steps", double(FLAGS_rigidity_steps), 1, kIntMax, false, "an integer >= 1"},
-      {"rigidity_region", double(FLAGS_rigidity_region), 1, kIntMax, false, "an integer >= 1"},
+      {"rigidity_region", double(FLAGS_rigidity_region), 1, kMaxRegionHalfWidth, false,
+       "an integer in 1..8 (cost grows as r^3 per particle)"},
       {"threshold_floor", FLAGS_threshold_floor, 0, 1, true, "a number in [0, 1)"},
   };
   for (const Range& range : ranges) {

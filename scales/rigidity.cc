@@ -95,7 +95,7 @@ bool ParseRigidityModel(const std::string& name, RigidityModel* model) {
 }
 
 bool RigidityOptions::Check(std::string* error) const {
-  auto fail = [error](const char* message) {
+  auto fail = [error](const std::string& message) {
     *error = message;
     return false;
   };
@@ -113,7 +113,9 @@ bool RigidityOptions::Check(std::string* error) const {
     return fail("initial_speed (|v0| in w / h) must be a finite number > 0");
   }
   if (!(damping >= 0.0 && damping < 1.0)) return fail("damping must be in [0, 1)");
-  if (region_half_width < 1) return fail("region_half_width must be >= 1");
+  if (region_half_width < 1 || region_half_width > kMaxRegionHalfWidth) {
+    return fail("region_half_width must be in 1.." + std::to_string(kMaxRegionHalfWidth));
+  }
   if (max_rotation_iterations < 1) return fail("max_rotation_iterations must be >= 1");
   if (!(rotation_tolerance > 0.0) || !std::isfinite(rotation_tolerance)) {
     return fail("rotation_tolerance must be a finite number > 0");

@@ -72,6 +72,13 @@ enum class RigidityModel {
 const char* RigidityModelName(RigidityModel model);
 bool ParseRigidityModel(const std::string& name, RigidityModel* model);
 
+// The largest region half-width r. A region holds up to (2r + 1)^3 particles
+// and every particle's region is stored and summed at each step, so memory
+// and time grow as r^3 per particle: 125 at r = 2, 4913 at r = 8 (10 GB of
+// region lists on a 500K-particle lattice). 2^31 - 1 overflowed the ring
+// loop and hung; r = 100 ran 2 minutes on the 620-vertex cactus.
+constexpr int kMaxRegionHalfWidth = 8;
+
 struct RigidityOptions {
   // Which estimate (docs/decisions.md, "Rigidity: the harmonic estimate").
   // The fields below up to `seed` and the rotation settings apply to
@@ -94,7 +101,8 @@ struct RigidityOptions {
   double initial_speed = 0.5;
   // Fraction of each particle's velocity removed per step, in [0, 1).
   double damping = 0.0;
-  // r: a region is a particle and its r-ring in the particle adjacency.
+  // r: a region is a particle and its r-ring in the particle adjacency, r in
+  // 1..kMaxRegionHalfWidth.
   int region_half_width = 2;  // the paper suggests 1; see docs/decisions.md
   // Seed of the direction of v0 (std::mt19937_64).
   std::uint64_t seed = 1;

@@ -14,6 +14,8 @@
 #include <glog/logging.h>
 
 #include <iostream>
+#include <new>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -228,7 +230,8 @@ int Run() {
 }  // namespace editor
 }  // namespace msdeform
 
-int main(int argc, char** argv) {
+// The program; main() below adds the out-of-memory report.
+static int Main(int argc, char** argv) {
   const std::string usage =
       "msdeform_editor: select handles and drag them with the multi-scale method of Liu & Su "
       "2008.\n"
@@ -251,4 +254,19 @@ int main(int argc, char** argv) {
                                   "' (flags are --name=value)");
   }
   return msdeform::editor::Run();
+}
+
+// Out of memory (a mesh, lattice or frame count too large for this machine)
+// ends the run with one line and exit 1; unwinding the stack removes staged
+// outputs, so nothing partial is left. (An allocation that fails inside an
+// OpenMP region or a worker thread still terminates.)
+int main(int argc, char** argv) {
+  try {
+    return Main(argc, argv);
+  } catch (const std::bad_alloc& e) {
+    std::cerr << "msdeform_editor: out of memory: " << e.what() << "\n";
+  } catch (const std::length_error& e) {
+    std::cerr << "msdeform_editor: out of memory: " << e.what() << "\n";
+  }
+  return 1;
 }

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "msdeform/core/json_file.h"
+#include "msdeform/core/scenario.h"
 
 namespace msdeform {
 namespace editor {
@@ -240,9 +241,20 @@ bool CheckAction(const Json& action, const std::string& where, std::string* kind
       return false;
     }
   }
+  // Frames of a drag or a saved scenario, and the steps of a mouse drag, are
+  // one solve each and are held as ints: 1 .. kMaxScenarioFrames, as a
+  // scenario's "frames" (4294967296 wrapped to 0 and aborted; 10^8 ran out
+  // of memory).
   for (const char* name : {"frames", "steps"}) {
-    if (action.contains(name) && action[name].get<long long>() < 1) {
-      *error = where + "." + name + ": must be at least 1";
+    if (!action.contains(name)) continue;
+    const Json& value = action[name];
+    const bool in_range = value.is_number_unsigned()
+                              ? value.get<unsigned long long>() <= kMaxScenarioFrames &&
+                                    value.get<unsigned long long>() >= 1
+                              : value.get<long long>() >= 1 &&
+                                    value.get<long long>() <= kMaxScenarioFrames;
+    if (!in_range) {
+      *error = where + "." + name + ": expected 1.." + std::to_string(kMaxScenarioFrames);
       return false;
     }
   }

@@ -32,6 +32,7 @@ from ._msdeform import (
     GaussNewtonOptions,
     GraphOptions,
     LatticeOptions,
+    MAX_SCENARIO_FRAMES,
     RigidityOptions,
     ScaleSelectionOptions,
     Scenario,

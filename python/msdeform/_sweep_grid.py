@@ -168,7 +168,7 @@ class Sweep:
         self.variants = self._variants(raw)
         self.options = self._options(raw)
         self.settings = {
-            "frames": self._integer(raw, "frames", 0, 0),
+            "frames": self._integer(raw, "frames", 0, 0, msdeform.MAX_SCENARIO_FRAMES),
             "arap_reference": self._bool(raw, "arap_reference", False),
             "time_other_backend": self._bool(raw, "time_other_backend", False),
             "cgal_iterations": self._integer(raw, "cgal_iterations", None, 1),
@@ -205,13 +205,15 @@ class Sweep:
             self._fail(key, f"expected true or false, got {json.dumps(value)}")
         return value
 
-    def _integer(self, raw, key, default, minimum):
-        """raw[key] as an int >= minimum (default when absent)."""
+    def _integer(self, raw, key, default, minimum, maximum=None):
+        """raw[key] as an int in minimum..maximum (default when absent)."""
         if key not in raw:
             return default
         value = raw[key]
-        if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
-            self._fail(key, f"expected an integer >= {minimum}, got {json.dumps(value)}")
+        if (isinstance(value, bool) or not isinstance(value, int) or value < minimum
+                or (maximum is not None and value > maximum)):
+            expected = f">= {minimum}" if maximum is None else f"in {minimum}..{maximum}"
+            self._fail(key, f"expected an integer {expected}, got {json.dumps(value)}")
         return value
 
     def _list(self, raw, key, default):

@@ -214,6 +214,29 @@ TEST(LatticeTest, AdjacencyIsSymmetricAndFollowsMethod) {
   }
 }
 
+// A solid bar 4 x 1 x 1 at cell width 0.0185 holds about 4 / 0.0185^3 = 632K
+// particles, more than kMaxLatticeParticles: refused after the flood fill,
+// before the particles are numbered (a 1.58M-particle lattice crashed the
+// harmonic rigidity factorisation after minutes).
+TEST(LatticeTest, TooManyParticlesIsAnError) {
+  LatticeOptions options;
+  options.cell_width = 0.0185;
+  Lattice lattice;
+  std::string error;
+  EXPECT_FALSE(Lattice::Build(MakeBar(4), options, &lattice, &error));
+  EXPECT_NE(error.find("particles, more than 500000; use a larger cell width "
+                       "(--cell_width / --cells_per_diagonal)"),
+            std::string::npos)
+      << error;
+  EXPECT_EQ(error.rfind("the lattice has ", 0), 0u) << error;
+  EXPECT_EQ(lattice.num_particles(), 0);
+  // A cell twice as wide (1/8 of the particles) is accepted.
+  options.cell_width = 0.037;
+  ASSERT_TRUE(Lattice::Build(MakeBar(4), options, &lattice, &error)) << error;
+  EXPECT_GT(lattice.num_particles(), 60000);
+  EXPECT_LE(lattice.num_particles(), kMaxLatticeParticles);
+}
+
 TEST(LatticeTest, TooFineCellWidthIsAnError) {
   LatticeOptions options;
   options.cell_width = 1e-6;

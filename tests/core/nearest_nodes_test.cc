@@ -294,8 +294,15 @@ TEST(NearestNodesTest, OptionsCheck) {
   options.extra_rings = -1;
   EXPECT_FALSE(options.Check(&error));
   options = NearestNodeOptions();
-  options.num_threads = -1;
-  EXPECT_FALSE(options.Check(&error));
+  options.num_threads = kMaxThreads;
+  EXPECT_TRUE(options.Check(&error));
+  // 100000 threads crashed inside libgomp.
+  for (int threads : {-1, kMaxThreads + 1, 100000}) {
+    options.num_threads = threads;
+    EXPECT_FALSE(options.Check(&error));
+    EXPECT_EQ(error, "num_threads must be in 0..1024 (0: OpenMP default), got " +
+                         std::to_string(threads));
+  }
 }
 
 }  // namespace

@@ -322,7 +322,12 @@ INSTANTIATE_TEST_SUITE_P(
         BadScenario{"zero_axis",
                     R"({"mesh": "m.off", "handle": {"vertices": [1]},
                         "transform": {"rotation": {"axis": [0, 0, 0], "angle_deg": 10}}})",
-                    "transform.rotation.axis: must not be zero"},
+                    "transform.rotation.axis: must have a finite, non-zero length"},
+        BadScenario{"huge_axis",
+                    R"({"mesh": "m.off", "handle": {"vertices": [1]},
+                        "transform": {"rotation": {"axis": [1e300, 1e300, 1e300],
+                                                   "angle_deg": 10}}})",
+                    "transform.rotation.axis: must have a finite, non-zero length"},
         BadScenario{"bad_centre",
                     R"({"mesh": "m.off", "handle": {"vertices": [1]},
                         "transform": {"rotation": {"axis": [0, 0, 1], "angle_deg": 10,
@@ -392,6 +397,33 @@ INSTANTIATE_TEST_SUITE_P(
                         "handle": {"vertices": [1, 2]}})",
                     "vertex 1 is both fixed and moveable"}),
     [](const testing::TestParamInfo<BadScenario>& info) { return std::string(info.param.name); });
+
+// A handle region of `depth` nested "not"s around one vertex.
+std::string NestedNot(int depth) {
+  std::string region = R"({"vertices": [1]})";
+  for (int i = 0; i < depth; ++i) region = R"({"not": )" + region + "}";
+  return R"({"mesh": "m.off", "handle": )" + region + "}";
+}
+
+TEST(ScenarioTest, RegionsNestUpToTheLimit) {
+  // An even number of "not"s selects the vertex itself.
+  const Resolved resolved = ReadAndResolve(NestedNot(kMaxRegionDepth));
+  ASSERT_TRUE(resolved.ok) << resolved.error;
+  EXPECT_EQ(resolved.layout.moveable, std::vector<int>({1}));
+}
+
+TEST(ScenarioTest, DeeperRegionsAreRefusedNotRecursedInto) {
+  // 20000 levels overflowed the stack of the recursive parser.
+  for (int depth : {kMaxRegionDepth + 1, 20000}) {
+    const Resolved resolved = ReadAndResolve(NestedNot(depth));
+    EXPECT_FALSE(resolved.ok);
+    EXPECT_NE(resolved.error.find("scenario.json: handle.not.not"), std::string::npos)
+        << resolved.error;
+    EXPECT_NE(resolved.error.find("regions nest more than 64 deep"), std::string::npos)
+        << resolved.error;
+    EXPECT_LT(resolved.error.size(), 200u) << resolved.error;
+  }
+}
 
 TEST(ScenarioTest, MissingFileNamesIt) {
   const std::string path = FreshFolder() + "/none.json";

@@ -493,9 +493,14 @@ TEST(SkinningTest, OptionsCheck) {
   SkinningOptions options;
   std::string error;
   EXPECT_TRUE(options.Check(&error));
-  options.num_threads = -1;
-  EXPECT_FALSE(options.Check(&error));
-  EXPECT_NE(error.find("num_threads"), std::string::npos);
+  options.num_threads = kMaxThreads;
+  EXPECT_TRUE(options.Check(&error));
+  for (int threads : {-1, kMaxThreads + 1, 100000}) {
+    options.num_threads = threads;
+    EXPECT_FALSE(options.Check(&error));
+    EXPECT_EQ(error, "num_threads must be in 0..1024 (0: OpenMP default), got " +
+                         std::to_string(threads));
+  }
 }
 
 }  // namespace

@@ -222,6 +222,8 @@ def test_failed_task_is_recorded_and_the_sweep_goes_on(source, tmp_path):
     ({"scenarios": ["nowhere.json"]}, "scenarios[0]", "nowhere.json: no such file"),
     ({"seeds": [1, -2]}, "seeds[1]", "expected an integer in 0..2^64-1, got -2"),
     ({"frame": 5}, "frame", "unknown key"),
+    # 10^8 frames ran out of memory in the task instead of failing here.
+    ({"frames": 100000001}, "frames", "expected an integer in 0..100000, got 100000001"),
 ])
 def test_bad_sweep_file(source, tmp_path, change, field, message):
     """Bad input in a sweep file: one line naming the file and the field, exit 1, no output."""

@@ -103,6 +103,22 @@ TEST(DeformerCallOrderTest, ReInitDropsTheLayout) {
   }
 }
 
+// w_con = 0 left the handle where it was and reported success; 100000
+// threads crashed the skinning pool. Both are refused by Check.
+TEST(DeformerCallOrderTest, OptionsRefuseAZeroHandleWeightAndTooManyThreads) {
+  std::string error;
+  DeformerOptions options;
+  options.w_con = 0.0;
+  EXPECT_FALSE(options.Check(&error));
+  EXPECT_EQ(error, "w_con must be > 0 (the handle would not follow its target)");
+  options = DeformerOptions();
+  options.num_threads = kMaxThreads;
+  EXPECT_TRUE(options.Check(&error)) << error;
+  options.num_threads = kMaxThreads + 1;
+  EXPECT_FALSE(options.Check(&error));
+  EXPECT_EQ(error, "num_threads must be in 1..1024");
+}
+
 // Invalid options leave the object as it was (the layout too); a failure
 // past the checks (the lattice) leaves it empty.
 TEST(DeformerCallOrderTest, FailedInitLeavesTheObjectAsItWasOrEmpty) {

@@ -137,6 +137,9 @@ TEST(RigidityOptionsTest, CheckAcceptsDefaultsAndRejectsBadValues) {
       [](RigidityOptions* o) { o->damping = 1.0; },
       [](RigidityOptions* o) { o->damping = -0.1; },
       [](RigidityOptions* o) { o->region_half_width = 0; },
+      // 2^31 - 1 overflowed the ring loop and hung.
+      [](RigidityOptions* o) { o->region_half_width = kMaxRegionHalfWidth + 1; },
+      [](RigidityOptions* o) { o->region_half_width = 2147483647; },
       [](RigidityOptions* o) { o->max_rotation_iterations = 0; },
       [](RigidityOptions* o) { o->rotation_tolerance = 0.0; },
   };

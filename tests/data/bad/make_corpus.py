@@ -226,3 +226,14 @@ scenario("scn_translation_two.json",
 scenario("scn_mesh_missing_file.json", '{"mesh": "no_such_mesh.off", "handle": {"vertices": [1]}}\n')
 scenario("scn_negative_radius.json",
          '{"mesh": "bar.off", "handle": {"sphere": {"center_vertex": 0, "radius": -1}}}\n')
+scenario("scn_region_too_deep.json",
+         '{"mesh": "bar.off", "fixed": [{"slab": {"axis": "x", "from": 0, "to": 0.1}}], '
+         '"handle": ' + '{"not": ' * 100 + '{"vertices": [0]}' + '}' * 100 + '}\n')
+scenario("scn_rotation_axis_huge.json",
+         '{"mesh": "bar.off", "fixed": [{"slab": {"axis": "x", "from": 0, "to": 0.1}}],\n'
+         ' "handle": {"slab": {"axis": "x", "from": 0.9, "to": 1}},\n'
+         ' "transform": {"rotation": {"axis": [1e300, 1e300, 1e300], "angle_deg": 30}}}\n')
+# --rerun reports with the wrong types or a flag that is not msdeform's.
+write("rerun_inputs_string.json", '{"flags": {}, "inputs": "x"}\n')
+write("rerun_input_path_number.json", '{"flags": {}, "inputs": [{"path": 5}]}\n')
+write("rerun_flagfile.json", '{"flags": {"flagfile": "/etc/passwd"}, "inputs": []}\n')
