@@ -188,7 +188,7 @@ bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* la
     std::ostringstream message;
     message << "the lattice has " << num_particles << " particles, more than "
             << kMaxLatticeParticles
-            << "; use a larger cell width (--cell_width / --cells_per_diagonal)";
+            << "; use a larger cell width (--cell_width, or lattice.cells_per_diagonal)";
     *error = message.str();
     l = Lattice();
     return false;

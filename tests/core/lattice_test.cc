@@ -225,7 +225,7 @@ TEST(LatticeTest, TooManyParticlesIsAnError) {
   std::string error;
   EXPECT_FALSE(Lattice::Build(MakeBar(4), options, &lattice, &error));
   EXPECT_NE(error.find("particles, more than 500000; use a larger cell width "
-                       "(--cell_width / --cells_per_diagonal)"),
+                       "(--cell_width, or lattice.cells_per_diagonal)"),
             std::string::npos)
       << error;
   EXPECT_EQ(error.rfind("the lattice has ", 0), 0u) << error;
