@@ -483,13 +483,13 @@ bool Deformer::BuildProblem(std::string* error) {
 
   // A moveable-handle vertex that no non-Fixed node skins cannot follow the
   // handle: every frame would leave it at rest.
-  for (int v : layout_.moveable) {
-    if (MovesWithANode(weights, node_classes_, v)) continue;
+  if (const int v = FirstVertexSkinnedOnlyByFixedNodes(weights, node_classes_, layout_.moveable);
+      v >= 0) {
     *error = "moveable handle vertex " + std::to_string(v) + " is skinned only by Fixed nodes at " +
              (options_.method == Method::kMultiScale
                   ? "scale " + std::to_string(active_graph_ + 1)
                   : std::string("the static graph")) +
-             " and cannot move; use a finer lattice (--cells_per_diagonal) or another --border";
+             " and cannot move; use a finer lattice (a smaller --cell_width) or another --border";
     return false;
   }
 

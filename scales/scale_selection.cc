@@ -128,6 +128,20 @@ double GeodesicHandleDistance(const DeformationGraph& dg1, const HandleNodes& ha
 
 }  // namespace
 
+int FirstVertexSkinnedOnlyByFixedNodes(const SkinningWeights& weights,
+                                       const std::vector<NodeClass>& node_class,
+                                       const std::vector<int>& vertices) {
+  for (int v : vertices) {
+    bool moves = false;
+    for (int slot = 0; slot < weights.k() && !moves; ++slot) {
+      moves = weights.weight(slot, v) != 0.0 &&
+              node_class[weights.node(slot, v)] != NodeClass::kFixed;
+    }
+    if (!moves) return v;
+  }
+  return -1;
+}
+
 std::vector<char> StillNodes(const DeformationGraph& graph, const std::vector<char>& still_dg1) {
   std::vector<char> still(graph.num_nodes(), 0);
   if (still_dg1.empty()) return still;

@@ -105,6 +105,23 @@ TEST(ScaleSelectionTest, StillNodesAreFixedBeforeBorderAndAlpha) {
   EXPECT_EQ(StillNodes(graphs[0], {}), std::vector<char>(10, 0));
 }
 
+// A vertex moves only through a non-Fixed node of non-zero weight.
+TEST(ScaleSelectionTest, VertexSkinnedOnlyByFixedNodesIsFound) {
+  using C = NodeClass;
+  const std::vector<NodeClass> classes = {C::kTotallyFree, C::kFixed, C::kHalfFree};
+  SkinningWeights weights(/*k=*/2, /*num_vertices=*/3, /*num_nodes=*/3);
+  const int nodes0[] = {1, 0}, nodes1[] = {1, 2}, nodes2[] = {0, 1};
+  const double weights0[] = {1.0, 0.0}, weights1[] = {0.5, 0.5}, weights2[] = {0.25, 0.75};
+  weights.SetVertex(0, nodes0, weights0);  // its free node has weight 0
+  weights.SetVertex(1, nodes1, weights1);  // a Half Free node
+  weights.SetVertex(2, nodes2, weights2);  // a Totally Free node
+  EXPECT_EQ(FirstVertexSkinnedOnlyByFixedNodes(weights, classes, {1, 2}), -1);
+  EXPECT_EQ(FirstVertexSkinnedOnlyByFixedNodes(weights, classes, {2, 0, 1}), 0);
+  EXPECT_EQ(FirstVertexSkinnedOnlyByFixedNodes(weights, classes, {}), -1);
+  const std::vector<NodeClass> all_fixed(3, C::kFixed);
+  EXPECT_EQ(FirstVertexSkinnedOnlyByFixedNodes(weights, all_fixed, {2, 1}), 2);
+}
+
 TEST(ScaleSelectionTest, Eq6ScaleIsSmallestIWithP1BelowIP) {
   const int d1 = 1000;
   const auto graphs = LineGraphs(d1, 10);  // N = floor(1000 / 100)
