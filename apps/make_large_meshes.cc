@@ -16,9 +16,6 @@
 
 #include <chrono>
 #include <cstdio>
-#include <iostream>
-#include <new>
-#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -27,6 +24,7 @@
 #include <glog/logging.h>
 
 #include "msdeform/core/build_info.h"
+#include "msdeform/core/main_guard.h"
 #include "msdeform/core/mesh.h"
 #include "msdeform/core/mesh_io.h"
 #include "msdeform/core/procedural_meshes.h"
@@ -165,17 +163,7 @@ static int Main(int argc, char** argv) {
   return msdeform::Run();
 }
 
-// Out of memory (a mesh, lattice or frame count too large for this machine)
-// ends the run with one line and exit 1; unwinding the stack removes staged
-// outputs, so nothing partial is left. (An allocation that fails inside an
-// OpenMP region or a worker thread still terminates.)
+// Out of memory ends the run with one line and exit 1 (core/main_guard.h).
 int main(int argc, char** argv) {
-  try {
-    return Main(argc, argv);
-  } catch (const std::bad_alloc& e) {
-    std::cerr << "msdeform_make_large: out of memory: " << e.what() << "\n";
-  } catch (const std::length_error& e) {
-    std::cerr << "msdeform_make_large: out of memory: " << e.what() << "\n";
-  }
-  return 1;
+  return msdeform::RunReportingOutOfMemory("msdeform_make_large", Main, argc, argv);
 }

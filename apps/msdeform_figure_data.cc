@@ -21,9 +21,7 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
-#include <new>
 #include <sstream>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -32,6 +30,7 @@
 #include <nlohmann/json.hpp>
 
 #include "msdeform/core/atomic_file.h"
+#include "msdeform/core/main_guard.h"
 #include "msdeform/core/mesh_io.h"
 #include "msdeform/core/scenario.h"
 #include "msdeform/core/timing.h"
@@ -336,17 +335,7 @@ static int Main(int argc, char** argv) {
   return msdeform::Run();
 }
 
-// Out of memory (a mesh, lattice or frame count too large for this machine)
-// ends the run with one line and exit 1; unwinding the stack removes staged
-// outputs, so nothing partial is left. (An allocation that fails inside an
-// OpenMP region or a worker thread still terminates.)
+// Out of memory ends the run with one line and exit 1 (core/main_guard.h).
 int main(int argc, char** argv) {
-  try {
-    return Main(argc, argv);
-  } catch (const std::bad_alloc& e) {
-    std::cerr << "msdeform_figure_data: out of memory: " << e.what() << "\n";
-  } catch (const std::length_error& e) {
-    std::cerr << "msdeform_figure_data: out of memory: " << e.what() << "\n";
-  }
-  return 1;
+  return msdeform::RunReportingOutOfMemory("msdeform_figure_data", Main, argc, argv);
 }

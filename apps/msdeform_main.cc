@@ -15,10 +15,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <new>
 #include <set>
 #include <sstream>
-#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -30,6 +28,7 @@
 #include "msdeform/core/build_info.h"
 #include "msdeform/core/drag_path.h"
 #include "msdeform/core/handles.h"
+#include "msdeform/core/main_guard.h"
 #include "msdeform/core/mesh_io.h"
 #include "msdeform/core/scenario.h"
 #include "msdeform/core/timing.h"
@@ -553,17 +552,7 @@ static int Main(int argc, char** argv) {
   return msdeform::Run(command_line);
 }
 
-// Out of memory (a mesh, lattice or frame count too large for this machine)
-// ends the run with one line and exit 1; unwinding the stack removes staged
-// outputs, so nothing partial is left. (An allocation that fails inside an
-// OpenMP region or a worker thread still terminates.)
+// Out of memory ends the run with one line and exit 1 (core/main_guard.h).
 int main(int argc, char** argv) {
-  try {
-    return Main(argc, argv);
-  } catch (const std::bad_alloc& e) {
-    std::cerr << "msdeform: out of memory: " << e.what() << "\n";
-  } catch (const std::length_error& e) {
-    std::cerr << "msdeform: out of memory: " << e.what() << "\n";
-  }
-  return 1;
+  return msdeform::RunReportingOutOfMemory("msdeform", Main, argc, argv);
 }

@@ -9,9 +9,7 @@
 
 #include <cstdio>
 #include <iostream>
-#include <new>
 #include <sstream>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -22,6 +20,7 @@
 #include "msdeform/core/scenario.h"
 #include "experiments/runner.h"
 #include "experiments/solver_lab.h"
+#include "msdeform/core/main_guard.h"
 #include "msdeform/scales/deformer_flags.h"
 
 DEFINE_string(scenarios, "",
@@ -170,17 +169,7 @@ static int Main(int argc, char** argv) {
   return 0;
 }
 
-// Out of memory (a mesh, lattice or frame count too large for this machine)
-// ends the run with one line and exit 1; unwinding the stack removes staged
-// outputs, so nothing partial is left. (An allocation that fails inside an
-// OpenMP region or a worker thread still terminates.)
+// Out of memory ends the run with one line and exit 1 (core/main_guard.h).
 int main(int argc, char** argv) {
-  try {
-    return Main(argc, argv);
-  } catch (const std::bad_alloc& e) {
-    std::cerr << "msdeform_experiments: out of memory: " << e.what() << "\n";
-  } catch (const std::length_error& e) {
-    std::cerr << "msdeform_experiments: out of memory: " << e.what() << "\n";
-  }
-  return 1;
+  return msdeform::RunReportingOutOfMemory("msdeform_experiments", Main, argc, argv);
 }

@@ -14,8 +14,6 @@
 #include <glog/logging.h>
 
 #include <iostream>
-#include <new>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -29,6 +27,7 @@
 #include "apps/editor/timing_report.h"
 #include "apps/outputs.h"
 #include "msdeform/core/build_info.h"
+#include "msdeform/core/main_guard.h"
 #include "msdeform/scales/deformer_flags.h"
 
 namespace {
@@ -256,17 +255,7 @@ static int Main(int argc, char** argv) {
   return msdeform::editor::Run();
 }
 
-// Out of memory (a mesh, lattice or frame count too large for this machine)
-// ends the run with one line and exit 1; unwinding the stack removes staged
-// outputs, so nothing partial is left. (An allocation that fails inside an
-// OpenMP region or a worker thread still terminates.)
+// Out of memory ends the run with one line and exit 1 (core/main_guard.h).
 int main(int argc, char** argv) {
-  try {
-    return Main(argc, argv);
-  } catch (const std::bad_alloc& e) {
-    std::cerr << "msdeform_editor: out of memory: " << e.what() << "\n";
-  } catch (const std::length_error& e) {
-    std::cerr << "msdeform_editor: out of memory: " << e.what() << "\n";
-  }
-  return 1;
+  return msdeform::RunReportingOutOfMemory("msdeform_editor", Main, argc, argv);
 }
