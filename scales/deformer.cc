@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <sstream>
 #include <string>
-#include <utility>
 #include <mutex>
+#include <utility>
 
 #include <glog/logging.h>
 
@@ -58,19 +58,6 @@ std::vector<char> StillCells(const Lattice& lattice, const std::vector<char>& st
     }
   }
   return still;
-}
-
-// Whether vertex v has a non-Fixed node of non-zero weight: only such a
-// vertex can move (a Fixed node is the identity).
-bool MovesWithANode(const SkinningWeights& weights, const std::vector<NodeClass>& node_classes,
-                    int v) {
-  for (int slot = 0; slot < weights.k(); ++slot) {
-    if (weights.weight(slot, v) != 0.0 &&
-        node_classes[weights.node(slot, v)] != NodeClass::kFixed) {
-      return true;
-    }
-  }
-  return false;
 }
 
 }  // namespace
@@ -327,10 +314,7 @@ bool Deformer::Init(const Mesh& mesh, const DeformerOptions& options, std::strin
     rigidity_estimator_ = std::make_unique<RigidityEstimator>();
     if (!rigidity_estimator_->Init(lattice_, options_.rigidity, error)) return false;
   }
-  active_graph_ = std::max(static_graph_, 0);
-  deformed_vertices_ = mesh_.vertices;
-  deformed_normals_ = rest_normals_;
-  normals_stale_ = false;
+  ResetLayout();  // no layout yet, the new mesh at rest
   precompute_ms_ = MillisecondsSince(start);
   stage_ = Stage::kInitialised;
   return true;
@@ -388,7 +372,6 @@ bool Deformer::BuildLayout(const HandleLayout& layout, std::string* error) {
   layout_ = layout;
   still_vertices_ = StillVertices(components_, layout_);
   const std::vector<char> still_cells = StillCells(lattice_, still_vertices_);
-  const auto setup_start = std::chrono::steady_clock::now();
   if (options_.method == Method::kMultiScale) {
     const auto start = std::chrono::steady_clock::now();
     HandleNodes handles;
@@ -419,6 +402,7 @@ bool Deformer::BuildLayout(const HandleLayout& layout, std::string* error) {
     if (!BuildProblem(error)) return false;
     setup_ms_ = MillisecondsSince(selection_start);
   } else {
+    const auto setup_start = std::chrono::steady_clock::now();
     active_graph_ = static_graph_;
     const std::vector<char> still_nodes = StillNodes(graphs_[active_graph_], still_cells);
     node_classes_.assign(graphs_[active_graph_].num_nodes(), NodeClass::kTotallyFree);
@@ -476,7 +460,7 @@ bool Deformer::BuildProblem(std::string* error) {
   const SkinningWeights& weights = graph.weights;
   for (int v = 0; v < weights.num_vertices(); ++v) {
     if (!still_vertices_.empty() && still_vertices_[v]) continue;
-    if (MovesWithANode(weights, node_classes_, v)) skinned_vertices_.push_back(v);
+    if (SkinnedByAFreeNode(weights, node_classes_, v)) skinned_vertices_.push_back(v);
   }
   skin_all_ = static_cast<int>(skinned_vertices_.size()) == weights.num_vertices();
   if (skin_all_) std::vector<int>().swap(skinned_vertices_);
@@ -569,7 +553,7 @@ void Deformer::BuildEnergy() {
   if (!multiscale || options_.hold_fixed_vertices) {
     for (int v : layout_.fixed) {
       if (!still_vertices_.empty() && still_vertices_[v]) continue;
-      if (multiscale && !MovesWithANode(graph.weights, node_classes_, v)) continue;
+      if (multiscale && !SkinnedByAFreeNode(graph.weights, node_classes_, v)) continue;
       add_position(v, false);
     }
   }

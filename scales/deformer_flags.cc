@@ -143,7 +143,7 @@ bool CheckNumericFlags(std::string* error) {
     const char* expected;
   };
   const Range ranges[] = {
-      {"threads", double(FLAGS_threads), 1, 1024, false, "an integer in 1..1024"},
+      {"threads", double(FLAGS_threads), 1, kMaxThreads, false, "an integer in 1..1024"},
       {"static_nodes", double(FLAGS_static_nodes), 1, kIntMax, false, "an integer >= 1"},
       {"nodes_per_scale", double(FLAGS_nodes_per_scale), 1, kIntMax, false, "an integer >= 1"},
       {"cell_width", FLAGS_cell_width, 0, kInf, true,

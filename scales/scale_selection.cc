@@ -128,16 +128,21 @@ double GeodesicHandleDistance(const DeformationGraph& dg1, const HandleNodes& ha
 
 }  // namespace
 
+bool SkinnedByAFreeNode(const SkinningWeights& weights, const std::vector<NodeClass>& node_class,
+                        int v) {
+  for (int slot = 0; slot < weights.k(); ++slot) {
+    if (weights.weight(slot, v) != 0.0 && node_class[weights.node(slot, v)] != NodeClass::kFixed) {
+      return true;
+    }
+  }
+  return false;
+}
+
 int FirstVertexSkinnedOnlyByFixedNodes(const SkinningWeights& weights,
                                        const std::vector<NodeClass>& node_class,
                                        const std::vector<int>& vertices) {
   for (int v : vertices) {
-    bool moves = false;
-    for (int slot = 0; slot < weights.k() && !moves; ++slot) {
-      moves = weights.weight(slot, v) != 0.0 &&
-              node_class[weights.node(slot, v)] != NodeClass::kFixed;
-    }
-    if (!moves) return v;
+    if (!SkinnedByAFreeNode(weights, node_class, v)) return v;
   }
   return -1;
 }

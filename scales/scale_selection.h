@@ -101,6 +101,17 @@ struct HandleNodes {
   std::vector<char> still;
 };
 
+// Whether vertex v has a non-Fixed node of non-zero weight among its nearest:
+// only such a vertex can move (a Fixed node is the identity).
+bool SkinnedByAFreeNode(const SkinningWeights& weights, const std::vector<NodeClass>& node_class,
+                        int v);
+
+// The first of `vertices` that only Fixed nodes skin (SkinnedByAFreeNode is
+// false: it stays at rest whatever the solve does), or -1 when there is none.
+int FirstVertexSkinnedOnlyByFixedNodes(const SkinningWeights& weights,
+                                       const std::vector<NodeClass>& node_class,
+                                       const std::vector<int>& vertices);
+
 // Per node of `graph`: whether all its DG1 members are still (`still_dg1` as
 // HandleNodes::still; empty gives all false). Such a node is Fixed whatever
 // its extent: it gets no variables.
@@ -129,13 +140,6 @@ struct ScaleSelection {
 // the same P); `dg1_extent` is e' per DG1 node; `diagonal` the mesh's
 // bounding-box diagonal. Returns false (with a message) when even DG1
 // has a node holding both fixed and moveable vertices.
-// The first of `vertices` that no non-Fixed node skins with a non-zero weight
-// (it stays at rest whatever the solve does: a Fixed node is the identity),
-// or -1 when every one has such a node.
-int FirstVertexSkinnedOnlyByFixedNodes(const SkinningWeights& weights,
-                                       const std::vector<NodeClass>& node_class,
-                                       const std::vector<int>& vertices);
-
 bool SelectScale(const std::vector<DeformationGraph>& graphs,
                  const std::vector<double>& dg1_extent, const HandleNodes& handles,
                  int nodes_per_scale, double diagonal, const ScaleSelectionOptions& options,
