@@ -130,7 +130,7 @@ bool RunGraphs(std::string* error) {
   out["vertices"] = mesh.num_vertices();
   out["diag"] = deformer.diagonal();
   const Eigen::Matrix3Xd& particles = lattice.rest_positions();
-  const int ns = lattice.num_surface_cells();
+  const int ns = lattice.num_surface_particles();
   out["lattice"] = {{"cell_width", lattice.cell_width()},
                     {"surface", Points(particles.leftCols(ns))},
                     {"interior", Points(particles.rightCols(particles.cols() - ns))}};

@@ -435,8 +435,9 @@ int Run(const std::vector<std::string>& command_line) {
   report["handle_vertices"] = {{"fixed", job.layout.fixed.size()},
                                {"moveable", job.layout.moveable.size()}};
   report["lattice"] = {{"cell_width", lattice.cell_width()},
-                       {"surface_cells", lattice.num_surface_cells()},
-                       {"interior_cells", lattice.num_interior_cells()},
+                       {"surface_particles", lattice.num_surface_particles()},
+                       {"split_cells", lattice.num_split_cells()},
+                       {"interior_particles", lattice.num_interior_particles()},
                        {"particles", lattice.num_particles()}};
   report["scales"] = Json::array();
   for (size_t i = 0; i < deformer.graphs().size(); ++i) {

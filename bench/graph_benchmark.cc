@@ -51,7 +51,7 @@ void BM_BuildAllScales(benchmark::State& state, const std::string& name) {
     benchmark::DoNotOptimize(graphs.data());
   }
   state.counters["V"] = input.mesh.num_vertices();
-  state.counters["D1"] = input.lattice.num_surface_cells();
+  state.counters["D1"] = input.lattice.num_surface_particles();
   state.counters["N"] = num_scales;
 }
 

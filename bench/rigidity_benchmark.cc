@@ -89,7 +89,7 @@ bool Fail(benchmark::State& state, const std::string& message) {
 void SetCounters(benchmark::State& state, const Scene& scene, const RigidityEstimate& estimate) {
   state.counters["vertices"] = scene.mesh.num_vertices();
   state.counters["particles"] = scene.lattice.num_particles();
-  state.counters["surface"] = scene.lattice.num_surface_cells();
+  state.counters["surface"] = scene.lattice.num_surface_particles();
   state.counters["fixed"] = static_cast<double>(scene.fixed.size());
   state.counters["moveable"] = static_cast<double>(scene.moveable.size());
   RigidityOptions defaults;

@@ -14,8 +14,8 @@ namespace {
 
 // DG1 without weights: one node per surface cell on a random vertex of it.
 DeformationGraph MakeFinestGraph(const Mesh& mesh, const Lattice& lattice, uint64_t seed) {
-  const int num_cells = lattice.num_surface_cells();
-  const CompressedLists& cell_vertices = lattice.vertices_of_cell();
+  const int num_cells = lattice.num_surface_particles();
+  const CompressedLists& cell_vertices = lattice.vertices_of_particle();
   DeformationGraph graph;
   graph.positions.resize(3, num_cells);
   graph.node_vertex.resize(num_cells);
@@ -116,7 +116,7 @@ bool BuildMultiScaleGraphs(const Mesh& mesh, const Lattice& lattice, const Graph
                            std::vector<DeformationGraph>* graphs, std::string* error,
                            Connect connect) {
   if (!options.Check(error)) return false;
-  const int num_dg1 = lattice.num_surface_cells();
+  const int num_dg1 = lattice.num_surface_particles();
   const int num_scales = NumScales(num_dg1, options.nodes_per_scale);
   std::vector<int> node_counts;
   for (int i = 2; i <= num_scales; ++i) node_counts.push_back(NodesAtScale(num_dg1, i));
@@ -129,9 +129,9 @@ bool BuildCollapsedGraphs(const Mesh& mesh, const Lattice& lattice, const GraphO
                           Connect connect) {
   CHECK(graphs != nullptr);
   if (!options.Check(error)) return false;
-  CHECK_EQ(static_cast<int>(lattice.cell_of_vertex().size()), mesh.num_vertices())
+  CHECK_EQ(static_cast<int>(lattice.particle_of_vertex().size()), mesh.num_vertices())
       << "the lattice was built from another mesh";
-  const int num_dg1 = lattice.num_surface_cells();
+  const int num_dg1 = lattice.num_surface_particles();
   for (size_t i = 0; i < node_counts.size(); ++i) {
     const int previous = i == 0 ? num_dg1 : node_counts[i - 1];
     if (node_counts[i] < 1 || node_counts[i] > previous) {

@@ -48,6 +48,63 @@ CompressedLists ListsFromPairs(int num_rows, const std::vector<std::pair<int, in
   return lists;
 }
 
+// The pieces of each surface cell (lattice.h): vertex v of cell c gets the
+// index, among the pieces of c, of the piece holding it, pieces numbered by
+// their smallest vertex. Mesh edges join a piece's vertices first within the
+// cell itself; only a cell that this leaves in several pieces is searched
+// again within the cell grown by `margin` cells on each side, which merges
+// the parts of one sheet that the cell's walls cut apart.
+template <typename CoordsOf>
+void FindPieces(const Mesh& mesh, const Lattice& lattice,
+                const std::vector<long long>& surface_grid_cells, const CoordsOf& coords_of,
+                const std::vector<int>& cell_of_vertex, double margin,
+                std::vector<int>* piece_of_vertex, std::vector<int>* num_pieces) {
+  const int num_cells = static_cast<int>(surface_grid_cells.size());
+  const VertexAdjacency adjacency = ComputeVertexAdjacency(mesh);
+  std::vector<std::pair<int, int>> cell_vertex;
+  cell_vertex.reserve(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) cell_vertex.emplace_back(cell_of_vertex[v], v);
+  const CompressedLists vertices_of_cell = ListsFromPairs(num_cells, cell_vertex);
+  // stamp[v] = the last search that reached v: 2 c (cell only) or 2 c + 1 (grown).
+  std::vector<int64_t> stamp(mesh.num_vertices(), -1);
+  std::vector<int> queue;
+  const double w = lattice.cell_width();
+  auto label = [&](int c, int64_t search, double half_width) {
+    const Eigen::Vector3d centre =
+        lattice.origin() + w * coords_of(surface_grid_cells[c]).template cast<double>();
+    int pieces = 0;
+    for (const int* start = vertices_of_cell.begin(c); start != vertices_of_cell.end(c); ++start) {
+      if (stamp[*start] == search) continue;
+      stamp[*start] = search;
+      queue.assign(1, *start);
+      while (!queue.empty()) {
+        const int u = queue.back();
+        queue.pop_back();
+        if (cell_of_vertex[u] == c) (*piece_of_vertex)[u] = pieces;
+        for (int i = adjacency.offsets[u]; i < adjacency.offsets[u + 1]; ++i) {
+          const int next = adjacency.neighbors[i];
+          if (stamp[next] == search) continue;
+          const bool inside =
+              half_width == 0.0
+                  ? cell_of_vertex[next] == c
+                  : ((mesh.vertices.col(next) - centre).cwiseAbs().array() <= half_width).all();
+          if (!inside) continue;
+          stamp[next] = search;
+          queue.push_back(next);
+        }
+      }
+      ++pieces;
+    }
+    return pieces;
+  };
+  for (int c = 0; c < num_cells; ++c) {
+    (*num_pieces)[c] = label(c, 2 * static_cast<int64_t>(c), 0.0);
+    if ((*num_pieces)[c] > 1 && margin > 0.0) {
+      (*num_pieces)[c] = label(c, 2 * static_cast<int64_t>(c) + 1, (0.5 + margin) * w);
+    }
+  }
+}
+
 }  // namespace
 
 bool LatticeOptions::Check(std::string* error) const {
@@ -61,6 +118,10 @@ bool LatticeOptions::Check(std::string* error) const {
   }
   if (max_grid_cells <= 0) {
     *error = "max_grid_cells must be > 0";
+    return false;
+  }
+  if (!(piece_margin >= 0.0 && piece_margin <= 2.0)) {
+    *error = "piece_margin must be in [0, 2] (cell widths)";
     return false;
   }
   return true;
@@ -81,6 +142,14 @@ int Lattice::ParticleAt(const Eigen::Vector3i& coords) const {
   if ((coords.array() < -1).any() || (coords.array() > dims_.array()).any()) return -1;
   const int particle = particle_of_grid_cell_[GridIndex(coords)];
   return particle >= 0 ? particle : -1;
+}
+
+int Lattice::NumParticlesAt(const Eigen::Vector3i& coords) const {
+  const int first = ParticleAt(coords);
+  if (first < 0) return 0;
+  int last = first;
+  while (last + 1 < num_surface_particles_ && cell_coords_[last + 1] == coords) ++last;
+  return last - first + 1;
 }
 
 bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* lattice,
@@ -181,9 +250,32 @@ bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* la
     }
   }
 
+  auto coords_of = [&](long long cell) {
+    return Eigen::Vector3i(static_cast<int>(cell % padded.x()) - 1,
+                           static_cast<int>((cell / padded.x()) % padded.y()) - 1,
+                           static_cast<int>(cell / stride[2]) - 1);
+  };
+  // Surface cells in grid order, their vertices and their pieces.
+  std::vector<long long> surface_grid_cells;
+  for (long long cell = 0; cell < grid_size; ++cell) {
+    if (grid[cell] == kSurfaceMark) surface_grid_cells.push_back(cell);
+  }
+  const int num_cells = static_cast<int>(surface_grid_cells.size());
+  // Until the particles are numbered, a surface cell's grid entry is its index.
+  for (int c = 0; c < num_cells; ++c) grid[surface_grid_cells[c]] = c;
+  std::vector<int> cell_of_vertex(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) cell_of_vertex[v] = grid[grid_cell_of_vertex[v]];
+  std::vector<int> piece_of_vertex(mesh.num_vertices(), 0);  // within its cell
+  std::vector<int> num_pieces(num_cells, 1);
+  if (options.split_cells) {
+    FindPieces(mesh, l, surface_grid_cells, coords_of, cell_of_vertex, options.piece_margin,
+               &piece_of_vertex, &num_pieces);
+  }
+
   // Refuse a lattice too fine for the rigidity estimate before numbering it.
   long long num_particles = 0;
   for (long long cell = 0; cell < grid_size; ++cell) num_particles += grid[cell] != kOutsideMark;
+  for (int c = 0; c < num_cells; ++c) num_particles += num_pieces[c] - 1;
   if (num_particles > kMaxLatticeParticles) {
     std::ostringstream message;
     message << "the lattice has " << num_particles << " particles, more than "
@@ -194,19 +286,17 @@ bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* la
     return false;
   }
 
-  // Number particles: surface cells in grid order, then interior cells.
-  auto coords_of = [&](long long cell) {
-    return Eigen::Vector3i(static_cast<int>(cell % padded.x()) - 1,
-                           static_cast<int>((cell / padded.x()) % padded.y()) - 1,
-                           static_cast<int>(cell / stride[2]) - 1);
-  };
-  for (long long cell = 0; cell < grid_size; ++cell) {
-    if (grid[cell] == kSurfaceMark) {
-      grid[cell] = static_cast<int>(l.cell_coords_.size());
-      l.cell_coords_.push_back(coords_of(cell));
-    }
+  // Number particles: surface pieces in grid order of their cells, then
+  // interior cells.
+  std::vector<int> first_particle(num_cells);
+  for (int c = 0; c < num_cells; ++c) {
+    const long long cell = surface_grid_cells[c];
+    first_particle[c] = static_cast<int>(l.cell_coords_.size());
+    grid[cell] = first_particle[c];
+    for (int piece = 0; piece < num_pieces[c]; ++piece) l.cell_coords_.push_back(coords_of(cell));
+    l.num_split_cells_ += num_pieces[c] > 1;
   }
-  l.num_surface_cells_ = static_cast<int>(l.cell_coords_.size());
+  l.num_surface_particles_ = static_cast<int>(l.cell_coords_.size());
   for (long long cell = 0; cell < grid_size; ++cell) {
     if (grid[cell] == kEmpty || grid[cell] == kWallMark) {
       grid[cell] = static_cast<int>(l.cell_coords_.size());
@@ -220,39 +310,65 @@ bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* la
     l.rest_positions_.col(p) = l.origin_ + l.cell_width_ * l.cell_coords_[p].cast<double>();
   }
 
-  // Vertex <-> cell maps.
-  l.cell_of_vertex_.resize(mesh.num_vertices());
-  std::vector<std::pair<int, int>> cell_vertex;
-  cell_vertex.reserve(mesh.num_vertices());
+  // Vertex <-> particle maps.
+  l.particle_of_vertex_.resize(mesh.num_vertices());
+  std::vector<std::pair<int, int>> particle_vertex;
+  particle_vertex.reserve(mesh.num_vertices());
   for (int v = 0; v < mesh.num_vertices(); ++v) {
-    l.cell_of_vertex_[v] = grid[grid_cell_of_vertex[v]];
-    cell_vertex.emplace_back(l.cell_of_vertex_[v], v);
+    l.particle_of_vertex_[v] = first_particle[cell_of_vertex[v]] + piece_of_vertex[v];
+    particle_vertex.emplace_back(l.particle_of_vertex_[v], v);
   }
-  l.vertices_of_cell_ = ListsFromPairs(l.num_surface_cells_, cell_vertex);
+  l.vertices_of_particle_ = ListsFromPairs(l.num_surface_particles_, particle_vertex);
 
-  // L lists from mesh edges that cross cells.
-  std::vector<std::pair<int, int>> cell_pairs;
+  // L lists from mesh edges that join two surface particles.
+  std::vector<std::pair<int, int>> surface_pairs;
   for (const auto& [a, b] : UniqueEdges(mesh)) {
-    const int ca = l.cell_of_vertex_[a], cb = l.cell_of_vertex_[b];
-    if (ca == cb) continue;
-    cell_pairs.emplace_back(ca, cb);
-    cell_pairs.emplace_back(cb, ca);
+    const int pa = l.particle_of_vertex_[a], pb = l.particle_of_vertex_[b];
+    if (pa == pb) continue;
+    surface_pairs.emplace_back(pa, pb);
+    surface_pairs.emplace_back(pb, pa);
   }
-  l.neighborhood_ = ListsFromPairs(l.num_surface_cells_, cell_pairs);
+  l.neighborhood_ = ListsFromPairs(l.num_surface_particles_, surface_pairs);
+
+  // Which side of each piece of a split cell is inside: its mean vertex
+  // normal through its centroid.
+  Eigen::Matrix3Xd piece_centroid, piece_normal;
+  if (l.num_split_cells_ > 0) {
+    const Eigen::Matrix3Xd normals = VertexNormals(mesh);
+    piece_centroid = Eigen::Matrix3Xd::Zero(3, l.num_surface_particles_);
+    piece_normal = Eigen::Matrix3Xd::Zero(3, l.num_surface_particles_);
+    for (int p = 0; p < l.num_surface_particles_; ++p) {
+      const int count = l.vertices_of_particle_.size(p);
+      for (const int* v = l.vertices_of_particle_.begin(p); v != l.vertices_of_particle_.end(p);
+           ++v) {
+        piece_centroid.col(p) += mesh.vertices.col(*v) / count;
+        piece_normal.col(p) += normals.col(*v);
+      }
+    }
+  }
 
   // Particle adjacency: L for surface-surface, 26 lattice neighbours when an
-  // interior particle is involved.
-  std::vector<std::pair<int, int>> particle_pairs = std::move(cell_pairs);
-  for (int p = l.num_surface_cells_; p < l.num_particles(); ++p) {
+  // interior particle is involved (only the pieces it lies behind, in a split
+  // cell).
+  std::vector<std::pair<int, int>> particle_pairs = std::move(surface_pairs);
+  for (int p = l.num_surface_particles_; p < l.num_particles(); ++p) {
     const Eigen::Vector3i& c = l.cell_coords_[p];
     for (int dz = -1; dz <= 1; ++dz) {
       for (int dy = -1; dy <= 1; ++dy) {
         for (int dx = -1; dx <= 1; ++dx) {
           if (dx == 0 && dy == 0 && dz == 0) continue;
-          const int q = l.ParticleAt(c + Eigen::Vector3i(dx, dy, dz));
-          if (q < 0) continue;
-          particle_pairs.emplace_back(p, q);
-          if (q < l.num_surface_cells_) particle_pairs.emplace_back(q, p);
+          const Eigen::Vector3i neighbour = c + Eigen::Vector3i(dx, dy, dz);
+          const int first = l.ParticleAt(neighbour);
+          if (first < 0) continue;
+          const int count = l.NumParticlesAt(neighbour);
+          for (int q = first; q < first + count; ++q) {
+            if (count > 1 && (l.rest_positions_.col(p) - piece_centroid.col(q))
+                                     .dot(piece_normal.col(q)) >= 0.0) {
+              continue;  // in front of this piece: another part of the surface
+            }
+            particle_pairs.emplace_back(p, q);
+            if (q < l.num_surface_particles_) particle_pairs.emplace_back(q, p);
+          }
         }
       }
     }

@@ -8,15 +8,26 @@
 // (surface cells are walls), so a watertight mesh is filled solid and a mesh
 // with holes simply fills less.
 //
-// There is one particle per surface or interior cell, at the cell centre.
-// Particles 0 .. num_surface_cells()-1 are the surface cells (and DG1 node i is
-// surface particle i); the interior particles follow.
+// A surface cell has one particle per piece of the surface inside it (Rivers
+// and James 2007's FastLSM lattice; LatticeOptions::split_cells): two of its
+// vertices are in one piece when mesh edges join them without leaving the
+// cell grown by piece_margin cells on every side. Two limbs that touch inside
+// a cell are two particles there, so nothing built on the lattice joins them.
+// Every interior cell is one particle. A particle's rest position is its
+// cell's centre (the pieces of a cell share it).
 //
-// The neighbourhood list L_i of surface cell i holds the surface cells j != i
-// that a mesh edge joins to cell i: geometrically touching but geodesically
-// far parts (two teeth of a comb in touching cells) are not L-neighbours.
-// Particle adjacency: surface-surface by L, interior-interior and
-// interior-surface by the 26 lattice neighbours.
+// Particles 0 .. num_surface_particles()-1 are the surface pieces, in grid
+// order of their cells and, within a cell, by their smallest vertex id (DG1
+// node i is surface particle i); the interior particles follow.
+//
+// The neighbourhood list L_i of surface particle i holds the surface
+// particles j != i that a mesh edge joins to it: geometrically touching but
+// geodesically far parts (two teeth of a comb in touching cells, two limbs
+// touching in one cell) are not L-neighbours. Particle adjacency:
+// surface-surface by L, interior-interior by the 26 lattice neighbours, and
+// interior-surface by the 26 lattice neighbours too, except that an interior
+// cell next to a split cell is joined only to the pieces it lies behind (on
+// the inner side of the piece's mean normal, through its centroid).
 
 #ifndef MSDEFORM_CORE_LATTICE_H_
 #define MSDEFORM_CORE_LATTICE_H_
@@ -38,6 +49,13 @@ struct LatticeOptions {
   double cells_per_diagonal = 48.0;
   // Upper bound on the number of cells of the padded grid (memory guard).
   long long max_grid_cells = 1LL << 28;
+  // One particle per piece of surface in a cell (true; docs/decisions.md,
+  // "Topology-aware lattice") or one per cell, as the paper (false).
+  bool split_cells = true;
+  // Pieces are found within the cell grown by this many cell widths on each
+  // side, so that a surface crossing a cell corner is not cut in two by the
+  // cell's walls (0.5: a box two cells wide). In [0, 2].
+  double piece_margin = 0.5;
 
   bool Check(std::string* error) const;
 };
@@ -79,30 +97,35 @@ class Lattice {
   // Cells per axis, of the unpadded lattice: indices 0 .. dims - 1.
   const Eigen::Vector3i& dims() const { return dims_; }
 
-  int num_surface_cells() const { return num_surface_cells_; }
-  int num_interior_cells() const { return num_particles() - num_surface_cells_; }
+  int num_surface_particles() const { return num_surface_particles_; }
+  int num_interior_particles() const { return num_particles() - num_surface_particles_; }
   int num_particles() const { return static_cast<int>(cell_coords_.size()); }
+  // Surface cells holding more than one particle (pieces of surface).
+  int num_split_cells() const { return num_split_cells_; }
 
   // Integer cell coordinates (a, b, c) of particle p.
   const Eigen::Vector3i& cell_coords(int p) const { return cell_coords_[p]; }
   // Rest positions of all particles (cell centres). 3 by #particles.
   const Eigen::Matrix3Xd& rest_positions() const { return rest_positions_; }
 
-  // The surface cell (= surface particle) holding vertex v. O(1).
-  int cell_of_vertex(int v) const { return cell_of_vertex_[v]; }
-  const std::vector<int>& cell_of_vertex() const { return cell_of_vertex_; }
-  // Vertices of each surface cell, in increasing id order.
-  const CompressedLists& vertices_of_cell() const { return vertices_of_cell_; }
-  // L lists of the surface cells (sorted, without the cell itself).
+  // The surface particle (piece of a surface cell) holding vertex v. O(1).
+  int particle_of_vertex(int v) const { return particle_of_vertex_[v]; }
+  const std::vector<int>& particle_of_vertex() const { return particle_of_vertex_; }
+  // Vertices of each surface particle, in increasing id order.
+  const CompressedLists& vertices_of_particle() const { return vertices_of_particle_; }
+  // L lists of the surface particles (sorted, without the particle itself).
   const CompressedLists& neighborhood() const { return neighborhood_; }
   // Particle adjacency as above (sorted, without the particle itself).
   const CompressedLists& particle_adjacency() const { return particle_adjacency_; }
 
   // Eq. 1 for an arbitrary point.
   Eigen::Vector3i CellCoordsOf(const Eigen::Vector3d& point) const;
-  // Particle of the cell with the given coordinates, or -1 if that cell is
-  // neither surface nor interior (or outside the lattice).
+  // The first particle of the cell with the given coordinates, or -1 if that
+  // cell is neither surface nor interior (or outside the lattice). The
+  // cell's other pieces, if any, are the next NumParticlesAt(coords) - 1.
   int ParticleAt(const Eigen::Vector3i& coords) const;
+  // Particles of the cell: 0 (none), 1, or its number of surface pieces.
+  int NumParticlesAt(const Eigen::Vector3i& coords) const;
 
  private:
   long long GridIndex(const Eigen::Vector3i& coords) const;  // padded grid
@@ -110,14 +133,15 @@ class Lattice {
   double cell_width_ = 0.0;
   Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
   Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();
-  int num_surface_cells_ = 0;
+  int num_surface_particles_ = 0;
+  int num_split_cells_ = 0;
   std::vector<Eigen::Vector3i> cell_coords_;
   Eigen::Matrix3Xd rest_positions_;
-  std::vector<int> cell_of_vertex_;
-  CompressedLists vertices_of_cell_;
+  std::vector<int> particle_of_vertex_;
+  CompressedLists vertices_of_particle_;
   CompressedLists neighborhood_;
   CompressedLists particle_adjacency_;
-  std::vector<int> particle_of_grid_cell_;  // padded grid, -1 for empty/outside.
+  std::vector<int> particle_of_grid_cell_;  // padded grid: first particle, -1 for empty/outside.
 };
 
 }  // namespace msdeform

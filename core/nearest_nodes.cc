@@ -76,7 +76,7 @@ bool NearestNodeOptions::Check(std::string* error) const {
 
 CompressedLists CandidateNodesOfCells(const Lattice& lattice, const std::vector<int>& node_of_cell,
                                       int num_nodes, int min_count, int extra_rings) {
-  const int num_cells = lattice.num_surface_cells();
+  const int num_cells = lattice.num_surface_particles();
   CHECK_EQ(static_cast<int>(node_of_cell.size()), num_cells);
   CHECK_GE(min_count, 1);
   CHECK_GE(extra_rings, 0);
@@ -151,12 +151,12 @@ void ComputeNearestNodes(const Eigen::Matrix3Xd& vertices, const Lattice& lattic
   CHECK(options.Check(&error)) << error;
   const int num_vertices = static_cast<int>(vertices.cols());
   const int num_nodes = static_cast<int>(node_positions.cols());
-  CHECK_EQ(static_cast<int>(lattice.cell_of_vertex().size()), num_vertices)
+  CHECK_EQ(static_cast<int>(lattice.particle_of_vertex().size()), num_vertices)
       << "the lattice was built from another mesh";
   const int k = options.k;
   const CompressedLists candidates =
       CandidateNodesOfCells(lattice, node_of_cell, num_nodes, k + 1, options.extra_rings);
-  const int num_cells = lattice.num_surface_cells();
+  const int num_cells = lattice.num_surface_particles();
   const int num_threads = options.num_threads > 0 ? options.num_threads : omp_get_max_threads();
 
   *weights = SkinningWeights(k, num_vertices, num_nodes);
@@ -171,7 +171,7 @@ void ComputeNearestNodes(const Eigen::Matrix3Xd& vertices, const Lattice& lattic
     word_offset[c + 1] = word_offset[c] + (m * m + 63) / 64;
   }
   std::vector<std::vector<uint64_t>> thread_bits(num_threads);
-  const std::vector<int>& cell_of_vertex = lattice.cell_of_vertex();
+  const std::vector<int>& particle_of_vertex = lattice.particle_of_vertex();
 
 #pragma omp parallel num_threads(num_threads)
   {
@@ -186,7 +186,7 @@ void ComputeNearestNodes(const Eigen::Matrix3Xd& vertices, const Lattice& lattic
     // node positions (tens of KB) stay in cache.
 #pragma omp for schedule(static)
     for (int v = 0; v < num_vertices; ++v) {
-      const int c = cell_of_vertex[v];
+      const int c = particle_of_vertex[v];
       // Candidates are sorted by node id, so ranking by (distance, index)
       // breaks ties by node id.
       const int* candidate = candidates.begin(c);

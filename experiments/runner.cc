@@ -89,10 +89,10 @@ bool RunDeformer(const ExperimentScenario& scenario, const DeformerOptions& opti
   result->particles = lattice.num_particles();
   result->dg1_nodes = deformer.graphs()[0].num_nodes();
   {
-    std::vector<char> holds_fixed(lattice.num_surface_cells(), 0), counted(holds_fixed.size(), 0);
-    for (int v : scenario.layout.fixed) holds_fixed[lattice.cell_of_vertex(v)] = 1;
+    std::vector<char> holds_fixed(lattice.num_surface_particles(), 0), counted(holds_fixed.size(), 0);
+    for (int v : scenario.layout.fixed) holds_fixed[lattice.particle_of_vertex(v)] = 1;
     for (int v : scenario.layout.moveable) {
-      const int cell = lattice.cell_of_vertex(v);
+      const int cell = lattice.particle_of_vertex(v);
       if (holds_fixed[cell] && !counted[cell]) {
         counted[cell] = 1;
         ++result->shared_cells;
@@ -216,6 +216,9 @@ std::vector<Variant> Ablations() {
       {"border_fixed", [](DeformerOptions* o) { o->selection.border = BorderRule::kFixed; }},
       {"border_half_free", [](DeformerOptions* o) { o->selection.border = BorderRule::kHalfFree; }},
       {"no_fixed_vertex_terms", [](DeformerOptions* o) { o->hold_fixed_vertices = false; }},
+      {"no_pin_fixed_region",
+       [](DeformerOptions* o) { o->selection.pin_fixed_region = false; }},
+      {"no_split_cells", [](DeformerOptions* o) { o->lattice.split_cells = false; }},
       // The paper's Fig. 5 and 7 ablations.
       {"keep_left_out_terms", [](DeformerOptions* o) { o->keep_left_out_terms = true; }},
       {"fix_fixed_handle_nodes", [](DeformerOptions* o) { o->fix_fixed_handle_nodes = true; }},

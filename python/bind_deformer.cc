@@ -248,9 +248,9 @@ void BindDeformerProperties(py::class_<PyDeformer>& c) {
              false),
       "The lattice's cell width w.");
   c.def_property_readonly(
-      "num_surface_cells",
+      "num_surface_particles",
       Locked([](const py::object&, PyDeformer& s) {
-        return s.deformer.lattice().num_surface_cells();
+        return s.deformer.lattice().num_surface_particles();
       }, false),
       "Surface cells of the lattice (= DG1 nodes = the first particles).");
   c.def_property_readonly(
@@ -259,7 +259,7 @@ void BindDeformerProperties(py::class_<PyDeformer>& c) {
         return PositionsToArray(s.deformer.lattice().rest_positions());
       }, false),
       "Rest positions of the lattice particles (cell centres), a new (#particles, 3) array; "
-      "particles 0 .. num_surface_cells - 1 are the surface cells.");
+      "particles 0 .. num_surface_particles - 1 are the surface cells.");
   c.def_property_readonly(
       "num_scales",
       Locked([](const py::object&, PyDeformer& s) {
@@ -321,7 +321,7 @@ void BindDeformerProperties(py::class_<PyDeformer>& c) {
         return VectorToArray(s.deformer.rigidity().relative_extent);
       }, true),
       "e' (paper Eq. 5, normalised): the rigidity estimate per lattice particle, float64 "
-      "(#particles,); the first num_surface_cells entries are the DG1 nodes'. Small means rigid. "
+      "(#particles,); the first num_surface_particles entries are the DG1 nodes'. Small means rigid. "
       "Empty for the static baselines.");
   c.def_property_readonly(
       "extent",

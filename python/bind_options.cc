@@ -304,6 +304,10 @@ void BindLatticeOptions(py::module_& m) {
              "Used when cell_width is 0: w = bounding-box diagonal / this.")
       .Field("max_grid_cells", &LatticeOptions::max_grid_cells,
              "Upper bound on the cells of the padded grid (memory guard).")
+      .Field("split_cells", &LatticeOptions::split_cells,
+             "One particle per piece of surface in a cell (False: one per cell, the paper).")
+      .Field("piece_margin", &LatticeOptions::piece_margin,
+             "Pieces are found within the cell grown by this many cell widths, in [0, 2].")
       .Finish();
 }
 
@@ -376,6 +380,9 @@ void BindScaleSelectionOptions(py::module_& m) {
               {BorderRule::kTotallyFree, BorderRule::kHalfFree, BorderRule::kFixed},
               BorderRuleName, ParseBorderRule,
               "What a Fixed node next to a Totally Free one becomes.")
+      .Field("pin_fixed_region", &ScaleSelectionOptions::pin_fixed_region,
+             "Nodes that skin a fixed-handle vertex are Fixed: the fixed region stays exactly "
+             "at rest (False: the paper).")
       .Finish();
 }
 

@@ -19,8 +19,8 @@ namespace {
 
 // Unique surface particles (= DG1 nodes) holding the given vertices.
 std::vector<char> CellsHolding(const Lattice& lattice, const std::vector<int>& vertices) {
-  std::vector<char> holds(lattice.num_surface_cells(), 0);
-  for (int v : vertices) holds[lattice.cell_of_vertex(v)] = 1;
+  std::vector<char> holds(lattice.num_surface_particles(), 0);
+  for (int v : vertices) holds[lattice.particle_of_vertex(v)] = 1;
   return holds;
 }
 
@@ -47,9 +47,9 @@ std::vector<char> StillVertices(const Components& components, const HandleLayout
 // (StillVertices); empty when the mesh has one component.
 std::vector<char> StillCells(const Lattice& lattice, const std::vector<char>& still_vertices) {
   if (still_vertices.empty()) return {};
-  const CompressedLists& vertices = lattice.vertices_of_cell();
-  std::vector<char> still(lattice.num_surface_cells(), 1);
-  for (int cell = 0; cell < lattice.num_surface_cells(); ++cell) {
+  const CompressedLists& vertices = lattice.vertices_of_particle();
+  std::vector<char> still(lattice.num_surface_particles(), 1);
+  for (int cell = 0; cell < lattice.num_surface_particles(); ++cell) {
     for (const int* v = vertices.begin(cell); v != vertices.end(cell); ++v) {
       if (!still_vertices[*v]) {
         still[cell] = 0;
@@ -162,6 +162,8 @@ std::vector<std::pair<std::string, std::string>> DescribeOptions(const DeformerO
   add("lattice.cell_width", number(lattice.cell_width));
   add("lattice.cells_per_diagonal", number(lattice.cells_per_diagonal));
   add("lattice.max_grid_cells", std::to_string(lattice.max_grid_cells));
+  add("lattice.split_cells", flag(lattice.split_cells));
+  add("lattice.piece_margin", number(lattice.piece_margin));
   add("graph.k", std::to_string(graph.k));
   add("graph.nodes_per_scale", std::to_string(graph.nodes_per_scale));
   add("graph.seed", std::to_string(graph.seed));
@@ -187,6 +189,7 @@ std::vector<std::pair<std::string, std::string>> DescribeOptions(const DeformerO
   add("selection.alpha_all_one", flag(selection.alpha_all_one));
   add("selection.half_free", HalfFreeRuleName(selection.half_free));
   add("selection.border", BorderRuleName(selection.border));
+  add("selection.pin_fixed_region", flag(selection.pin_fixed_region));
   add("static_nodes", std::to_string(options.static_nodes));
   add("w_rot", number(options.w_rot));
   add("w_coh", number(options.w_coh));
@@ -224,6 +227,8 @@ DeformerOptions PaperProcedure(DeformerOptions options) {
   options.rigidity.model = RigidityModel::kShapeMatching;
   options.selection.half_free = HalfFreeRule::kEveryFixedHandleNode;
   options.selection.border = BorderRule::kFixed;
+  options.selection.pin_fixed_region = false;
+  options.lattice.split_cells = false;
   options.hold_fixed_vertices = false;
   return options;
 }
@@ -296,7 +301,7 @@ bool Deformer::Init(const Mesh& mesh, const DeformerOptions& options, std::strin
     case Method::kStatic: {
       // DG1 and one graph of static_nodes nodes by the same edge collapse.
       if (!BuildCollapsedGraphs(mesh_, lattice_, GraphBuildOptions(),
-                                {std::min(options_.static_nodes, lattice_.num_surface_cells())},
+                                {std::min(options_.static_nodes, lattice_.num_surface_particles())},
                                 &graphs_, error)) {
         return false;
       }
@@ -378,6 +383,7 @@ bool Deformer::BuildLayout(const HandleLayout& layout, std::string* error) {
     handles.holds_fixed = CellsHolding(lattice_, layout_.fixed);
     handles.holds_moveable = CellsHolding(lattice_, layout_.moveable);
     handles.still = still_cells;
+    handles.fixed_vertices = layout_.fixed;
     if (!rigidity_estimator_->Estimate(Indices(handles.holds_fixed),
                                        Indices(handles.holds_moveable), &rigidity_, error)) {
       return false;
@@ -386,7 +392,7 @@ bool Deformer::BuildLayout(const HandleLayout& layout, std::string* error) {
     const auto selection_start = std::chrono::steady_clock::now();
     const std::vector<double> dg1_extent(
         rigidity_.relative_extent.data(),
-        rigidity_.relative_extent.data() + lattice_.num_surface_cells());
+        rigidity_.relative_extent.data() + lattice_.num_surface_particles());
     ScaleSelectionOptions selection_options = options_.selection;
     if (options_.fix_fixed_handle_nodes) selection_options.half_free = HalfFreeRule::kNone;
     if (!SelectScale(

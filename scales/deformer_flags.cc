@@ -96,6 +96,12 @@ DEFINE_string(border, msdeform::BorderRuleName(kDefaults.selection.border),
 DEFINE_bool(hold_fixed_vertices, kDefaults.hold_fixed_vertices,
             "[ablations] Multi-scale: hold the fixed vertices skinned by a non-Fixed node at rest "
             "with Position terms (the paper: false).");
+DEFINE_bool(pin_fixed_region, kDefaults.selection.pin_fixed_region,
+            "[ablations] Multi-scale: nodes that skin a fixed-handle vertex are Fixed, so the "
+            "fixed region stays exactly at rest (the paper: false).");
+DEFINE_bool(split_cells, kDefaults.lattice.split_cells,
+            "[ablations] One lattice particle per piece of surface in a cell, so touching parts "
+            "stay apart (the paper: one per cell).");
 DEFINE_bool(keep_left_out_terms, kDefaults.keep_left_out_terms,
             "[ablations] Keep E(j,k) for Half Free j (paper Fig. 5, Deformed 2).");
 DEFINE_bool(fix_fixed_handle_nodes, kDefaults.fix_fixed_handle_nodes,
@@ -242,6 +248,8 @@ bool DeformerOptionsFromFlags(DeformerOptions* options, std::string* error) {
   options->rigidity.region_half_width = FLAGS_rigidity_region;
   options->selection.threshold_floor = FLAGS_threshold_floor;
   options->hold_fixed_vertices = FLAGS_hold_fixed_vertices;
+  options->selection.pin_fixed_region = FLAGS_pin_fixed_region;
+  options->lattice.split_cells = FLAGS_split_cells;
   options->keep_left_out_terms = FLAGS_keep_left_out_terms;
   options->fix_fixed_handle_nodes = FLAGS_fix_fixed_handle_nodes;
   options->selection.alpha_all_one = FLAGS_alpha_all_one;

@@ -126,7 +126,7 @@ bool RigidityOptions::Check(std::string* error) const {
 bool ParticlesOfVertices(const Lattice& lattice, const std::vector<int>& vertices,
                          std::vector<int>* particles, std::string* error) {
   CHECK(particles != nullptr);
-  const int num_vertices = static_cast<int>(lattice.cell_of_vertex().size());
+  const int num_vertices = static_cast<int>(lattice.particle_of_vertex().size());
   particles->clear();
   particles->reserve(vertices.size());
   for (std::size_t k = 0; k < vertices.size(); ++k) {
@@ -137,7 +137,7 @@ bool ParticlesOfVertices(const Lattice& lattice, const std::vector<int>& vertice
       *error = message.str();
       return false;
     }
-    particles->push_back(lattice.cell_of_vertex(vertices[k]));
+    particles->push_back(lattice.particle_of_vertex(vertices[k]));
   }
   std::sort(particles->begin(), particles->end());
   particles->erase(std::unique(particles->begin(), particles->end()), particles->end());
@@ -191,11 +191,16 @@ bool RigidityEstimator::Init(const Lattice& lattice, const RigidityOptions& opti
     for (const int* j = regions_.begin(i); j != regions_.end(i) && is_box; ++j) {
       is_box = (lattice.cell_coords(*j) - c).cwiseAbs().maxCoeff() <= r;
     }
+    // A box sums one particle per cell: a cell split into pieces of surface
+    // (lattice.h) makes its particle's region a listed one.
     int box_count = 0;
     for (int dz = -r; dz <= r && is_box; ++dz)
-      for (int dy = -r; dy <= r; ++dy)
-        for (int dx = -r; dx <= r; ++dx)
-          box_count += lattice.ParticleAt(c + Eigen::Vector3i(dx, dy, dz)) >= 0;
+      for (int dy = -r; dy <= r && is_box; ++dy)
+        for (int dx = -r; dx <= r && is_box; ++dx) {
+          const int count = lattice.NumParticlesAt(c + Eigen::Vector3i(dx, dy, dz));
+          is_box = count <= 1;
+          box_count += count;
+        }
     if (is_box && box_count == regions_.size(i)) {
       box_particles_.push_back(i);
     } else {

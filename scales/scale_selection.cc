@@ -205,6 +205,7 @@ bool SelectScale(const std::function<const DeformationGraph&(int scale)>& graph_
   result.eq6_scale = scale;
 
   // Classes, moving finer while a node would hold both kinds of handle.
+  std::vector<char> pinned;
   for (; scale >= 1; --scale) {
     const DeformationGraph& graph = graph_at(scale);
     const int n = graph.num_nodes();
@@ -231,6 +232,36 @@ bool SelectScale(const std::function<const DeformationGraph&(int scale)>& graph_
       }
     }
     if (conflict) continue;
+    // Nodes that skin a fixed vertex are Fixed; the handle must keep a node
+    // of its own, so a pinned node holding moveable vertices sends the
+    // selection to a finer scale (on DG1 it stays unpinned).
+    pinned.assign(n, 0);
+    if (options.pin_fixed_region) {
+      const SkinningWeights& weights = graph.weights;
+      for (int v : handles.fixed_vertices) {
+        for (int slot = 0; slot < weights.k(); ++slot) {
+          if (weights.weight(slot, v) != 0.0) pinned[weights.node(slot, v)] = 1;
+        }
+      }
+      for (int j = 0; j < n && !conflict; ++j) {
+        if (!pinned[j]) continue;
+        for (const int* m = graph.members.begin(j); m != graph.members.end(j); ++m) {
+          if (handles.holds_moveable[*m]) {
+            conflict = scale > 1;
+            pinned[j] = 0;
+            result.fixed_region_exact = false;
+            break;
+          }
+        }
+      }
+      if (conflict) {
+        result.fixed_region_exact = true;
+        continue;
+      }
+      for (int j = 0; j < n; ++j) {
+        if (pinned[j]) result.node_class[j] = NodeClass::kFixed;
+      }
+    }
     // Nodes next to the Totally Free region (decided before any changes).
     std::vector<char> borders_free(n, 0);
     for (int j = 0; j < n; ++j) {
@@ -239,7 +270,7 @@ bool SelectScale(const std::function<const DeformationGraph&(int scale)>& graph_
       }
     }
     for (int j = 0; j < n; ++j) {
-      if (result.node_class[j] == NodeClass::kTotallyFree || still[j]) continue;
+      if (result.node_class[j] == NodeClass::kTotallyFree || still[j] || pinned[j]) continue;
       if (holds_fixed[j]) {
         if (options.half_free == HalfFreeRule::kEveryFixedHandleNode ||
             (options.half_free == HalfFreeRule::kNextToTotallyFree && borders_free[j])) {
@@ -259,6 +290,7 @@ bool SelectScale(const std::function<const DeformationGraph&(int scale)>& graph_
     return false;
   }
   result.scale = scale;
+  result.num_pinned = static_cast<int>(std::count(pinned.begin(), pinned.end(), 1));
 
   // Counts and alpha weights (omega per Totally Free node).
   const int n = graph_at(scale).num_nodes();

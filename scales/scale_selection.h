@@ -16,10 +16,18 @@
 //   Totally Free if it holds a moveable-handle vertex or has e' > T (12),
 //   Fixed        otherwise (0), and always when all its members are still
 //                (HandleNodes::still: in components with no moveable handle).
-// BorderRule then decides what the Fixed nodes next to a Totally Free one
-// become (by default Totally Free: one more ring; the paper keeps them Fixed).
-// A node holding both fixed and moveable vertices cannot serve both, so the
-// selection moves to finer scales until no node does.
+// By default (pin_fixed_region) every node that skins a fixed-handle vertex
+// with non-zero weight is then Fixed, whatever the rules above said: a fixed
+// vertex is a blend of identities and stays exactly at rest, and the vertices
+// beyond it blend from rest into the free nodes' motion over the skinning
+// support (docs/decisions.md, "Exact fixed regions"). BorderRule then decides
+// what the other Fixed nodes next to a Totally Free one become (by default
+// Totally Free: one more ring; the paper keeps them Fixed).
+// A node holding both fixed and moveable vertices cannot serve both, and
+// neither can a node holding moveable vertices that the fixed region pins,
+// so the selection moves to finer scales until no node does. On DG1 a pinned
+// node holding moveable vertices is left unpinned (the fixed vertices it
+// skins are then held by Position terms only: fixed_region_exact is false).
 
 #ifndef MSDEFORM_SCALES_SCALE_SELECTION_H_
 #define MSDEFORM_SCALES_SCALE_SELECTION_H_
@@ -88,6 +96,10 @@ struct ScaleSelectionOptions {
   // classes on large fixed regions": one more Totally Free ring distorted
   // least over the experiment edits; the paper keeps them Fixed).
   BorderRule border = BorderRule::kTotallyFree;
+  // Nodes that skin a fixed-handle vertex are Fixed, so the fixed region
+  // stays exactly at rest (docs/decisions.md, "Exact fixed regions"); false:
+  // the paper's classes, where only Position terms hold the fixed vertices.
+  bool pin_fixed_region = true;
 
   bool Check(std::string* error) const;
 };
@@ -99,6 +111,8 @@ struct HandleNodes {
   // Per DG1 node: it holds only vertices of mesh components without a
   // moveable-handle vertex, which nothing moves. Empty: none (one component).
   std::vector<char> still;
+  // The fixed-handle vertices (mesh ids), for pin_fixed_region. Empty: none.
+  std::vector<int> fixed_vertices;
 };
 
 // Whether vertex v has a non-Fixed node of non-zero weight among its nearest:
@@ -123,6 +137,10 @@ struct ScaleSelection {
   int eq6_scale = 1;             // s from Eq. 6, 1-based
   int scale = 1;                 // selected scale after conflicts, 1-based
   bool local_detail_edit = false;
+  // Every fixed-handle vertex is skinned only by Fixed nodes (true when
+  // pin_fixed_region held at the selected scale, or there are none).
+  bool fixed_region_exact = true;
+  int num_pinned = 0;  // nodes made Fixed by pin_fixed_region
   std::vector<double> node_extent;       // e' per node of the selected scale
   std::vector<NodeClass> node_class;     // per node of the selected scale
   std::vector<double> omega;             // per node; 1 unless Totally Free

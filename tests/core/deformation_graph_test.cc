@@ -65,7 +65,7 @@ Mesh Concatenate(const Mesh& a, const Mesh& b) {
 // Every invariant of the layout in core/deformation_graph.h, at every scale.
 void ExpectValidGraphs(const Mesh& mesh, const Lattice& lattice, const GraphOptions& options,
                        const std::vector<DeformationGraph>& graphs) {
-  const int d1 = lattice.num_surface_cells();
+  const int d1 = lattice.num_surface_particles();
   const int num_scales = std::max(1, d1 / options.nodes_per_scale);
   ASSERT_EQ(static_cast<int>(graphs.size()), num_scales) << "D1 = " << d1;
   for (int i = 1; i <= num_scales; ++i) {
@@ -173,14 +173,14 @@ TEST(DeformationGraphTest, Dg1HasOneNodePerSurfaceCellOnASeededRandomVertex) {
   const std::vector<DeformationGraph> graphs = BuildGraphs(sphere, lattice, options);
   ASSERT_EQ(graphs.size(), 1u);
   const DeformationGraph& dg1 = graphs[0];
-  ASSERT_EQ(dg1.num_nodes(), lattice.num_surface_cells());
+  ASSERT_EQ(dg1.num_nodes(), lattice.num_surface_particles());
   int not_first_vertex = 0;
   for (int j = 0; j < dg1.num_nodes(); ++j) {
-    EXPECT_EQ(lattice.cell_of_vertex(dg1.node_vertex[j]), j) << "node " << j;
+    EXPECT_EQ(lattice.particle_of_vertex(dg1.node_vertex[j]), j) << "node " << j;
     EXPECT_EQ(dg1.node_of_dg1[j], j);
     ASSERT_EQ(dg1.members.size(j), 1);
     EXPECT_EQ(*dg1.members.begin(j), j);
-    not_first_vertex += dg1.node_vertex[j] != *lattice.vertices_of_cell().begin(j);
+    not_first_vertex += dg1.node_vertex[j] != *lattice.vertices_of_particle().begin(j);
   }
   EXPECT_GT(not_first_vertex, 0) << "the vertex should be random, not the first of the cell";
 
@@ -252,7 +252,7 @@ TEST(DeformationGraphTest, ComponentsAreMergedOnlyWhenEdgesRunOut) {
   EXPECT_LT(scales_without_mixing, static_cast<int>(graphs.size()));
   // Each cube is a one-node component in DG1: its vertices follow that node alone.
   for (int v = 0; v < 30 * 8; ++v) {
-    EXPECT_EQ(graphs[0].weights.node(0, v), lattice.cell_of_vertex(v));
+    EXPECT_EQ(graphs[0].weights.node(0, v), lattice.particle_of_vertex(v));
     EXPECT_EQ(graphs[0].weights.weight(0, v), 1.0);
   }
 }
@@ -262,7 +262,7 @@ TEST(DeformationGraphTest, FirstCollapseMergesTheShortestDg1Edge) {
   const Lattice lattice = BuildTestLattice(sphere, 0.15);
   std::vector<DeformationGraph> graphs;
   std::string error;
-  const int d1 = lattice.num_surface_cells();
+  const int d1 = lattice.num_surface_particles();
   ASSERT_TRUE(BuildCollapsedGraphs(sphere, lattice, GraphOptions(), {d1 - 1}, &graphs, &error))
       << error;
   ASSERT_EQ(graphs.size(), 2u);
@@ -356,7 +356,7 @@ TEST(DeformationGraphTest, InvalidOptionsAreReported) {
   EXPECT_FALSE(BuildMultiScaleGraphs(bar, lattice, options, &graphs, &error));
   EXPECT_NE(error.find("nodes_per_scale"), std::string::npos) << error;
   options = GraphOptions();
-  const int d1 = lattice.num_surface_cells();
+  const int d1 = lattice.num_surface_particles();
   EXPECT_FALSE(BuildCollapsedGraphs(bar, lattice, options, {d1 / 2, d1 / 2 + 1}, &graphs, &error));
   EXPECT_NE(error.find("non-increasing"), std::string::npos) << error;
   EXPECT_FALSE(BuildCollapsedGraphs(bar, lattice, options, {0}, &graphs, &error));
@@ -378,7 +378,7 @@ TEST(DeformationGraphTest, RealMeshesHaveValidWeightsAtEveryScale) {
     const GraphOptions options;
     const std::vector<DeformationGraph> graphs = BuildGraphs(mesh, lattice, options);
     LOG(INFO) << name << ": " << mesh.num_vertices() << " vertices, D1 = "
-              << lattice.num_surface_cells() << ", N = " << graphs.size();
+              << lattice.num_surface_particles() << ", N = " << graphs.size();
     ExpectValidGraphs(mesh, lattice, options, graphs);
   }
 }

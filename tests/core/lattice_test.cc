@@ -38,19 +38,19 @@ TEST(LatticeTest, Eq1CoordinatesOnHandCheckedPoints) {
   const Lattice lattice = BuildTestLattice(mesh, 1.0);
   // a = floor((x - 1 + 0.5) / 1): x = 1 -> 0, 3.2 -> 2, 1.49 -> 0.
   // b = floor((y + 1 + 0.5) / 1): y = -1 -> 0, 0 -> 1, -0.49 -> 1.
-  EXPECT_EQ(lattice.cell_coords(lattice.cell_of_vertex(0)), Eigen::Vector3i(0, 0, 0));
-  EXPECT_EQ(lattice.cell_coords(lattice.cell_of_vertex(1)), Eigen::Vector3i(2, 1, 0));
-  EXPECT_EQ(lattice.cell_coords(lattice.cell_of_vertex(2)), Eigen::Vector3i(0, 1, 0));
+  EXPECT_EQ(lattice.cell_coords(lattice.particle_of_vertex(0)), Eigen::Vector3i(0, 0, 0));
+  EXPECT_EQ(lattice.cell_coords(lattice.particle_of_vertex(1)), Eigen::Vector3i(2, 1, 0));
+  EXPECT_EQ(lattice.cell_coords(lattice.particle_of_vertex(2)), Eigen::Vector3i(0, 1, 0));
   EXPECT_EQ(lattice.CellCoordsOf(Eigen::Vector3d(1.51, -0.51, 5.0)), Eigen::Vector3i(1, 0, 0));
   EXPECT_EQ(lattice.dims(), Eigen::Vector3i(3, 2, 1));
   // Cell centre of (2, 1, 0) is (x_min + 2w, y_min + w, z_min).
   EXPECT_TRUE(lattice.rest_positions()
-                  .col(lattice.cell_of_vertex(1))
+                  .col(lattice.particle_of_vertex(1))
                   .isApprox(Eigen::Vector3d(3.0, 0.0, 5.0)));
-  EXPECT_EQ(lattice.num_surface_cells(), 3);
+  EXPECT_EQ(lattice.num_surface_particles(), 3);
   // A flat triangle has no inside, but the two vertex-free cells it crosses
   // between its vertices' cells are walls of the flood fill and so particles.
-  EXPECT_EQ(lattice.num_interior_cells(), 2);
+  EXPECT_EQ(lattice.num_interior_particles(), 2);
 }
 
 TEST(LatticeTest, DefaultCellWidthIsDiagonalOver48) {
@@ -67,7 +67,7 @@ TEST(LatticeTest, ClosedBarIsFilledSolid) {
   // centre is strictly inside the bar is either surface or interior.
   const Mesh bar = MakeBar(4, 3.0, 6);
   const Lattice lattice = BuildTestLattice(bar, 0.5);
-  EXPECT_GT(lattice.num_interior_cells(), 0);
+  EXPECT_GT(lattice.num_interior_particles(), 0);
   int inside_centres = 0;
   for (int a = 0; a < lattice.dims().x(); ++a)
     for (int b = 0; b < lattice.dims().y(); ++b)
@@ -83,7 +83,7 @@ TEST(LatticeTest, ClosedBarIsFilledSolid) {
   EXPECT_EQ(lattice.num_particles(), (12 * 2 + 1) * (3 * 2 + 1) * (3 * 2 + 1));
   // The bar's sides sit on cell centres, so the strictly inside centres are
   // exactly the interior cells.
-  EXPECT_EQ(inside_centres, lattice.num_interior_cells());
+  EXPECT_EQ(inside_centres, lattice.num_interior_particles());
 }
 
 TEST(LatticeTest, EdgesLongerThanACellStillCloseTheSurface) {
@@ -94,7 +94,7 @@ TEST(LatticeTest, EdgesLongerThanACellStillCloseTheSurface) {
   Lattice lattice;
   std::string error;
   ASSERT_TRUE(Lattice::Build(bar, LatticeOptions(), &lattice, &error)) << error;
-  EXPECT_GT(lattice.num_interior_cells(), 0);
+  EXPECT_GT(lattice.num_interior_particles(), 0);
 
   // Coarse triangles (one quad per voxel face), much finer cells: every cell
   // whose centre is inside the bar by more than a cell is a particle.
@@ -113,7 +113,7 @@ TEST(LatticeTest, EdgesLongerThanACellStillCloseTheSurface) {
         }
       }
   EXPECT_GT(inside, 0);
-  EXPECT_GE(fine.num_interior_cells(), inside);
+  EXPECT_GE(fine.num_interior_particles(), inside);
 }
 
 TEST(LatticeTest, FlatMeshAndSingleTriangleBuild) {
@@ -127,11 +127,11 @@ TEST(LatticeTest, FlatMeshAndSingleTriangleBuild) {
   Lattice lattice;
   std::string error;
   ASSERT_TRUE(Lattice::Build(triangle, LatticeOptions(), &lattice, &error)) << error;
-  EXPECT_EQ(lattice.num_surface_cells(), 3);
+  EXPECT_EQ(lattice.num_surface_particles(), 3);
   EXPECT_EQ(lattice.dims().z(), 1);
   // The cells the triangle crosses join the particles; every particle is
   // connected to another one.
-  EXPECT_GT(lattice.num_interior_cells(), 0);
+  EXPECT_GT(lattice.num_interior_particles(), 0);
   EXPECT_TRUE(lattice.rest_positions().allFinite());
   for (int p = 0; p < lattice.num_particles(); ++p) {
     EXPECT_GT(lattice.particle_adjacency().size(p), 0) << p;
@@ -150,19 +150,19 @@ TEST(LatticeTest, AbsurdlyFineCellWidthIsAnErrorNotAnOverflow) {
 TEST(LatticeTest, OpenTubeIsNotFilled) {
   const Mesh tube = MakeOpenTube(1.0, 4.0, 64, 32);
   const Lattice lattice = BuildTestLattice(tube, 0.25);
-  EXPECT_EQ(lattice.num_interior_cells(), 0);
-  EXPECT_GT(lattice.num_surface_cells(), 0);
+  EXPECT_EQ(lattice.num_interior_particles(), 0);
+  EXPECT_GT(lattice.num_surface_particles(), 0);
 }
 
 TEST(LatticeTest, EveryVertexIsInItsSurfaceCell) {
   const Mesh sphere = MakeSphere(1.0, 40, 20);
   const Lattice lattice = BuildTestLattice(sphere, 0.2);
   int listed = 0;
-  for (int cell = 0; cell < lattice.num_surface_cells(); ++cell) {
-    ASSERT_GT(lattice.vertices_of_cell().size(cell), 0);
-    for (const int* v = lattice.vertices_of_cell().begin(cell);
-         v != lattice.vertices_of_cell().end(cell); ++v) {
-      EXPECT_EQ(lattice.cell_of_vertex(*v), cell);
+  for (int cell = 0; cell < lattice.num_surface_particles(); ++cell) {
+    ASSERT_GT(lattice.vertices_of_particle().size(cell), 0);
+    for (const int* v = lattice.vertices_of_particle().begin(cell);
+         v != lattice.vertices_of_particle().end(cell); ++v) {
+      EXPECT_EQ(lattice.particle_of_vertex(*v), cell);
       EXPECT_EQ(lattice.CellCoordsOf(sphere.vertices.col(*v)), lattice.cell_coords(cell));
       ++listed;
     }
@@ -178,7 +178,7 @@ TEST(LatticeTest, CombTeethInTouchingCellsAreNotNeighbours) {
   std::vector<std::set<int>> cells_of_tooth(3);
   for (int t = 0; t < 3; ++t)
     for (int v : CombToothVertices(comb, t)) {
-      if (comb.vertices(1, v) > 2.5) cells_of_tooth[t].insert(lattice.cell_of_vertex(v));
+      if (comb.vertices(1, v) > 2.5) cells_of_tooth[t].insert(lattice.particle_of_vertex(v));
     }
   int touching_pairs = 0;
   for (int t = 0; t + 1 < 3; ++t) {
@@ -206,7 +206,7 @@ TEST(LatticeTest, AdjacencyIsSymmetricAndFollowsMethod) {
       EXPECT_NE(*q, p);
       EXPECT_NE(std::find(adjacency.begin(*q), adjacency.end(*q), p), adjacency.end(*q));
       EXPECT_LE((lattice.cell_coords(p) - lattice.cell_coords(*q)).cwiseAbs().maxCoeff(), 1);
-      if (p < lattice.num_surface_cells() && *q < lattice.num_surface_cells()) {
+      if (p < lattice.num_surface_particles() && *q < lattice.num_surface_particles()) {
         const auto& l = lattice.neighborhood();
         EXPECT_NE(std::find(l.begin(p), l.end(p), *q), l.end(p));
       }

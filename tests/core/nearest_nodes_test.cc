@@ -47,8 +47,8 @@ void ExpectSameAsRingSearch(const Lattice& lattice, const std::vector<int>& node
                             int num_nodes, int min_count, int extra_rings) {
   const CompressedLists candidates =
       CandidateNodesOfCells(lattice, node_of_cell, num_nodes, min_count, extra_rings);
-  ASSERT_EQ(candidates.num_rows(), lattice.num_surface_cells());
-  for (int c = 0; c < lattice.num_surface_cells(); ++c) {
+  ASSERT_EQ(candidates.num_rows(), lattice.num_surface_particles());
+  for (int c = 0; c < lattice.num_surface_particles(); ++c) {
     const std::vector<int> expected = RingSearch(lattice, node_of_cell, c, min_count, extra_rings);
     const std::vector<int> actual(candidates.begin(c), candidates.end(c));
     ASSERT_EQ(actual, expected) << "cell " << c << " min_count " << min_count << " extra "
@@ -59,7 +59,7 @@ void ExpectSameAsRingSearch(const Lattice& lattice, const std::vector<int>& node
 TEST(NearestNodesTest, PropagationEqualsPerCellRingSearch) {
   const Mesh comb = MakeComb(4, 5, 1.0, 4);
   const Lattice lattice = BuildTestLattice(comb, 0.45);
-  const int num_cells = lattice.num_surface_cells();
+  const int num_cells = lattice.num_surface_particles();
   std::vector<int> identity(num_cells);
   for (int c = 0; c < num_cells; ++c) identity[c] = c;
 
@@ -91,12 +91,12 @@ TEST(NearestNodesTest, PropagationEqualsPerCellRingSearch) {
 TEST(NearestNodesTest, WeightsFollowEq11OverTheRingCandidates) {
   const Mesh sphere = MakeSphere(1.0, 48, 24);
   const Lattice lattice = BuildTestLattice(sphere, 0.15);
-  const int num_cells = lattice.num_surface_cells();
+  const int num_cells = lattice.num_surface_particles();
   // Nodes on the first vertex of each cell.
   Eigen::Matrix3Xd positions(3, num_cells);
   std::vector<int> node_of_cell(num_cells);
   for (int c = 0; c < num_cells; ++c) {
-    positions.col(c) = sphere.vertices.col(*lattice.vertices_of_cell().begin(c));
+    positions.col(c) = sphere.vertices.col(*lattice.vertices_of_particle().begin(c));
     node_of_cell[c] = c;
   }
   NearestNodeOptions options;
@@ -110,7 +110,7 @@ TEST(NearestNodesTest, WeightsFollowEq11OverTheRingCandidates) {
   std::set<std::pair<int, int>> expected_edges;
   for (int v = 0; v < sphere.num_vertices(); ++v) {
     const std::vector<int> candidates =
-        RingSearch(lattice, node_of_cell, lattice.cell_of_vertex(v), 5, options.extra_rings);
+        RingSearch(lattice, node_of_cell, lattice.particle_of_vertex(v), 5, options.extra_rings);
     ASSERT_GE(candidates.size(), 5u);
     std::vector<std::pair<double, int>> ranked;
     for (int node : candidates) {
@@ -146,7 +146,7 @@ TEST(NearestNodesTest, WeightsFollowEq11OverTheRingCandidates) {
 TEST(NearestNodesTest, ResultDoesNotDependOnThreadCount) {
   const Mesh sphere = MakeSphere(1.0, 64, 32);
   const Lattice lattice = BuildTestLattice(sphere, 0.1);
-  const int num_cells = lattice.num_surface_cells();
+  const int num_cells = lattice.num_surface_particles();
   Eigen::Matrix3Xd positions(3, num_cells);
   std::vector<int> node_of_cell(num_cells);
   for (int c = 0; c < num_cells; ++c) {
@@ -174,14 +174,14 @@ TEST(NearestNodesTest, VertexWithFewerThanKPlusOneCandidatesGetsValidWeights) {
   triangle.faces.resize(3, 1);
   triangle.faces << 0, 1, 2;
   const Lattice lattice = BuildTestLattice(triangle, 1.0);
-  ASSERT_EQ(lattice.num_surface_cells(), 3);
+  ASSERT_EQ(lattice.num_surface_particles(), 3);
   // Node c sits on the vertex of cell c; node 0 is moved off its vertex.
   Eigen::Matrix3Xd positions(3, 3);
   std::vector<int> node_of_cell = {0, 1, 2};
   for (int c = 0; c < 3; ++c) {
-    positions.col(c) = triangle.vertices.col(*lattice.vertices_of_cell().begin(c));
+    positions.col(c) = triangle.vertices.col(*lattice.vertices_of_particle().begin(c));
   }
-  positions.col(0) = triangle.vertices.col(*lattice.vertices_of_cell().begin(0)) +
+  positions.col(0) = triangle.vertices.col(*lattice.vertices_of_particle().begin(0)) +
                      Eigen::Vector3d(0.1, 0.1, 0.0);
   SkinningWeights weights;
   std::vector<std::pair<int, int>> edges;
@@ -208,7 +208,7 @@ TEST(NearestNodesTest, SingleNodeComponentFallsBackToWeightOne) {
   triangle.faces.resize(3, 1);
   triangle.faces << 0, 1, 2;
   const Lattice lattice = BuildTestLattice(triangle, 1.0);
-  ASSERT_EQ(lattice.num_surface_cells(), 1);
+  ASSERT_EQ(lattice.num_surface_particles(), 1);
   Eigen::Matrix3Xd positions = triangle.vertices.col(0);
   SkinningWeights weights;
   std::vector<std::pair<int, int>> edges;

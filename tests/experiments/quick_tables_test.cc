@@ -179,7 +179,7 @@ TEST_F(QuickTablesTest, OtherTablesAreComplete) {
   }
   ExpectFinite(table1, {"model", "scenario"}, {});
   const CsvTable ablations = Read("ablations");
-  EXPECT_EQ(ablations.rows.size(), 13u);  // the cactus x thirteen variants
+  EXPECT_EQ(ablations.rows.size(), 15u);  // the cactus x fifteen variants
   ExpectFinite(ablations, {"scenario", "variant"},
                {"leakage_rel", "arap_energy_joint", "arap_distance_rel"});
 }
@@ -360,12 +360,11 @@ TEST_F(KnownAnswerTablesTest, NodeAndVariableCountsFollowTheClasses) {
         EXPECT_EQ(Number(table2_, scenario, method, "variables"), 12 * kVertices) << method;
       }
     } else {
-      // Half Free nodes hold the fixed vertices next to the free part; the
-      // x = 0 cap's centre node is Fixed: it is 1.5 or more from any node
-      // that holds no fixed vertex, and a graph edge joins two of some
-      // vertex's 4 nearest nodes, which lie within sqrt(0.5) of it here.
-      EXPECT_GT(half_free, 0);
-      EXPECT_LT(totally_free + half_free, kVertices);
+      // Every node that skins a fixed vertex is Fixed (pin_fixed_region):
+      // no Half Free node is left, and the fixed end's nodes get no
+      // variables.
+      EXPECT_EQ(half_free, 0);
+      EXPECT_LT(totally_free, kVertices);
     }
   }
 }

@@ -172,10 +172,10 @@ TEST(DeformerCallOrderTest, FailedSetHandlesIsNotFollowedByAStaleDrag) {
   std::string error;
   ASSERT_TRUE(deformer.Init(bar.mesh, options, &error)) << error;
   const int handle_vertex = bar.layout.moveable.front();
-  const int cell = deformer.lattice().cell_of_vertex(handle_vertex);
+  const int cell = deformer.lattice().particle_of_vertex(handle_vertex);
   int neighbour = -1;
   for (int v = 0; v < bar.mesh.num_vertices() && neighbour < 0; ++v) {
-    if (v != handle_vertex && deformer.lattice().cell_of_vertex(v) == cell) neighbour = v;
+    if (v != handle_vertex && deformer.lattice().particle_of_vertex(v) == cell) neighbour = v;
   }
   ASSERT_GE(neighbour, 0);
   conflicting.moveable.erase(
@@ -366,7 +366,7 @@ TEST(DeformerCallOrderTest, HarmonicThresholdIsConstant) {
   ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
   EXPECT_EQ(deformer.selection().threshold, 0.1);
   for (int v : bar.layout.fixed) {
-    EXPECT_EQ(deformer.rigidity().relative_extent[deformer.lattice().cell_of_vertex(v)], 0.0);
+    EXPECT_EQ(deformer.rigidity().relative_extent[deformer.lattice().particle_of_vertex(v)], 0.0);
   }
   HandleLayout moveable_only;
   moveable_only.moveable = bar.layout.moveable;

@@ -74,10 +74,18 @@ TEST(DeformerTest, RigidMotionOfAWholeMeshHandleMovesTheMeshRigidly) {
   }
 }
 
+// Half Free nodes hold fixed vertices, so these tests of them keep the fixed
+// region unpinned (ScaleSelectionOptions::pin_fixed_region, the paper's classes).
+DeformerOptions UnpinnedOptions() {
+  DeformerOptions options = OptionsFor(Method::kMultiScale);
+  options.selection.pin_fixed_region = false;
+  return options;
+}
+
 TEST(DeformerTest, ClassesAreParameterBlockFixing) {
   const BarEdit bar;
   Deformer deformer;
-  InitOrDie(&deformer, bar.mesh, OptionsFor(Method::kMultiScale), bar.layout);
+  InitOrDie(&deformer, bar.mesh, UnpinnedOptions(), bar.layout);
   const ScaleSelection& selection = deformer.selection();
   int m = 0, q = 0;
   for (NodeClass c : deformer.node_classes()) {
@@ -128,7 +136,7 @@ int LeftOutTerms(const Deformer& deformer) {
 TEST(DeformerTest, LeftOutTermsAreAbsentAndBackUnderTheAblation) {
   const BarEdit bar;
   Deformer deformer;
-  InitOrDie(&deformer, bar.mesh, OptionsFor(Method::kMultiScale), bar.layout);
+  InitOrDie(&deformer, bar.mesh, UnpinnedOptions(), bar.layout);
   int expected = 0;
   const auto& classes = deformer.node_classes();
   for (const auto& [a, b] : deformer.active().edges) {
@@ -140,7 +148,7 @@ TEST(DeformerTest, LeftOutTermsAreAbsentAndBackUnderTheAblation) {
   const int left_out = LeftOutTerms(deformer);
   ASSERT_GT(left_out, 0);
 
-  DeformerOptions ablation = OptionsFor(Method::kMultiScale);
+  DeformerOptions ablation = UnpinnedOptions();
   ablation.keep_left_out_terms = true;
   Deformer with_terms;
   InitOrDie(&with_terms, bar.mesh, ablation, bar.layout);
@@ -148,7 +156,7 @@ TEST(DeformerTest, LeftOutTermsAreAbsentAndBackUnderTheAblation) {
   EXPECT_EQ(with_terms.num_coherence_terms(), expected + left_out);
 
   // The other ablation: fixed-handle nodes lose their rotation.
-  ablation = OptionsFor(Method::kMultiScale);
+  ablation = UnpinnedOptions();
   ablation.fix_fixed_handle_nodes = true;
   Deformer fixed_nodes;
   InitOrDie(&fixed_nodes, bar.mesh, ablation, bar.layout);
@@ -379,6 +387,7 @@ TEST(DeformerTest, LargeFixedRegionGetsHalfFreeNodesOnlyAtItsBorder) {
   }
   DeformerOptions options;
   options.num_threads = 1;
+  options.selection.pin_fixed_region = false;  // Half Free nodes hold fixed vertices
   Deformer deformer;
   InitOrDie(&deformer, bend.mesh, options, bend.layout);
   const DeformationGraph& graph = deformer.active();

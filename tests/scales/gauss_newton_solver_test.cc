@@ -95,6 +95,9 @@ std::vector<std::pair<std::string, DeformerOptions>> CactusConfigurations(Solver
   DeformerOptions free_handles = TightOptions(Method::kMultiScale, backend);
   free_handles.hold_fixed_vertices = false;
   free_handles.selection.border = BorderRule::kFixed;
+  // Half Free nodes (which the gauge terms are for) hold fixed vertices, so
+  // the fixed region must not pin them.
+  free_handles.selection.pin_fixed_region = false;
   DeformerOptions paper = free_handles;
   paper.selection.half_free = HalfFreeRule::kEveryFixedHandleNode;
   paper.rigidity.model = RigidityModel::kShapeMatching;

@@ -160,8 +160,8 @@ TEST(RigidityTest, ParticlesOfVerticesAreUniqueAndChecked) {
   std::vector<int> particles;
   std::string error;
   ASSERT_TRUE(ParticlesOfVertices(lattice, {0, 0, 1, 2}, &particles, &error)) << error;
-  std::vector<int> expected = {lattice.cell_of_vertex(0), lattice.cell_of_vertex(1),
-                               lattice.cell_of_vertex(2)};
+  std::vector<int> expected = {lattice.particle_of_vertex(0), lattice.particle_of_vertex(1),
+                               lattice.particle_of_vertex(2)};
   std::sort(expected.begin(), expected.end());
   expected.erase(std::unique(expected.begin(), expected.end()), expected.end());
   EXPECT_EQ(particles, expected);
@@ -284,7 +284,7 @@ struct BarSetup {
     std::string error;
     EXPECT_TRUE(ParticlesOfVertices(lattice, fixed_vertices, &fixed, &error));
     EXPECT_TRUE(ParticlesOfVertices(lattice, moveable_vertices, &moveable, &error));
-    EXPECT_GT(lattice.num_interior_cells(), 0);
+    EXPECT_GT(lattice.num_interior_particles(), 0);
   }
 
   // Mean e' over the particles in each unit slice along x.

@@ -38,7 +38,7 @@ std::vector<DeformationGraph> LineGraphs(int d1, int num_scales) {
 }
 
 HandleNodes NoHandles(int d1) {
-  return {std::vector<char>(d1, 0), std::vector<char>(d1, 0), {}};
+  return {std::vector<char>(d1, 0), std::vector<char>(d1, 0), {}, {}};
 }
 
 ScaleSelection Select(const std::vector<DeformationGraph>& graphs, const std::vector<double>& e,
