@@ -94,7 +94,8 @@ TEST(PromisesTest, DraggingOneProngLeavesTheOtherAtRest) {
     ASSERT_TRUE(deformer.Drag(path[frame], nullptr, &error)) << error;
     double moved = 0.0;
     for (int v : fork.free_prong) {
-      moved = std::max(moved, (deformer.deformed_vertices().col(v) - fork.mesh.vertices.col(v)).norm());
+      moved = std::max(
+          moved, (deformer.deformed_vertices().col(v) - fork.mesh.vertices.col(v)).norm());
     }
     EXPECT_LE(moved / fork.diagonal, 1e-6) << "frame " << frame + 1 << " of " << path.size();
   }
@@ -132,14 +133,16 @@ std::vector<Variant> FixedHandleVariants() {
         }
       }
     }
-    variants.push_back({std::string(SolverName(backend)) + " paper procedure", PaperProcedure(base)});
+    variants.push_back(
+        {std::string(SolverName(backend)) + " paper procedure", PaperProcedure(base)});
   }
   return variants;
 }
 
 std::vector<std::string> ScenarioFiles() {
   std::vector<std::string> files;
-  for (const auto& entry : fs::directory_iterator(std::string(MSDEFORM_SOURCE_DIR) + "/experiments/scenarios")) {
+  const std::string folder = std::string(MSDEFORM_SOURCE_DIR) + "/experiments/scenarios";
+  for (const auto& entry : fs::directory_iterator(folder)) {
     if (entry.path().extension() == ".json") files.push_back(entry.path().string());
   }
   std::sort(files.begin(), files.end());
