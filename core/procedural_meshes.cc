@@ -117,6 +117,71 @@ Mesh MakeTwoBars(int length, int gap, double voxel_size, int subdivisions) {
   return MakeVoxelMesh(shape, voxel_size, subdivisions);
 }
 
+Mesh MakeFork(double gap, double voxel_size, int subdivisions) {
+  CHECK(gap > 0.0 && gap <= kForkTipGap) << gap;
+  // A comb of two teeth 2 voxels wide with a 1-voxel column between them.
+  const int height = kForkBaseHeight + kForkProngLength;
+  VoxelShape shape(5, height, kForkDepth);
+  shape.Fill({0, 0, 0}, {5, kForkBaseHeight, kForkDepth});
+  shape.Fill({0, kForkBaseHeight, 0}, {2, height, kForkDepth});
+  shape.Fill({3, kForkBaseHeight, 0}, {5, height, kForkDepth});
+  Mesh fork = MakeVoxelMesh(shape, 1.0, subdivisions);
+  // The column x in [2, 3] becomes [2, 2 + width(y)]; x >= 3 moves by
+  // width(y) - 1. width is piecewise linear in y with its one kink on a
+  // grid plane (y = base + touch), so every triangle maps affinely.
+  const double touch_top = kForkBaseHeight + kForkTouchLength;
+  auto width = [&](double y) {
+    if (y <= touch_top) return gap;
+    return gap + (kForkTipGap - gap) * (y - touch_top) / (height - touch_top);
+  };
+  for (int v = 0; v < fork.num_vertices(); ++v) {
+    double& x = fork.vertices(0, v);
+    const double w = width(fork.vertices(1, v));
+    if (x >= 3.0) {
+      x += w - 1.0;
+    } else if (x > 2.0) {
+      x = 2.0 + w * (x - 2.0);
+    }
+  }
+  fork.vertices *= voxel_size;
+  return fork;
+}
+
+namespace {
+
+// Vertices of a fork above the base (y > kForkBaseHeight) on prong `prong`
+// (0: x <= 2, 1: x > 2) and with y >= min_y, all in voxels.
+std::vector<int> ForkVertices(const Mesh& fork, int prong, double min_y, double voxel_size) {
+  const double tolerance = 1e-9;
+  std::vector<int> ids;
+  for (int v = 0; v < fork.num_vertices(); ++v) {
+    const double x = fork.vertices(0, v) / voxel_size, y = fork.vertices(1, v) / voxel_size;
+    if (y <= kForkBaseHeight + tolerance || y < min_y - tolerance) continue;
+    if ((x <= 2.0 + tolerance) == (prong == 0)) ids.push_back(v);
+  }
+  return ids;
+}
+
+}  // namespace
+
+std::vector<int> ForkBaseVertices(const Mesh& fork, double voxel_size) {
+  std::vector<int> ids;
+  for (int v = 0; v < fork.num_vertices(); ++v) {
+    if (fork.vertices(1, v) / voxel_size <= kForkBaseHeight + 1e-9) ids.push_back(v);
+  }
+  return ids;
+}
+
+std::vector<int> ForkProngVertices(const Mesh& fork, int prong, double voxel_size) {
+  CHECK(prong == 0 || prong == 1) << prong;
+  return ForkVertices(fork, prong, 0.0, voxel_size);
+}
+
+std::vector<int> ForkTipVertices(const Mesh& fork, int prong, double voxel_size) {
+  CHECK(prong == 0 || prong == 1) << prong;
+  return ForkVertices(fork, prong, kForkBaseHeight + kForkProngLength - 1, voxel_size);
+}
+
 Mesh MakeOpenTube(double radius, double height, int segments, int rings) {
   CHECK_GE(segments, 3);
   CHECK_GE(rings, 1);

@@ -46,6 +46,35 @@ Mesh MakeComb(int num_teeth, int tooth_length, double voxel_size = 1.0,
 Mesh MakeTwoBars(int length, int gap, double voxel_size = 1.0,
                  int subdivisions = 2);
 
+// A fork: one closed, manifold mesh whose two prongs are geodesically far
+// (joined only through the base) but pass within `gap` of each other. In
+// voxels (times `voxel_size`), everything kForkDepth deep along z: a base
+// 4 + gap wide (x) and kForkBaseHeight high (y); on it, prong 0 (x in [0, 2])
+// and prong 1, each 2 wide and kForkProngLength long along +y. Prong 1's inner
+// wall faces prong 0's (x = 2) across a gap of `gap` for the first
+// kForkTouchLength above the base, then the gap widens linearly to
+// kForkTipGap at the tips (prong 1 leans away, sheared, not bent). Built as a
+// voxel comb whose middle column is squeezed (x -> a monotone function of x
+// per height), so it is the voxel surface under a homeomorphism: closed,
+// oriented and embedded; the prongs' closest points are exactly `gap` apart.
+// 0 < gap <= kForkTipGap. The bounding box is (4 + kForkTipGap) x
+// (kForkBaseHeight + kForkProngLength) x kForkDepth, whatever the gap: its
+// diagonal is sqrt(278) = 16.67 voxels, a default lattice cell (48 per
+// diagonal) 0.347 of a voxel.
+constexpr int kForkBaseHeight = 3;
+constexpr int kForkProngLength = 12;
+constexpr int kForkTouchLength = 3;
+constexpr int kForkDepth = 2;
+constexpr double kForkTipGap = 3.0;
+Mesh MakeFork(double gap, double voxel_size = 1.0, int subdivisions = 4);
+
+// Vertices of a fork made by MakeFork: the base (y <= kForkBaseHeight voxels,
+// the prongs' roots included), prong 0 or 1 above it, and the top voxel of a
+// prong (y >= kForkBaseHeight + kForkProngLength - 1 voxels).
+std::vector<int> ForkBaseVertices(const Mesh& fork, double voxel_size = 1.0);
+std::vector<int> ForkProngVertices(const Mesh& fork, int prong, double voxel_size = 1.0);
+std::vector<int> ForkTipVertices(const Mesh& fork, int prong, double voxel_size = 1.0);
+
 // An open cylinder (no caps) of the given radius and height along z.
 Mesh MakeOpenTube(double radius, double height, int segments, int rings);
 

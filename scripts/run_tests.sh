@@ -32,5 +32,7 @@ cmake --build "${asan}" -j2 --target msdeform_test_deps
 # (-fno-sanitize-recover) with a stack trace.
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1}"
 echo "run_tests: ctest --test-dir build-asan --output-on-failure -j2 (sanitizers)"
-# The package tests build programs of their own and are not sanitised.
-ctest --test-dir "${asan}" --output-on-failure -j2 --timeout 1200 --label-exclude 'package|editor'
+# The package tests build programs of their own and are not sanitised; the
+# every-scenario, every-variant sweep (label scenarios, minutes in Release)
+# runs only in the plain pass.
+ctest --test-dir "${asan}" --output-on-failure -j2 --timeout 1200 --label-exclude 'package|editor|scenarios'

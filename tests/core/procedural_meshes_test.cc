@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <string>
 
@@ -127,6 +128,94 @@ TEST(ProceduralMeshesTest, CylinderVertexCountFollowsTheFormula) {
   }
   EXPECT_EQ(CylinderCapRings(3), 1);  // the end circles fanned to the centres
   EXPECT_EQ(CylinderCapRings(64), 12);
+}
+
+// Every vertex's faces form one fan: the edges opposite the vertex, followed
+// head to tail, make a single cycle through all of them.
+void ExpectVertexManifold(const Mesh& mesh) {
+  std::vector<std::map<int, int>> link(mesh.num_vertices());
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      link[mesh.faces(c, f)][mesh.faces((c + 1) % 3, f)] = mesh.faces((c + 2) % 3, f);
+    }
+  }
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    ASSERT_FALSE(link[v].empty()) << "isolated vertex " << v;
+    size_t steps = 0;
+    int at = link[v].begin()->first;
+    do {
+      auto next = link[v].find(at);
+      ASSERT_NE(next, link[v].end()) << "open fan at vertex " << v;
+      at = next->second;
+      ++steps;
+    } while (at != link[v].begin()->first && steps <= link[v].size());
+    EXPECT_EQ(steps, link[v].size()) << "vertex " << v << " has more than one fan";
+  }
+}
+
+TEST(ProceduralMeshesTest, ForkIsOneClosedManifoldWithProngsGapApart) {
+  // 0.1 of a default lattice cell: the diagonal is sqrt(278) voxels, 48 cells.
+  const double voxel = 0.5, gap = 0.1 * std::sqrt(278.0) / 48.0;
+  const Mesh fork = MakeFork(gap, voxel, 4);
+  std::string error;
+  ASSERT_TRUE(ValidateMesh(fork, &error)) << error;
+  ExpectClosedAndOriented(fork);
+  ExpectVertexManifold(fork);
+  EXPECT_EQ(ConnectedComponents(fork).count, 1);
+  // A sphere's Euler characteristic: the squeeze keeps the comb's topology.
+  EXPECT_EQ(fork.num_vertices() - 3 * fork.num_faces() / 2 + fork.num_faces(), 2);
+  // Base (4 + gap) x 3 x 2 voxels, prongs 2 x 12 x 2 each (a shear keeps volume).
+  EXPECT_NEAR(SignedVolume(fork), (6.0 * (4.0 + gap) + 96.0) * std::pow(voxel, 3), 1e-9);
+  const Eigen::AlignedBox3d box = BoundingBox(fork);
+  EXPECT_NEAR((box.max() - box.min() - Eigen::Vector3d(7.0, 15.0, 2.0) * voxel).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(BoundingBoxDiagonal(fork) / 48.0 * 0.1, gap * voxel, 1e-12);
+
+  // Above the base every face lies on one side of the slab 2 < x < 2 + gap
+  // (voxels), so the prongs' surfaces are at least gap apart; facing
+  // vertices along the touching stretch are exactly gap apart.
+  const double wall = 2.0 * voxel, far_wall = (2.0 + gap) * voxel;
+  for (int f = 0; f < fork.num_faces(); ++f) {
+    int above = 0, left = 0, right = 0;
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector3d p = fork.vertices.col(fork.faces(c, f));
+      above += p.y() > kForkBaseHeight * voxel + 1e-12;
+      left += p.x() <= wall + 1e-12;
+      right += p.x() >= far_wall - 1e-12;
+    }
+    if (above > 0) {
+      EXPECT_TRUE(left == 3 || right == 3) << "face " << f << " spans the gap";
+    }
+  }
+  const std::vector<int> prong0 = ForkProngVertices(fork, 0, voxel);
+  const std::vector<int> prong1 = ForkProngVertices(fork, 1, voxel);
+  const std::vector<int> base = ForkBaseVertices(fork, voxel);
+  EXPECT_EQ(prong0.size() + prong1.size() + base.size(), static_cast<size_t>(fork.num_vertices()));
+  double closest = std::numeric_limits<double>::infinity();
+  int pairs_at_gap = 0;
+  for (int a : prong0) {
+    for (int b : prong1) {
+      const double distance = (fork.vertices.col(a) - fork.vertices.col(b)).norm();
+      closest = std::min(closest, distance);
+      pairs_at_gap += distance < gap * voxel * (1.0 + 1e-9);
+    }
+  }
+  EXPECT_NEAR(closest, gap * voxel, 1e-12);
+  // Facing wall vertices (4 per voxel along y and z) over the 3-voxel
+  // stretch above the base, y = 3.25 .. 6: 12 heights x 9 depths.
+  EXPECT_EQ(pairs_at_gap, 12 * 9);
+  // The tips are kForkTipGap apart.
+  const std::vector<int> tip0 = ForkTipVertices(fork, 0, voxel);
+  const std::vector<int> tip1 = ForkTipVertices(fork, 1, voxel);
+  ASSERT_FALSE(tip0.empty());
+  ASSERT_FALSE(tip1.empty());
+  double tip_gap = std::numeric_limits<double>::infinity();
+  for (int a : tip0) {
+    for (int b : tip1) {
+      tip_gap = std::min(tip_gap, (fork.vertices.col(a) - fork.vertices.col(b)).norm());
+    }
+  }
+  // Closest at the tip voxel's bottom, y = 14, 8 of the 9 voxels up the spread.
+  EXPECT_NEAR(tip_gap, (gap + (kForkTipGap - gap) * 8.0 / 9.0) * voxel, 1e-12);
 }
 
 TEST(ProceduralMeshesTest, OpenTubeHasTwoBoundaryLoops) {

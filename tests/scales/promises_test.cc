@@ -1,0 +1,200 @@
+// The paper's two promises to the user (issue 27), as tests with a known
+// answer:
+// - a region far away along the surface is not moved, however close it is:
+//   on a fork (core/procedural_meshes.h, MakeFork) whose prongs pass within a
+//   tenth of a lattice cell of each other, dragging one prong's tip leaves the
+//   other prong at rest;
+// - fixed handles stay fixed: on every scenario of experiments/scenarios and
+//   every multi-scale variant, every fixed vertex is at its rest position
+//   after every frame.
+// The Fig. 4 case (group 1 along the whole limb) is
+// DeformerTest.CylinderBendsOverItsWholeLength in deformer_test.cc.
+//
+// The scenarios use the real meshes (data/fetch_meshes.sh); without them the
+// scenario tests fail, naming the script.
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include "msdeform/core/drag_path.h"
+#include "msdeform/core/lattice.h"
+#include "msdeform/core/mesh_io.h"
+#include "msdeform/core/procedural_meshes.h"
+#include "msdeform/core/scenario.h"
+#include "msdeform/scales/deformer.h"
+
+namespace msdeform {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A tenth of a default lattice cell (48 per diagonal; the fork's diagonal is
+// sqrt(278) voxels whatever the gap).
+const double kForkGap = 0.1 * std::sqrt(278.0) / 48.0;
+
+// The fork edit: base fixed, prong 0's tip dragged sideways (away from prong
+// 1) and up by 0.2 of the diagonal in all, prong 1 free.
+struct ForkEdit {
+  Mesh mesh = MakeFork(kForkGap);
+  HandleLayout layout;
+  std::vector<int> free_prong = ForkProngVertices(mesh, 1);
+  double diagonal = BoundingBoxDiagonal(mesh);
+  Eigen::Affine3d target = Eigen::Affine3d::Identity();
+  Eigen::Vector3d tip_centroid = Eigen::Vector3d::Zero();
+  ForkEdit() {
+    layout.fixed = ForkBaseVertices(mesh);
+    layout.moveable = ForkTipVertices(mesh, 0);
+    target.translation() = 0.2 * diagonal * Eigen::Vector3d(-1.0, 1.0, 0.0).normalized();
+    for (int v : layout.moveable) tip_centroid += mesh.vertices.col(v);
+    tip_centroid /= static_cast<double>(layout.moveable.size());
+  }
+};
+
+TEST(PromisesTest, ForkProngsShareALatticeCellAtDefaultOptions) {
+  // The test below means something only if one cell of the default lattice
+  // (Eq. 1) holds vertices of both prongs.
+  const ForkEdit fork;
+  Lattice lattice;
+  std::string error;
+  ASSERT_TRUE(Lattice::Build(fork.mesh, LatticeOptions(), &lattice, &error)) << error;
+  EXPECT_NEAR(kForkGap / lattice.cell_width(), 0.1, 1e-12);
+  auto cells_of = [&](const std::vector<int>& vertices) {
+    std::set<std::vector<int>> cells;
+    for (int v : vertices) {
+      const Eigen::Vector3i c = lattice.CellCoordsOf(fork.mesh.vertices.col(v));
+      cells.insert({c.x(), c.y(), c.z()});
+    }
+    return cells;
+  };
+  const std::set<std::vector<int>> cells0 = cells_of(ForkProngVertices(fork.mesh, 0));
+  const std::set<std::vector<int>> cells1 = cells_of(fork.free_prong);
+  std::vector<std::vector<int>> shared;
+  std::set_intersection(cells0.begin(), cells0.end(), cells1.begin(), cells1.end(),
+                        std::back_inserter(shared));
+  // The facing walls share cells along the 3-voxel stretch (77 of the
+  // prongs' 865 and 877 cells).
+  EXPECT_GE(shared.size(), 3u);
+}
+
+TEST(PromisesTest, DraggingOneProngLeavesTheOtherAtRest) {
+  const ForkEdit fork;
+  Deformer deformer;
+  std::string error;
+  ASSERT_TRUE(deformer.Init(fork.mesh, DeformerOptions(), &error)) << error;
+  ASSERT_TRUE(deformer.SetHandles(fork.layout, &error)) << error;
+  const std::vector<Eigen::Affine3d> path = InterpolateDragPath(fork.target, fork.tip_centroid, 3);
+  for (size_t frame = 0; frame < path.size(); ++frame) {
+    ASSERT_TRUE(deformer.Drag(path[frame], nullptr, &error)) << error;
+    double moved = 0.0;
+    for (int v : fork.free_prong) {
+      moved = std::max(
+          moved, (deformer.deformed_vertices().col(v) - fork.mesh.vertices.col(v)).norm());
+    }
+    EXPECT_LE(moved / fork.diagonal, 1e-6) << "frame " << frame + 1 << " of " << path.size();
+  }
+  // The dragged prong did move: the tip is within 1% of its target.
+  Eigen::Vector3d tip = Eigen::Vector3d::Zero();
+  for (int v : fork.layout.moveable) tip += deformer.deformed_vertices().col(v);
+  tip /= static_cast<double>(fork.layout.moveable.size());
+  EXPECT_LT((tip - fork.target * fork.tip_centroid).norm(), 0.01 * fork.diagonal);
+}
+
+// Every multi-scale variant that promises fixed handles: each rigidity
+// estimate, Half Free rule and border rule with the fixed vertices held, the
+// paper's procedure (docs/method.md §7), each on both backends.
+struct Variant {
+  std::string name;
+  DeformerOptions options;
+};
+
+std::vector<Variant> FixedHandleVariants() {
+  std::vector<Variant> variants;
+  for (const Solver backend : {Solver::kGaussNewton, Solver::kCeres}) {
+    DeformerOptions base;
+    base.backend = backend;
+    base.num_threads = 1;
+    for (const char* rigidity : {"harmonic", "paper"}) {
+      for (const char* half_free : {"next_to_totally_free", "every_fixed_handle_node", "none"}) {
+        for (const char* border : {"fixed", "half_free", "totally_free"}) {
+          Variant variant{std::string(SolverName(backend)) + " --rigidity=" + rigidity +
+                              " --half_free=" + half_free + " --border=" + border,
+                          base};
+          std::string error;
+          EXPECT_TRUE(ParseMethodVariant(rigidity, half_free, border, &variant.options, &error))
+              << error;
+          variants.push_back(variant);
+        }
+      }
+    }
+    variants.push_back(
+        {std::string(SolverName(backend)) + " paper procedure", PaperProcedure(base)});
+  }
+  return variants;
+}
+
+std::vector<std::string> ScenarioFiles() {
+  std::vector<std::string> files;
+  const std::string folder = std::string(MSDEFORM_SOURCE_DIR) + "/experiments/scenarios";
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    if (entry.path().extension() == ".json") files.push_back(entry.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+class FixedRegionTest : public ::testing::TestWithParam<std::string> {};
+
+// Two frames to the scenario's full motion; after each, the largest
+// distance of a fixed vertex from its rest position, over the diagonal.
+TEST_P(FixedRegionTest, FixedVerticesStayAtRest) {
+  Scenario scenario;
+  Mesh mesh;
+  HandleLayout layout;
+  std::vector<int> watch;
+  Eigen::Affine3d target;
+  std::string error;
+  ASSERT_TRUE(ReadScenario(GetParam(), &scenario, &error)) << error;
+  ASSERT_TRUE(ReadMesh(scenario.mesh_path, &mesh, &error))
+      << error << " (real meshes missing? run data/fetch_meshes.sh)";
+  ASSERT_TRUE(ResolveScenario(scenario, mesh, &layout, &watch, &target, &error)) << error;
+  ASSERT_FALSE(layout.fixed.empty()) << scenario.name << " fixes nothing";
+  scenario.frames = 2;
+  const std::vector<Eigen::Affine3d> path = DragPath(scenario, mesh, layout);
+  const double diagonal = BoundingBoxDiagonal(mesh);
+  for (const Variant& variant : FixedHandleVariants()) {
+    Deformer deformer;
+    ASSERT_TRUE(deformer.Init(mesh, variant.options, &error)) << variant.name << ": " << error;
+    ASSERT_TRUE(deformer.SetHandles(layout, &error)) << variant.name << ": " << error;
+    double drift = 0.0;
+    int worst_frame = 0, worst_vertex = -1;
+    for (size_t frame = 0; frame < path.size(); ++frame) {
+      ASSERT_TRUE(deformer.Drag(path[frame], nullptr, &error)) << variant.name << ": " << error;
+      for (int v : layout.fixed) {
+        const double d = (deformer.deformed_vertices().col(v) - mesh.vertices.col(v)).norm();
+        if (d > drift) {
+          drift = d;
+          worst_frame = static_cast<int>(frame) + 1;
+          worst_vertex = v;
+        }
+      }
+    }
+    EXPECT_LE(drift / diagonal, 1e-9)
+        << scenario.name << ", " << variant.name << ": fixed vertex " << worst_vertex
+        << " drifts " << drift / diagonal << " of the diagonal (frame " << worst_frame << ")";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenarios, FixedRegionTest, ::testing::ValuesIn(ScenarioFiles()),
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                           return fs::path(info.param).stem().string();
+                         });
+
+}  // namespace
+}  // namespace msdeform
