@@ -110,6 +110,18 @@ if [ -f "$ROOT/experiments/scenarios/hand_finger.json" ]; then
     --scenario="$ROOT/experiments/scenarios/hand_finger.json" --method=static --static_nodes=220
 fi
 
+# The free-limb figure: experiments' camel_hoof_lift_free_leg (body fixed, the left front hoof
+# lifted, the right front leg, which touches it at the knee, free and watched), its own 30 frames
+# as in table 2: default, paper mode and the 220-node static graph.
+if [ -f "$EXP/camel_hoof_lift_free_leg.json" ]; then
+  run "$D/edit_camel_hoof_lift_free_leg_multiscale.json" --mode=edit \
+    --scenario="$EXP/camel_hoof_lift_free_leg.json"
+  run "$D/edit_camel_hoof_lift_free_leg_paper.json" --mode=edit "${PAPER[@]}" \
+    --scenario="$EXP/camel_hoof_lift_free_leg.json"
+  run "$D/edit_camel_hoof_lift_free_leg_static.json" --mode=edit --method=static \
+    --static_nodes=220 --scenario="$EXP/camel_hoof_lift_free_leg.json"
+fi
+
 # Chart: optimised nodes against P.
 run "$D/nodes_vs_p_armadillo_claw.json" --mode=nodes_vs_p \
   --scenario="$ROOT/data/scenarios/armadillo_claw.json" --p_values=25,50,100,200,400,800,1600

@@ -181,7 +181,7 @@ TEST_F(QuickTablesTest, OtherTablesAreComplete) {
   const CsvTable ablations = Read("ablations");
   EXPECT_EQ(ablations.rows.size(), 15u);  // the cactus x fifteen variants
   ExpectFinite(ablations, {"scenario", "variant"},
-               {"leakage_rel", "arap_energy_joint", "arap_distance_rel"});
+               {"leakage_rel", "leakage_max_rel", "arap_energy_joint", "arap_distance_rel"});
 }
 
 // Three edits of MakeBar(8): the box [0, 8] x [0, 1] x [0, 1] whose faces
