@@ -22,9 +22,10 @@ run "$D/graphs_camel.json" --mode=graphs --mesh="$ROOT/data/meshes/camel.off" --
 run "$D/graphs_hand.json" --mode=graphs --mesh="$ROOT/data/meshes/hand.off" --scales=1
 
 # The paper's settings together ("paper mode"; docs/decisions.md): its rigidity estimate, every
-# fixed-handle node Half Free, Fixed nodes at the border, no Position terms on fixed vertices.
+# fixed-handle node Half Free, Fixed nodes at the border, no Position terms on fixed vertices,
+# the fixed region not pinned, one lattice particle per cell.
 PAPER=(--rigidity=paper --half_free=every_fixed_handle_node --border=fixed
-       --hold_fixed_vertices=false)
+       --hold_fixed_vertices=false --pin_fixed_region=false --split_cells=false)
 EXP="$ROOT/experiments/scenarios"
 
 # Fig. 4: e' and group 1, the harmonic estimate (default) against the paper's, on a limb edit

@@ -258,6 +258,8 @@ void EditorApp::DrawMethodPanel() {
     Help(choice.help);
   }
   static const std::pair<const char*, const char*> kSwitches[] = {
+      {"pin_fixed_region", "Nodes that skin a fixed vertex are Fixed: exact fixed region (paper: off)."},
+      {"split_cells", "One lattice particle per piece of surface in a cell (paper: off)."},
       {"hold_fixed_vertices", "Position terms on fixed vertices a free node skins (paper: off)."},
       {"keep_left_out_terms", "Ablation Deformed 2: keep E(j,k) for Half Free j (Fig. 5)."},
       {"fix_fixed_handle_nodes", "Ablation Deformed 3: fixed-handle nodes get no rotation."},
@@ -274,7 +276,9 @@ void EditorApp::DrawMethodPanel() {
     const std::pair<const char*, const char*> kPaper[] = {{"rigidity", "paper"},
                                                           {"half_free", "every_fixed_handle_node"},
                                                           {"border", "fixed"},
-                                                          {"hold_fixed_vertices", "false"}};
+                                                          {"hold_fixed_vertices", "false"},
+                                                          {"pin_fixed_region", "false"},
+                                                          {"split_cells", "false"}};
     for (const auto& [flag, value] : kPaper) {
       if (!SetDeformerFlag(flag, value, &options, &error)) status_.Show(error);
     }
@@ -282,7 +286,7 @@ void EditorApp::DrawMethodPanel() {
   }
   Help(
       "--rigidity=paper --half_free=every_fixed_handle_node --border=fixed "
-      "--hold_fixed_vertices=false");
+      "--hold_fixed_vertices=false --pin_fixed_region=false --split_cells=false");
 }
 
 void EditorApp::DrawViewPanel() {

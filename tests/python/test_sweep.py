@@ -216,7 +216,7 @@ def test_failed_task_is_recorded_and_the_sweep_goes_on(source, tmp_path):
     ({"variants": {"v": {"selection.member_extnt": "mean"}}}, "variants.v.selection.member_extnt",
      "member_extnt is not a field of DeformerOptions.selection (fields: threshold_floor, "
      "fixed_extent_cutoff, member_extent, local_detail_distance, omega_max, alpha_all_one, "
-     "half_free, border)"),
+     "half_free, border, pin_fixed_region)"),
     ({"methods": ["multiscale", "arap"]}, "methods[1]",
      "'arap': expected one of multiscale, static, static_dense, cgal_arap"),
     ({"scenarios": ["nowhere.json"]}, "scenarios[0]", "nowhere.json: no such file"),
