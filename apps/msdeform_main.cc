@@ -460,6 +460,11 @@ int Run(const std::vector<std::string>& command_line) {
                         {"local_detail_edit", selection.local_detail_edit}};
   report["selected_scale"] = deformer.active_graph() + 1;
   report["nodes"] = {{"totally_free", totally_free}, {"half_free", half_free}, {"fixed", fixed}};
+  if (job.options.method == Method::kMultiScale) {
+    // Pinned: made Fixed because they skin a fixed vertex (scale_selection.h).
+    report["nodes"]["pinned"] = selection.num_pinned;
+    report["nodes"]["fixed_region_exact"] = selection.fixed_region_exact;
+  }
   report["variables"] = deformer.num_variables();
   report["coherence_terms"] = deformer.num_coherence_terms();
   report["frames"] = job.path.size();

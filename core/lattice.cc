@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <utility>
 
@@ -330,22 +331,23 @@ bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* la
   }
   l.neighborhood_ = ListsFromPairs(l.num_surface_particles_, surface_pairs);
 
-  // Which side of each piece of a split cell is inside: its mean vertex
-  // normal through its centroid.
-  Eigen::Matrix3Xd piece_centroid, piece_normal;
-  if (l.num_split_cells_ > 0) {
-    const Eigen::Matrix3Xd normals = VertexNormals(mesh);
-    piece_centroid = Eigen::Matrix3Xd::Zero(3, l.num_surface_particles_);
-    piece_normal = Eigen::Matrix3Xd::Zero(3, l.num_surface_particles_);
-    for (int p = 0; p < l.num_surface_particles_; ++p) {
-      const int count = l.vertices_of_particle_.size(p);
-      for (const int* v = l.vertices_of_particle_.begin(p); v != l.vertices_of_particle_.end(p);
-           ++v) {
-        piece_centroid.col(p) += mesh.vertices.col(*v) / count;
-        piece_normal.col(p) += normals.col(*v);
+  // Whether a point lies behind a piece of surface: on the inner side of
+  // the normal at the piece's vertex nearest to it.
+  Eigen::Matrix3Xd normals;
+  if (l.num_split_cells_ > 0) normals = VertexNormals(mesh);
+  auto behind = [&](const Eigen::Vector3d& point, int piece) {
+    int nearest = -1;
+    double best = std::numeric_limits<double>::infinity();
+    const CompressedLists& vertices = l.vertices_of_particle_;
+    for (const int* v = vertices.begin(piece); v != vertices.end(piece); ++v) {
+      const double d = (mesh.vertices.col(*v) - point).squaredNorm();
+      if (d < best) {
+        best = d;
+        nearest = *v;
       }
     }
-  }
+    return (point - mesh.vertices.col(nearest)).dot(normals.col(nearest)) < 0.0;
+  };
 
   // Particle adjacency: L for surface-surface, 26 lattice neighbours when an
   // interior particle is involved (only the pieces it lies behind, in a split
@@ -362,8 +364,7 @@ bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* la
           if (first < 0) continue;
           const int count = l.NumParticlesAt(neighbour);
           for (int q = first; q < first + count; ++q) {
-            if (count > 1 && (l.rest_positions_.col(p) - piece_centroid.col(q))
-                                     .dot(piece_normal.col(q)) >= 0.0) {
+            if (count > 1 && !behind(l.rest_positions_.col(p), q)) {
               continue;  // in front of this piece: another part of the surface
             }
             particle_pairs.emplace_back(p, q);

@@ -27,7 +27,8 @@
 // surface-surface by L, interior-interior by the 26 lattice neighbours, and
 // interior-surface by the 26 lattice neighbours too, except that an interior
 // cell next to a split cell is joined only to the pieces it lies behind (on
-// the inner side of the piece's mean normal, through its centroid).
+// the inner side of the normal at the piece's vertex nearest to the interior
+// cell's centre).
 
 #ifndef MSDEFORM_CORE_LATTICE_H_
 #define MSDEFORM_CORE_LATTICE_H_

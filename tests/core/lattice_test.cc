@@ -197,6 +197,77 @@ TEST(LatticeTest, CombTeethInTouchingCellsAreNotNeighbours) {
   EXPECT_GT(touching_pairs, 0) << "the test geometry should put teeth in touching cells";
 }
 
+// Whether, in the particle adjacency restricted to particles whose cell
+// centre lies at least `min_y` high, a particle holding a vertex of prong 0
+// of the fork reaches one holding a vertex of prong 1.
+bool ProngsJoinAbove(const Mesh& fork, const Lattice& lattice, double min_y) {
+  std::vector<int> prong_of(lattice.num_particles(), -1);
+  for (int prong = 0; prong < 2; ++prong) {
+    for (int v : ForkProngVertices(fork, prong)) prong_of[lattice.particle_of_vertex(v)] = prong;
+  }
+  auto high = [&](int p) { return lattice.rest_positions()(1, p) >= min_y; };
+  std::vector<char> seen(lattice.num_particles(), 0);
+  std::vector<int> stack;
+  for (int p = 0; p < lattice.num_particles(); ++p) {
+    if (prong_of[p] == 0 && high(p)) {
+      seen[p] = 1;
+      stack.push_back(p);
+    }
+  }
+  const CompressedLists& adjacency = lattice.particle_adjacency();
+  while (!stack.empty()) {
+    const int p = stack.back();
+    stack.pop_back();
+    if (prong_of[p] == 1) return true;
+    for (const int* q = adjacency.begin(p); q != adjacency.end(p); ++q) {
+      if (!seen[*q] && high(*q)) {
+        seen[*q] = 1;
+        stack.push_back(*q);
+      }
+    }
+  }
+  return false;
+}
+
+TEST(LatticeTest, TouchingProngsAreSeparatePartsOfTheLattice) {
+  // The fork's prongs pass 0.1 apart over their first 3 units; cells of
+  // width 1 hold both. Above the base's reach (a cell grown by half a cell
+  // on each side, centres 2 above the base), each piece of surface is one
+  // prong's, and no chain of adjacent particles there joins the prongs.
+  const Mesh fork = MakeFork(0.1);
+  const double above_base = kForkBaseHeight + 2.0;
+  LatticeOptions options;
+  options.cell_width = 1.0;
+  options.split_cells = false;
+  Lattice per_cell;
+  std::string error;
+  ASSERT_TRUE(Lattice::Build(fork, options, &per_cell, &error)) << error;
+  EXPECT_EQ(per_cell.num_split_cells(), 0);
+  EXPECT_TRUE(ProngsJoinAbove(fork, per_cell, above_base)) << "the prongs should share cells";
+
+  const Lattice lattice = BuildTestLattice(fork, 1.0);
+  EXPECT_GT(lattice.num_split_cells(), 0);
+  EXPECT_EQ(lattice.num_surface_particles(),
+            per_cell.num_surface_particles() + lattice.num_split_cells());
+  std::vector<int> prong_of(lattice.num_surface_particles(), -1);
+  for (int prong = 0; prong < 2; ++prong) {
+    for (int v : ForkProngVertices(fork, prong)) {
+      const int p = lattice.particle_of_vertex(v);
+      if (lattice.rest_positions()(1, p) < above_base) continue;
+      EXPECT_NE(prong_of[p], 1 - prong) << "particle " << p << " holds both prongs";
+      prong_of[p] = prong;
+    }
+  }
+  EXPECT_FALSE(ProngsJoinAbove(fork, lattice, above_base));
+  // The pieces of a split cell share its centre and are consecutive.
+  for (int p = 0; p < lattice.num_surface_particles(); ++p) {
+    const Eigen::Vector3i& coords = lattice.cell_coords(p);
+    const int first = lattice.ParticleAt(coords);
+    EXPECT_LE(first, p);
+    EXPECT_LT(p, first + lattice.NumParticlesAt(coords));
+  }
+}
+
 TEST(LatticeTest, AdjacencyIsSymmetricAndFollowsMethod) {
   const Mesh bar = MakeBar(4, 3.0, 6);
   const Lattice lattice = BuildTestLattice(bar, 0.5);
