@@ -219,9 +219,18 @@ std::vector<Variant> Ablations() {
       {"no_pin_fixed_region",
        [](DeformerOptions* o) { o->selection.pin_fixed_region = false; }},
       {"no_split_cells", [](DeformerOptions* o) { o->lattice.split_cells = false; }},
-      // The paper's Fig. 5 and 7 ablations.
-      {"keep_left_out_terms", [](DeformerOptions* o) { o->keep_left_out_terms = true; }},
-      {"fix_fixed_handle_nodes", [](DeformerOptions* o) { o->fix_fixed_handle_nodes = true; }},
+      // The paper's Fig. 5 ablations. They act on Half Free nodes, which only
+      // an unpinned fixed region has: compare them with no_pin_fixed_region.
+      {"keep_left_out_terms",
+       [](DeformerOptions* o) {
+         o->selection.pin_fixed_region = false;
+         o->keep_left_out_terms = true;
+       }},
+      {"fix_fixed_handle_nodes",
+       [](DeformerOptions* o) {
+         o->selection.pin_fixed_region = false;
+         o->fix_fixed_handle_nodes = true;
+       }},
       {"alpha_all_one", [](DeformerOptions* o) { o->selection.alpha_all_one = true; }},
       {"member_extent_mean",
        [](DeformerOptions* o) { o->selection.member_extent = MemberExtent::kMean; }},

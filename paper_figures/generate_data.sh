@@ -50,14 +50,16 @@ run "$D/edit_armadillo_foot_static_dense.json" --mode=edit --scenario="$SC/armad
   --method=static_dense --frames=5
 
 # Fig. 5: experiments' man_knee_bend (the knee bends right at a fixed band around the thigh):
-# default, paper mode and one change each, 10 frames.
+# default, paper mode and the ablations, 10 frames. The Half Free ablations act on the nodes
+# of an unpinned fixed region (the default pins it: no Half Free node is left).
 FIG5_VARIANTS=(
   "multiscale"
   "paper ${PAPER[*]}"
-  "keep_left_out --keep_left_out_terms"
-  "fix_fixed --fix_fixed_handle_nodes"
+  "no_pin --pin_fixed_region=false"
+  "keep_left_out --pin_fixed_region=false --keep_left_out_terms"
+  "fix_fixed --pin_fixed_region=false --fix_fixed_handle_nodes"
   "border_fixed --border=fixed"
-  "half_free_every --half_free=every_fixed_handle_node"
+  "half_free_every --pin_fixed_region=false --half_free=every_fixed_handle_node"
 )
 if [ -f "$EXP/man_knee_bend.json" ]; then
   for v in "${FIG5_VARIANTS[@]}"; do

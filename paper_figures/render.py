@@ -207,12 +207,15 @@ def fig4_rigidity():
                       columns=2)
 
 
+# (e), (f) and (h) act on Half Free nodes, which only an unpinned fixed region has:
+# they change (d), not (b).
 FIG5_RUNS = [("multiscale", "(b) default"),
              ("paper", "(c) paper mode"),
-             ("keep_left_out", "(d) keep_left_out_terms"),
-             ("fix_fixed", "(e) fix_fixed_handle_nodes"),
-             ("border_fixed", "(f) --border=fixed"),
-             ("half_free_every", "(g) --half_free=every_fixed_handle_node")]
+             ("no_pin", "(d) --pin_fixed_region=false"),
+             ("keep_left_out", "(e) (d) + keep_left_out_terms"),
+             ("fix_fixed", "(f) (d) + fix_fixed_handle_nodes"),
+             ("border_fixed", "(g) --border=fixed"),
+             ("half_free_every", "(h) (d) + every fixed-handle node HF")]
 # experiments' man_knee_bend: a band around the left thigh just above the knee fixed,
 # the foot moved back and up, so the knee bends right at the band. Seen from the left.
 FIG5 = dict(key="man_knee_bend", view=(-1, 0.15, 0.0), up=(0, 0, 1), zoom=1.0,
@@ -230,9 +233,9 @@ def class_lut():
 
 
 def fig5_ablation(cfg=None, out="fig5_ablation.png"):
-    """A knee bent next to the fixed band: the default, paper mode and one change
-    each, coloured by the local ARAP distortion E_i / N_i; (h) the default's nodes
-    at the knee, zoomed."""
+    """A knee bent next to the fixed band: the default, paper mode and the
+    ablations, coloured by the local ARAP distortion E_i / N_i; (i) the nodes of
+    the unpinned run (d), where the Half Free ablations act, zoomed."""
     cfg = cfg or FIG5
     key = cfg["key"]
     runs = [(tag, label) for tag, label in FIG5_RUNS
@@ -259,7 +262,10 @@ def fig5_ablation(cfg=None, out="fig5_ablation.png"):
                     "max E_i/N_i %.2g; %.2g diag from (b)"
                     % (d["selected_scale"], (cls == 2).sum(), (cls == 1).sum(), m["arap"],
                        m["arap_joint"], m["local_max"], m["diff_max"]), (0.02, 0.14), 13)]))
-    # (h) Where the ablations act: the default's nodes at the knee, on the rest mesh.
+    # (i) Where the ablations act: the unpinned run's nodes at the knee, on the rest mesh.
+    unpinned = os.path.join(DATA, "edit_%s_no_pin.json" % key)
+    if os.path.exists(unpinned):
+        d0 = edit("edit_%s_no_pin" % key)[0]
     fixed = V[np.asarray(d0["fixed"], dtype=int)]
     c = fixed.mean(0)
     near = V[np.linalg.norm(V - c, axis=1) < 0.15 * d0["diag"]]
@@ -271,10 +277,10 @@ def fig5_ablation(cfg=None, out="fig5_ablation.png"):
         actors=[handles_mesh_actor(d0, V, F, opacity=0.35),
                 spheres_actor(P[show], 0.006 * d0["diag"], scalars=cls[show], lut=class_lut(),
                               rng=(0, 2), resolution=12)],
-        camera=kcam, label="(h) (b)'s nodes at the knee", label_size=15,
+        camera=kcam, label="(i) (d)'s nodes at the knee", label_size=15,
         texts=[("scale %d nodes on the rest mesh: orange Totally\nFree, purple Half Free, "
                 "grey Fixed; blue band fixed" % d0["selected_scale"], (0.02, 0.1), 13)]))
-    render_panels(panels, os.path.join(OUT, out), panel_size=(400, 480), columns=4)
+    render_panels(panels, os.path.join(OUT, out), panel_size=(400, 480), columns=5)
 
 
 def edits_figure(edits, path, panel_size=(400, 460)):

@@ -157,15 +157,17 @@ def fig4_caption():
 
 
 FIG5_LABELS = [("multiscale", "(b) default"), ("paper", "(c) paper mode"),
-               ("keep_left_out", "(d) keep_left_out_terms"),
-               ("fix_fixed", "(e) fix_fixed_handle_nodes"),
-               ("border_fixed", "(f) border fixed"),
-               ("half_free_every", "(g) half_free_every_fixed_node")]
+               ("no_pin", "(d) fixed region not pinned"),
+               ("keep_left_out", "(e) (d) + keep_left_out_terms"),
+               ("fix_fixed", "(f) (d) + fix_fixed_handle_nodes"),
+               ("border_fixed", "(g) border fixed"),
+               ("half_free_every", "(h) (d) + half_free_every_fixed_node")]
 
 
 def fig5_numbers():
     """{tag: metrics} of Fig. 5's runs (experiments' man_knee_bend), or None."""
     base = load_edit("edit_man_knee_bend_multiscale")
+    unpinned = load_edit("edit_man_knee_bend_no_pin")
     if base is None:
         return None
     out = {}
@@ -175,6 +177,8 @@ def fig5_numbers():
             continue
         d, V, F, Vd = e
         m = edit_metrics(d, V, F, Vd, V_ref=base[3])
+        if unpinned is not None:  # how far from (d), which the Half Free ablations change
+            m["diff_unpinned"] = edit_metrics(d, V, F, Vd, V_ref=unpinned[3])["diff_max"]
         m["scale"] = d["selected_scale"]
         cls = np.asarray(d["active"]["class"])
         m["tf"], m["hf"] = int((cls == 2).sum()), int((cls == 1).sum())
@@ -191,30 +195,41 @@ def fig5_caption():
                                 n[t]["diff_max"], n[t]["fixed_max"])
                      for t, label in FIG5_LABELS if t in n)
     b = n["multiscale"]
-    return (
+    text = (
         "experiments/scenarios/man_knee_bend.json (the paper's Fig. 5 set-up): a band around "
         "the left thigh just above the knee fixed (blue), the foot moved back and up (red), so "
         "the knee bends right at the band; 10 frames. (b) the default, (c) paper mode (the "
         "paper's rigidity estimate, every fixed-handle node Half Free, Fixed border nodes, no "
-        "Position terms on fixed vertices), then one change each from the default: (d) keeping "
-        "the coherence terms E(j, k) that the method leaves out for Half Free nodes j (the "
-        "paper's Deformed 2), (e) fixing the fixed-handle nodes (Deformed 3), (f) `--border="
-        "fixed`, (g) `--half_free=every_fixed_handle_node`. Colour: the local ARAP distortion "
-        "E_i / N_i of each vertex (experiments/metrics.h, clipped at 0.1), so differences at the "
-        "joint show even where the shapes differ by a few tenths of a percent of the diagonal. "
-        "(h) where the ablations act: the default's scale-%d nodes around the band (Half Free "
-        "ones purple). ARAP energy of the whole mesh / of the joint band (vertices within 0.05 "
-        "diagonals of the fixed band along edges, experiments' arap_energy_joint): %s. The "
-        "default bends at the knee (the distortion sits in the back of the knee); paper mode "
-        "bends the knee less (joint energy %.2g against %.2g) and spreads the bend over the shin, "
-        "with the most distortion overall and a spot at the ankle. Keeping the left-out terms or "
-        "fixing the fixed-handle nodes lowers the distortion at the knee here (they move the "
-        "result by at most %.2g and %.2g of the diagonal); a Fixed border (f) puts a crease at the "
-        "knee (max E_i/N_i %.2g against %.2g); every fixed-handle node Half Free (g) changes "
-        "almost nothing (%.2g of the diagonal)."
-        % (b["scale"], rows, n["paper"]["arap_joint"], b["arap_joint"],
-           n["keep_left_out"]["diff_max"], n["fix_fixed"]["diff_max"],
-           n["border_fixed"]["local_max"], b["local_max"], n["half_free_every"]["diff_max"]))
+        "Position terms on fixed vertices, the fixed region not pinned, one lattice particle "
+        "per cell), (d) the default with the fixed region not pinned (`--pin_fixed_region="
+        "false`: the nodes at the band are Half Free, as in the paper), then the paper's "
+        "ablations, which act on those Half Free nodes and so change (d): (e) keeping the "
+        "coherence terms E(j, k) that the method leaves out for Half Free nodes j (the paper's "
+        "Deformed 2), (f) fixing the fixed-handle nodes (Deformed 3), (h) every fixed-handle "
+        "node Half Free; and (g) `--border=fixed` on the default. Colour: the local ARAP "
+        "distortion E_i / N_i of each vertex (experiments/metrics.h, clipped at 0.1), so "
+        "differences at the joint show even where the shapes differ by a few tenths of a "
+        "percent of the diagonal. (i) where the Half Free ablations act: (d)'s scale-%d nodes "
+        "around the band (Half Free ones purple). ARAP energy of the whole mesh / of the joint "
+        "band (vertices within 0.05 diagonals of the fixed band along edges, experiments' "
+        "arap_energy_joint): %s. Joint energy: %.2g for the default (scale %d, %d Half Free "
+        "nodes), %.2g unpinned (%d Half Free), %.2g in paper mode."
+        % (n.get("no_pin", b)["scale"], rows, b["arap_joint"], b["scale"], b["hf"],
+           n.get("no_pin", b)["arap_joint"], n.get("no_pin", b)["hf"],
+           n["paper"]["arap_joint"]))
+    if all(t in n for t in ("keep_left_out", "fix_fixed", "half_free_every")) and \
+            "diff_unpinned" in n["keep_left_out"]:
+        text += (" On (d), keeping the left-out terms moves the result by at most %.2g of the "
+                 "diagonal (joint energy %.2g), fixing the fixed-handle nodes by %.2g (%.2g), "
+                 "every fixed-handle node Half Free by %.2g (%.2g)."
+                 % (n["keep_left_out"]["diff_unpinned"], n["keep_left_out"]["arap_joint"],
+                    n["fix_fixed"]["diff_unpinned"], n["fix_fixed"]["arap_joint"],
+                    n["half_free_every"]["diff_unpinned"], n["half_free_every"]["arap_joint"]))
+    if "border_fixed" in n:
+        text += (" A Fixed border (g): max E_i/N_i %.2g against the default's %.2g, joint "
+                 "energy %.2g." % (n["border_fixed"]["local_max"], b["local_max"],
+                                   n["border_fixed"]["arap_joint"]))
+    return text
 
 
 def fig6_caption():
@@ -246,8 +261,9 @@ def fig6_caption():
             sel[np.asarray(d["fixed"], dtype=int)] = False
             return float(np.linalg.norm(Vd[sel] - V[sel], axis=1).max()) / d["diag"]
         text += (" The camel leg: the other front leg, free and touching the edited one at the "
-                 "knee (they share lattice cells), is dragged back with it by up to %.3f of the "
-                 "diagonal under the default, against %.3f in paper mode "
+                 "knee (lattice cells there hold both knees: the default splits them into one "
+                 "particle per knee, paper mode keeps one per cell), moves by up to %.3f of the "
+                 "diagonal under the default and %.3f in paper mode "
                  "(paper_figures/scenarios/camel_leg_bend.json fixes only the body and a band "
                  "above the edited knee)." % (other(leg), other(leg_paper)))
     return text
