@@ -8,7 +8,8 @@
 //   --mode=edit --scenario=S --out=F.json [--method=...] [ablations]
 //       One edit (ablations, as msdeform's: --keep_left_out_terms,
 //       --fix_fixed_handle_nodes, --rigidity, --half_free, --border,
-//       --hold_fixed_vertices; all recorded in F.json): handle and watch
+//       --hold_fixed_vertices, --pin_fixed_region, --split_cells; all
+//       recorded in F.json): handle and watch
 //       vertices, e' and class of every DG1 node, the size of group 1, the
 //       selected scale's nodes/edges/classes, per-vertex displacement; the
 //       deformed mesh is written to F with extension .off.
@@ -197,6 +198,8 @@ bool RunEdit(std::string* error) {
   out["half_free"] = HalfFreeRuleName(options.selection.half_free);
   out["border"] = BorderRuleName(options.selection.border);
   out["hold_fixed_vertices"] = options.hold_fixed_vertices;
+  out["pin_fixed_region"] = options.selection.pin_fixed_region;
+  out["split_cells"] = options.lattice.split_cells;
   out["deformed_mesh"] = mesh_out.filename().string();
   out["vertices"] = mesh.num_vertices();
   out["diag"] = deformer.diagonal();
@@ -282,6 +285,8 @@ bool RunNodesVsP(std::string* error) {
   out["half_free"] = HalfFreeRuleName(options.selection.half_free);
   out["border"] = BorderRuleName(options.selection.border);
   out["hold_fixed_vertices"] = options.hold_fixed_vertices;
+  out["pin_fixed_region"] = options.selection.pin_fixed_region;
+  out["split_cells"] = options.lattice.split_cells;
   out["rows"] = rows;
   return WriteJson(FLAGS_out, out, error);
 }

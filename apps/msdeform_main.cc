@@ -436,7 +436,7 @@ int Run(const std::vector<std::string>& command_line) {
                                {"moveable", job.layout.moveable.size()}};
   report["lattice"] = {{"cell_width", lattice.cell_width()},
                        {"surface_particles", lattice.num_surface_particles()},
-                       {"split_cells", lattice.num_split_cells()},
+                       {"num_split_cells", lattice.num_split_cells()},
                        {"interior_particles", lattice.num_interior_particles()},
                        {"particles", lattice.num_particles()}};
   report["scales"] = Json::array();
@@ -460,11 +460,9 @@ int Run(const std::vector<std::string>& command_line) {
                         {"local_detail_edit", selection.local_detail_edit}};
   report["selected_scale"] = deformer.active_graph() + 1;
   report["nodes"] = {{"totally_free", totally_free}, {"half_free", half_free}, {"fixed", fixed}};
-  if (job.options.method == Method::kMultiScale) {
-    // Pinned: made Fixed because they skin a fixed vertex (scale_selection.h).
-    report["nodes"]["pinned"] = selection.num_pinned;
-    report["nodes"]["fixed_region_exact"] = selection.fixed_region_exact;
-  }
+  // Pinned: kept Fixed because they skin a fixed vertex (scale_selection.h).
+  if (job.options.method == Method::kMultiScale) report["nodes"]["pinned"] = selection.num_pinned;
+  report["fixed_region_exact"] = deformer.fixed_region_exact();
   report["variables"] = deformer.num_variables();
   report["coherence_terms"] = deformer.num_coherence_terms();
   report["frames"] = job.path.size();

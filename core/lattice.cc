@@ -51,7 +51,8 @@ CompressedLists ListsFromPairs(int num_rows, const std::vector<std::pair<int, in
 
 // The pieces of each surface cell (lattice.h): vertex v of cell c gets the
 // index, among the pieces of c, of the piece holding it, pieces numbered by
-// their smallest vertex. Mesh edges join a piece's vertices first within the
+// their smallest vertex; vertices in no face join the cell's first piece.
+// Mesh edges join a piece's vertices first within the
 // cell itself; only a cell that this leaves in several pieces is searched
 // again within the cell grown by `margin` cells on each side, which merges
 // the parts of one sheet that the cell's walls cut apart.
@@ -74,7 +75,12 @@ void FindPieces(const Mesh& mesh, const Lattice& lattice,
     const Eigen::Vector3d centre =
         lattice.origin() + w * coords_of(surface_grid_cells[c]).template cast<double>();
     int pieces = 0;
+    bool isolated = false;  // a vertex in no face: no piece of surface of its own
     for (const int* start = vertices_of_cell.begin(c); start != vertices_of_cell.end(c); ++start) {
+      if (adjacency.offsets[*start] == adjacency.offsets[*start + 1]) {
+        isolated = true;
+        continue;
+      }
       if (stamp[*start] == search) continue;
       stamp[*start] = search;
       queue.assign(1, *start);
@@ -95,6 +101,12 @@ void FindPieces(const Mesh& mesh, const Lattice& lattice,
         }
       }
       ++pieces;
+    }
+    if (isolated) {  // into the cell's first piece
+      for (const int* v = vertices_of_cell.begin(c); v != vertices_of_cell.end(c); ++v) {
+        if (adjacency.offsets[*v] == adjacency.offsets[*v + 1]) (*piece_of_vertex)[*v] = 0;
+      }
+      pieces = std::max(pieces, 1);
     }
     return pieces;
   };
@@ -332,14 +344,31 @@ bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* la
   l.neighborhood_ = ListsFromPairs(l.num_surface_particles_, surface_pairs);
 
   // Whether a point lies behind a piece of surface: on the inner side of
-  // the normal at the piece's vertex nearest to it.
-  Eigen::Matrix3Xd normals;
-  if (l.num_split_cells_ > 0) normals = VertexNormals(mesh);
+  // the normal at the piece's vertex nearest to it. Normals point out of
+  // their component's enclosed volume whatever the faces' orientation.
+  Eigen::Matrix3Xd normals = VertexNormals(mesh);
+  {
+    const Components components = ConnectedComponents(mesh);
+    std::vector<double> volume(components.count, 0.0);
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      const Eigen::Vector3d a = mesh.vertices.col(mesh.faces(0, f));
+      const Eigen::Vector3d b = mesh.vertices.col(mesh.faces(1, f));
+      const Eigen::Vector3d c = mesh.vertices.col(mesh.faces(2, f));
+      volume[components.component_of_vertex[mesh.faces(0, f)]] += a.dot(b.cross(c));
+    }
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      if (volume[components.component_of_vertex[v]] < 0.0) normals.col(v) = -normals.col(v);
+    }
+  }
+  // A piece of many vertices (a fine mesh: thousands in a cell) is searched
+  // at a stride that leaves at most 64, which keeps the test's cost bounded
+  // per pair and its answer that of a nearby vertex.
   auto behind = [&](const Eigen::Vector3d& point, int piece) {
     int nearest = -1;
     double best = std::numeric_limits<double>::infinity();
     const CompressedLists& vertices = l.vertices_of_particle_;
-    for (const int* v = vertices.begin(piece); v != vertices.end(piece); ++v) {
+    const int stride = (vertices.size(piece) + 63) / 64;
+    for (const int* v = vertices.begin(piece); v < vertices.end(piece); v += stride) {
       const double d = (mesh.vertices.col(*v) - point).squaredNorm();
       if (d < best) {
         best = d;
@@ -350,8 +379,8 @@ bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* la
   };
 
   // Particle adjacency: L for surface-surface, 26 lattice neighbours when an
-  // interior particle is involved (only the pieces it lies behind, in a split
-  // cell).
+  // interior particle is involved (a surface particle only when the interior
+  // cell lies behind it).
   std::vector<std::pair<int, int>> particle_pairs = std::move(surface_pairs);
   for (int p = l.num_surface_particles_; p < l.num_particles(); ++p) {
     const Eigen::Vector3i& c = l.cell_coords_[p];
@@ -364,7 +393,7 @@ bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* la
           if (first < 0) continue;
           const int count = l.NumParticlesAt(neighbour);
           for (int q = first; q < first + count; ++q) {
-            if (count > 1 && !behind(l.rest_positions_.col(p), q)) {
+            if (q < l.num_surface_particles_ && !behind(l.rest_positions_.col(p), q)) {
               continue;  // in front of this piece: another part of the surface
             }
             particle_pairs.emplace_back(p, q);

@@ -11,10 +11,11 @@
 // A surface cell has one particle per piece of the surface inside it (Rivers
 // and James 2007's FastLSM lattice; LatticeOptions::split_cells): two of its
 // vertices are in one piece when mesh edges join them without leaving the
-// cell grown by piece_margin cells on every side. Two limbs that touch inside
-// a cell are two particles there, so nothing built on the lattice joins them.
-// Every interior cell is one particle. A particle's rest position is its
-// cell's centre (the pieces of a cell share it).
+// cell grown by piece_margin cells on every side (vertices in no face join the
+// cell's first piece). Two limbs that touch inside a cell are two particles
+// there, so the L lists, DG1, the coarse graphs and the skinning candidates
+// never join them. Every interior cell is one particle. A particle's rest
+// position is its cell's centre (the pieces of a cell share it).
 //
 // Particles 0 .. num_surface_particles()-1 are the surface pieces, in grid
 // order of their cells and, within a cell, by their smallest vertex id (DG1
@@ -25,10 +26,13 @@
 // geodesically far parts (two teeth of a comb in touching cells, two limbs
 // touching in one cell) are not L-neighbours. Particle adjacency:
 // surface-surface by L, interior-interior by the 26 lattice neighbours, and
-// interior-surface by the 26 lattice neighbours too, except that an interior
-// cell next to a split cell is joined only to the pieces it lies behind (on
-// the inner side of the normal at the piece's vertex nearest to the interior
-// cell's centre).
+// interior-surface by the 26 lattice neighbours when the interior cell lies
+// behind the surface particle: on the inner side of the normal at the
+// particle's vertex nearest to the cell's centre (normals taken outward by
+// the sign of each component's enclosed volume), so the inside of one limb
+// does not reach the surface of another that touches it. Interior cells of two
+// limbs whose surfaces pass within a cell can still be diagonal neighbours,
+// and a vertex-free cell that triangles of both cross is one particle.
 
 #ifndef MSDEFORM_CORE_LATTICE_H_
 #define MSDEFORM_CORE_LATTICE_H_

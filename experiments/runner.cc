@@ -89,7 +89,8 @@ bool RunDeformer(const ExperimentScenario& scenario, const DeformerOptions& opti
   result->particles = lattice.num_particles();
   result->dg1_nodes = deformer.graphs()[0].num_nodes();
   {
-    std::vector<char> holds_fixed(lattice.num_surface_particles(), 0), counted(holds_fixed.size(), 0);
+    const int num_particles = lattice.num_surface_particles();
+    std::vector<char> holds_fixed(num_particles, 0), counted(num_particles, 0);
     for (int v : scenario.layout.fixed) holds_fixed[lattice.particle_of_vertex(v)] = 1;
     for (int v : scenario.layout.moveable) {
       const int cell = lattice.particle_of_vertex(v);
@@ -366,7 +367,7 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
       line << " " << Describe(r) << ";";
       if (method == Method::kMultiScale) {
         line << " [scale " << r.selected_scale << "/" << r.num_scales << ", "
-             << r.shared_cells << " cells shared by handle and fixed]";
+             << r.shared_cells << " particles shared by handle and fixed]";
         table1.AddRow({fs::path(scenario.mesh_path).stem().string(), r.scenario,
                        Int(r.vertices), Int(r.faces), FormatNumber(r.cell_width),
                        Int(r.particles), Int(r.dg1_nodes), Int(r.num_scales),

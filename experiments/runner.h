@@ -37,7 +37,7 @@ struct RunResult {
   int particles = 0;
   int dg1_nodes = 0;
   int num_scales = 0;
-  // Surface cells holding both a fixed and a moveable vertex (should be 0).
+  // Surface particles holding both a fixed and a moveable vertex (should be 0).
   int shared_cells = 0;
   int selected_scale = 0;  // 1-based index of the graph solved on
   int graph_nodes = 0;     // nodes of the active graph

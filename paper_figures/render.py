@@ -90,7 +90,7 @@ def fig2_lattice():
         actors.append(mesh_actor(V, F, opacity=0.15))
         panels.append(dict(
             actors=actors, camera=camera_for(V, view, up, zoom),
-            label="%s: %d surface cells, %d interior" % (name, len(S), len(I)),
+            label="%s: %d surface particles, %d interior" % (name, len(S), len(I)),
             texts=[(("cut away in front of the centre;\n" if cut else
                      "edges ~1.5 w long leave gaps: no cell is enclosed;\n") +
                     "orange boxes: surface cells, blue points: interior cells\n"

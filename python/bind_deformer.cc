@@ -252,14 +252,15 @@ void BindDeformerProperties(py::class_<PyDeformer>& c) {
       Locked([](const py::object&, PyDeformer& s) {
         return s.deformer.lattice().num_surface_particles();
       }, false),
-      "Surface cells of the lattice (= DG1 nodes = the first particles).");
+      "Surface particles of the lattice, one per piece of surface in a cell (= DG1 nodes = "
+      "the first particles).");
   c.def_property_readonly(
       "particle_positions",
       Locked([](const py::object&, PyDeformer& s) {
         return PositionsToArray(s.deformer.lattice().rest_positions());
       }, false),
       "Rest positions of the lattice particles (cell centres), a new (#particles, 3) array; "
-      "particles 0 .. num_surface_particles - 1 are the surface cells.");
+      "particles 0 .. num_surface_particles - 1 are the surface particles.");
   c.def_property_readonly(
       "num_scales",
       Locked([](const py::object&, PyDeformer& s) {
@@ -321,8 +322,8 @@ void BindDeformerProperties(py::class_<PyDeformer>& c) {
         return VectorToArray(s.deformer.rigidity().relative_extent);
       }, true),
       "e' (paper Eq. 5, normalised): the rigidity estimate per lattice particle, float64 "
-      "(#particles,); the first num_surface_particles entries are the DG1 nodes'. Small means rigid. "
-      "Empty for the static baselines.");
+      "(#particles,); the first num_surface_particles entries are the DG1 nodes'. Small means "
+      "rigid. Empty for the static baselines.");
   c.def_property_readonly(
       "extent",
       Locked([](const py::object&, PyDeformer& s) {
@@ -352,11 +353,18 @@ void BindDeformerProperties(py::class_<PyDeformer>& c) {
         dict["eq6_scale"] = selection.eq6_scale;
         dict["scale"] = selection.scale;
         dict["local_detail_edit"] = selection.local_detail_edit;
+        dict["num_pinned"] = selection.num_pinned;
         return dict;
       }, true),
       "The multi-scale scale selection as a dict: threshold (T, Eq. 7), group1_size (P1), "
-      "eq6_scale (s of Eq. 6), scale (after conflicts), local_detail_edit. Zeros for the "
-      "baselines.");
+      "eq6_scale (s of Eq. 6), scale (after conflicts), local_detail_edit, num_pinned (nodes "
+      "kept Fixed because they skin a fixed vertex). Zeros for the baselines.");
+  c.def_property_readonly(
+      "fixed_region_exact",
+      Locked([](const py::object&, PyDeformer& s) { return s.deformer.fixed_region_exact(); },
+             true),
+      "Whether every fixed-handle vertex is skinned only by Fixed nodes, so that it stays "
+      "exactly at rest (the multi-scale default; not the static baselines).");
   c.def_property_readonly(
       "selected_scale",
       Locked([](const py::object&, PyDeformer& s) { return s.deformer.active_graph() + 1; },

@@ -346,6 +346,7 @@ void Deformer::ResetLayout() {
   frames_since_layout_ = 0;
   skinned_vertices_.clear();
   skin_all_ = true;
+  fixed_region_exact_ = true;
   num_position_terms_ = 0;
   num_coherence_terms_ = 0;
   deformed_vertices_ = mesh_.vertices;
@@ -383,7 +384,10 @@ bool Deformer::BuildLayout(const HandleLayout& layout, std::string* error) {
     handles.holds_fixed = CellsHolding(lattice_, layout_.fixed);
     handles.holds_moveable = CellsHolding(lattice_, layout_.moveable);
     handles.still = still_cells;
-    handles.fixed_vertices = layout_.fixed;
+    for (int v : layout_.fixed) {
+      if (still_vertices_.empty() || !still_vertices_[v]) handles.fixed_vertices.push_back(v);
+    }
+    handles.moveable_vertices = layout_.moveable;
     if (!rigidity_estimator_->Estimate(Indices(handles.holds_fixed),
                                        Indices(handles.holds_moveable), &rigidity_, error)) {
       return false;
@@ -470,6 +474,13 @@ bool Deformer::BuildProblem(std::string* error) {
   }
   skin_all_ = static_cast<int>(skinned_vertices_.size()) == weights.num_vertices();
   if (skin_all_) std::vector<int>().swap(skinned_vertices_);
+
+  // Fixed vertices skinned only by Fixed nodes stay at rest exactly.
+  fixed_region_exact_ = true;
+  for (int v : layout_.fixed) {
+    if (!still_vertices_.empty() && still_vertices_[v]) continue;
+    if (SkinnedByAFreeNode(weights, node_classes_, v)) fixed_region_exact_ = false;
+  }
 
   // A moveable-handle vertex that no non-Fixed node skins cannot follow the
   // handle: every frame would leave it at rest.

@@ -224,6 +224,11 @@ class Deformer {
   int num_coherence_terms() const { return num_coherence_terms_; }
   // Position terms of the moveable handle (one per handle vertex).
   int num_position_terms() const { return num_position_terms_; }
+  // Whether every fixed-handle vertex (outside still components) is skinned
+  // only by Fixed nodes, so that it stays exactly at rest: the multi-scale
+  // default (pin_fixed_region); usually not the static baselines, nor
+  // --pin_fixed_region=false.
+  bool fixed_region_exact() const { return fixed_region_exact_; }
   // Eq. 17 for the current layout, backend independent (tests, benchmarks).
   const DeformationEnergy& energy() const { return energy_; }
   // Vertices skinned by Drag: those with a non-Fixed node among their k
@@ -275,6 +280,7 @@ class Deformer {
   std::vector<int> skinned_vertices_;
   bool skin_all_ = true;
   int num_position_terms_ = 0;
+  bool fixed_region_exact_ = true;
   int num_coherence_terms_ = 0;
   Eigen::Matrix3Xd deformed_vertices_;
   mutable Eigen::Matrix3Xd deformed_normals_;

@@ -25,6 +25,9 @@ DEFINE_int32(nodes_per_scale, kDefaults.graph.nodes_per_scale,
              "[method] P: nodes per scale step, of the graph stack and of Eq. 6.");
 DEFINE_double(cell_width, kDefaults.lattice.cell_width,
               "[method] Lattice cell width in mesh units (0: bounding-box diagonal / 48).");
+DEFINE_double(piece_margin, kDefaults.lattice.piece_margin,
+              "[method] Pieces of surface in a lattice cell are found within the cell grown by "
+              "this many cell widths on each side (--split_cells).");
 DEFINE_uint64(seed, kDefaults.graph.seed,
               "[method] Seed of every random choice (DG1 node vertices, the paper's handle kick).");
 DEFINE_int32(threads, kDefaults.num_threads,
@@ -154,6 +157,7 @@ bool CheckNumericFlags(std::string* error) {
       {"nodes_per_scale", double(FLAGS_nodes_per_scale), 1, kIntMax, false, "an integer >= 1"},
       {"cell_width", FLAGS_cell_width, 0, kInf, true,
        "a length >= 0 in mesh units (0: diagonal / 48)"},
+      {"piece_margin", FLAGS_piece_margin, 0, 2, false, "a number of cell widths in [0, 2]"},
       {"max_iterations", double(FLAGS_max_iterations), 1, kIntMax, false,
        "an integer >= 1 (a frame with no iteration leaves the handle behind)"},
       {"function_tolerance", FLAGS_function_tolerance, 0, kInf, true, "a finite number >= 0"},
@@ -227,6 +231,7 @@ bool DeformerOptionsFromFlags(DeformerOptions* options, std::string* error) {
   options->static_nodes = FLAGS_static_nodes;
   options->graph.nodes_per_scale = FLAGS_nodes_per_scale;
   options->lattice.cell_width = FLAGS_cell_width;
+  options->lattice.piece_margin = FLAGS_piece_margin;
   options->graph.seed = FLAGS_seed;
   options->rigidity.seed = FLAGS_seed;
   options->num_threads = FLAGS_threads;

@@ -232,9 +232,9 @@ bool SelectScale(const std::function<const DeformationGraph&(int scale)>& graph_
       }
     }
     if (conflict) continue;
-    // Nodes that skin a fixed vertex are Fixed; the handle must keep a node
-    // of its own, so a pinned node holding moveable vertices sends the
-    // selection to a finer scale (on DG1 it stays unpinned).
+    // Nodes that skin a fixed vertex are Fixed. The handle must keep its
+    // nodes free: a pinned node that holds or skins a moveable vertex sends
+    // the selection to a finer scale (on DG1 it stays unpinned).
     pinned.assign(n, 0);
     if (options.pin_fixed_region) {
       const SkinningWeights& weights = graph.weights;
@@ -243,21 +243,22 @@ bool SelectScale(const std::function<const DeformationGraph&(int scale)>& graph_
           if (weights.weight(slot, v) != 0.0) pinned[weights.node(slot, v)] = 1;
         }
       }
-      for (int j = 0; j < n && !conflict; ++j) {
-        if (!pinned[j]) continue;
-        for (const int* m = graph.members.begin(j); m != graph.members.end(j); ++m) {
-          if (handles.holds_moveable[*m]) {
-            conflict = scale > 1;
-            pinned[j] = 0;
-            result.fixed_region_exact = false;
-            break;
-          }
+      std::vector<char> serves_handle(n, 0);
+      for (int v : handles.moveable_vertices) {
+        for (int slot = 0; slot < weights.k(); ++slot) {
+          if (weights.weight(slot, v) != 0.0) serves_handle[weights.node(slot, v)] = 1;
         }
       }
-      if (conflict) {
-        result.fixed_region_exact = true;
-        continue;
+      for (int j = 0; j < n; ++j) {
+        for (const int* m = graph.members.begin(j); m != graph.members.end(j); ++m) {
+          serves_handle[j] |= handles.holds_moveable[*m] != 0;
+        }
+        if (pinned[j] && serves_handle[j]) {
+          if (scale > 1) conflict = true;
+          pinned[j] = 0;
+        }
       }
+      if (conflict) continue;
       for (int j = 0; j < n; ++j) {
         if (pinned[j]) result.node_class[j] = NodeClass::kFixed;
       }

@@ -24,10 +24,10 @@
 // what the other Fixed nodes next to a Totally Free one become (by default
 // Totally Free: one more ring; the paper keeps them Fixed).
 // A node holding both fixed and moveable vertices cannot serve both, and
-// neither can a node holding moveable vertices that the fixed region pins,
-// so the selection moves to finer scales until no node does. On DG1 a pinned
-// node holding moveable vertices is left unpinned (the fixed vertices it
-// skins are then held by Position terms only: fixed_region_exact is false).
+// neither can a pinned node that holds or skins moveable vertices (the handle
+// would lag behind its target), so the selection moves to finer scales until
+// no node does. On DG1 such a node is left unpinned (the fixed vertices it
+// skins are then held by Position terms only; Deformer::fixed_region_exact).
 
 #ifndef MSDEFORM_SCALES_SCALE_SELECTION_H_
 #define MSDEFORM_SCALES_SCALE_SELECTION_H_
@@ -111,8 +111,10 @@ struct HandleNodes {
   // Per DG1 node: it holds only vertices of mesh components without a
   // moveable-handle vertex, which nothing moves. Empty: none (one component).
   std::vector<char> still;
-  // The fixed-handle vertices (mesh ids), for pin_fixed_region. Empty: none.
+  // The fixed- and moveable-handle vertices (mesh ids) for pin_fixed_region;
+  // still components' vertices may be left out (nothing moves them).
   std::vector<int> fixed_vertices;
+  std::vector<int> moveable_vertices;
 };
 
 // Whether vertex v has a non-Fixed node of non-zero weight among its nearest:
@@ -137,10 +139,9 @@ struct ScaleSelection {
   int eq6_scale = 1;             // s from Eq. 6, 1-based
   int scale = 1;                 // selected scale after conflicts, 1-based
   bool local_detail_edit = false;
-  // Every fixed-handle vertex is skinned only by Fixed nodes (true when
-  // pin_fixed_region held at the selected scale, or there are none).
-  bool fixed_region_exact = true;
-  int num_pinned = 0;  // nodes made Fixed by pin_fixed_region
+  // Nodes that pin_fixed_region keeps Fixed: those skinning a fixed vertex
+  // (some would have been Fixed anyway).
+  int num_pinned = 0;
   std::vector<double> node_extent;       // e' per node of the selected scale
   std::vector<NodeClass> node_class;     // per node of the selected scale
   std::vector<double> omega;             // per node; 1 unless Totally Free

@@ -258,7 +258,7 @@ void EditorApp::DrawMethodPanel() {
     Help(choice.help);
   }
   static const std::pair<const char*, const char*> kSwitches[] = {
-      {"pin_fixed_region", "Nodes that skin a fixed vertex are Fixed: exact fixed region (paper: off)."},
+      {"pin_fixed_region", "Nodes skinning a fixed vertex are Fixed: it stays put (paper: off)."},
       {"split_cells", "One lattice particle per piece of surface in a cell (paper: off)."},
       {"hold_fixed_vertices", "Position terms on fixed vertices a free node skins (paper: off)."},
       {"keep_left_out_terms", "Ablation Deformed 2: keep E(j,k) for Half Free j (Fig. 5)."},

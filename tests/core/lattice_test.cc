@@ -268,6 +268,40 @@ TEST(LatticeTest, TouchingProngsAreSeparatePartsOfTheLattice) {
   }
 }
 
+TEST(LatticeTest, OneSheetIsOnePiecePerCellWithTheMargin) {
+  // A sphere has no touching parts: every cell holds one piece of it. Cut at
+  // the cell walls alone (margin 0), the sheet falls apart where it crosses a
+  // cell's corner; grown by half a cell it does not.
+  const Mesh sphere = MakeSphere(1.0, 40, 20);
+  LatticeOptions options;
+  options.cell_width = 0.1;
+  options.piece_margin = 0.0;
+  Lattice cut;
+  std::string error;
+  ASSERT_TRUE(Lattice::Build(sphere, options, &cut, &error)) << error;
+  EXPECT_GT(cut.num_split_cells(), 0);
+  options.piece_margin = 0.5;
+  Lattice grown;
+  ASSERT_TRUE(Lattice::Build(sphere, options, &grown, &error)) << error;
+  EXPECT_EQ(grown.num_split_cells(), 0);
+  options.piece_margin = 2.5;
+  EXPECT_FALSE(Lattice::Build(sphere, options, &grown, &error));
+  EXPECT_NE(error.find("piece_margin"), std::string::npos) << error;
+}
+
+TEST(LatticeTest, InsideAndOutsideDoNotDependOnFaceOrientation) {
+  // The fork with every face flipped: the same particles and adjacency.
+  const Mesh fork = MakeFork(0.1);
+  Mesh flipped = fork;
+  flipped.faces.row(1).swap(flipped.faces.row(2));
+  const Lattice lattice = BuildTestLattice(fork, 1.0);
+  const Lattice from_flipped = BuildTestLattice(flipped, 1.0);
+  EXPECT_EQ(from_flipped.particle_of_vertex(), lattice.particle_of_vertex());
+  EXPECT_EQ(from_flipped.particle_adjacency().offsets, lattice.particle_adjacency().offsets);
+  EXPECT_EQ(from_flipped.particle_adjacency().values, lattice.particle_adjacency().values);
+  EXPECT_FALSE(ProngsJoinAbove(flipped, from_flipped, kForkBaseHeight + 2.0));
+}
+
 TEST(LatticeTest, AdjacencyIsSymmetricAndFollowsMethod) {
   const Mesh bar = MakeBar(4, 3.0, 6);
   const Lattice lattice = BuildTestLattice(bar, 0.5);

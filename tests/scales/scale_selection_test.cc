@@ -38,7 +38,7 @@ std::vector<DeformationGraph> LineGraphs(int d1, int num_scales) {
 }
 
 HandleNodes NoHandles(int d1) {
-  return {std::vector<char>(d1, 0), std::vector<char>(d1, 0), {}, {}};
+  return {std::vector<char>(d1, 0), std::vector<char>(d1, 0), {}, {}, {}};
 }
 
 ScaleSelection Select(const std::vector<DeformationGraph>& graphs, const std::vector<double>& e,
@@ -240,6 +240,98 @@ TEST(ScaleSelectionTest, NodeHoldingBothHandlesMovesToFinerScale) {
   std::string error;
   EXPECT_FALSE(SelectScale(graphs, e, handles, 100, 1e9, {}, &failed, &error));
   EXPECT_NE(error.find("cell"), std::string::npos) << error;
+}
+
+// Gives every graph of LineGraphs skinning weights over d1 vertices, vertex i
+// at DG1 node i: at scale s it has k = 2 nodes, its run's node p = i / s
+// (weight 3/4) and the next one, p + 1 (the previous one for the last run;
+// weight 1/4).
+void AddLineWeights(std::vector<DeformationGraph>* graphs, int d1) {
+  for (DeformationGraph& graph : *graphs) {
+    const int n = graph.num_nodes();
+    graph.weights = SkinningWeights(2, d1, n);
+    for (int i = 0; i < d1; ++i) {
+      const int p = graph.node_of_dg1[i];
+      const int nodes[] = {p, p + 1 < n ? p + 1 : p - 1};
+      const double weights[] = {0.75, 0.25};
+      graph.weights.SetVertex(i, nodes, weights);
+    }
+  }
+}
+
+TEST(ScaleSelectionTest, NodesSkinningAFixedVertexArePinned) {
+  // ClassesAndVariableCount's edit with vertices: the fixed vertex 7 is
+  // skinned at scale 2 by node 3 (which holds it: Half Free unpinned) and
+  // node 2 (e' 0.3: Totally Free unpinned). Pinned, both are Fixed, and the
+  // border ring leaves node 2 Fixed.
+  auto graphs = LineGraphs(8, 2);
+  AddLineWeights(&graphs, 8);
+  std::vector<double> e = {1.0, 0.8, 0.6, 0.05, 0.3, 0.02, 0.01, 0.0};
+  HandleNodes handles = NoHandles(8);
+  handles.holds_moveable[0] = 1;
+  handles.holds_fixed[7] = 1;
+  handles.moveable_vertices = {0};
+  handles.fixed_vertices = {7};
+  using C = NodeClass;
+  const ScaleSelection pinned = Select(graphs, e, handles, {}, 1e9, /*nodes_per_scale=*/2);
+  ASSERT_EQ(pinned.scale, 2);
+  EXPECT_EQ(pinned.node_class,
+            (std::vector<NodeClass>{C::kTotallyFree, C::kTotallyFree, C::kFixed, C::kFixed}));
+  EXPECT_EQ(pinned.num_pinned, 2);
+  EXPECT_EQ(pinned.num_variables(), 12 * 2);
+  // Every node skinning vertex 7 is Fixed: it stays at rest.
+  EXPECT_EQ(FirstVertexSkinnedOnlyByFixedNodes(graphs[1].weights, pinned.node_class, {7}), 7);
+  ScaleSelectionOptions paper;
+  paper.pin_fixed_region = false;
+  const ScaleSelection unpinned = Select(graphs, e, handles, paper, 1e9, 2);
+  EXPECT_EQ(unpinned.node_class,
+            (std::vector<NodeClass>{C::kTotallyFree, C::kTotallyFree, C::kTotallyFree,
+                                    C::kHalfFree}));
+  EXPECT_EQ(unpinned.num_pinned, 0);
+}
+
+TEST(ScaleSelectionTest, PinnedNodeSkinningTheHandleMovesToFinerScale) {
+  // Fixed vertex 3: at scale 2 node 1 ({2, 3}) skins it and also skins the
+  // handle vertex 0 (weight 1/4): a conflict, so scale 1, where vertex 0's
+  // nodes (0, 1) and vertex 3's (3, 4) are apart.
+  auto graphs = LineGraphs(8, 2);
+  AddLineWeights(&graphs, 8);
+  std::vector<double> e = {1.0, 0.8, 0.6, 0.5, 0.3, 0.02, 0.01, 0.0};
+  HandleNodes handles = NoHandles(8);
+  handles.holds_moveable[0] = 1;
+  handles.holds_fixed[3] = 1;
+  handles.moveable_vertices = {0};
+  handles.fixed_vertices = {3};
+  const ScaleSelection pinned = Select(graphs, e, handles, {}, 1e9, /*nodes_per_scale=*/2);
+  EXPECT_EQ(pinned.eq6_scale, 2);
+  EXPECT_EQ(pinned.scale, 1);
+  EXPECT_EQ(pinned.node_class[3], NodeClass::kFixed);
+  EXPECT_EQ(pinned.node_class[4], NodeClass::kFixed);
+  EXPECT_EQ(pinned.num_pinned, 2);
+  ScaleSelectionOptions paper;
+  paper.pin_fixed_region = false;
+  EXPECT_EQ(Select(graphs, e, handles, paper, 1e9, 2).scale, 2);
+}
+
+TEST(ScaleSelectionTest, OnDg1APinnedNodeSkinningTheHandleStaysFree) {
+  // Fixed vertex 1 is skinned by nodes 1 and 2; node 1 also skins the handle
+  // vertex 0, so on DG1 (no finer scale) it is not pinned: vertex 1 keeps a
+  // non-Fixed node (held by a Position term, not exactly).
+  auto graphs = LineGraphs(6, 1);
+  AddLineWeights(&graphs, 6);
+  const std::vector<double> e = {1.0, 0.2, 0.0, 0.0, 0.0, 0.0};
+  HandleNodes handles = NoHandles(6);
+  handles.holds_moveable[0] = 1;
+  handles.holds_fixed[1] = 1;
+  handles.moveable_vertices = {0};
+  handles.fixed_vertices = {1};
+  const ScaleSelection selection = Select(graphs, e, handles);
+  using C = NodeClass;
+  EXPECT_EQ(selection.node_class,
+            (std::vector<NodeClass>{C::kTotallyFree, C::kHalfFree, C::kFixed, C::kFixed,
+                                    C::kFixed, C::kFixed}));
+  EXPECT_EQ(selection.num_pinned, 1);
+  EXPECT_EQ(FirstVertexSkinnedOnlyByFixedNodes(graphs[0].weights, selection.node_class, {1}), -1);
 }
 
 TEST(ScaleSelectionTest, AlphaMapsExtentToOmegaAndTakesTheMin) {
