@@ -346,8 +346,9 @@ bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* la
   // Whether a point lies behind a piece of surface: on the inner side of
   // the normal at the piece's vertex nearest to it. Normals point out of
   // their component's enclosed volume whatever the faces' orientation.
-  Eigen::Matrix3Xd normals = VertexNormals(mesh);
-  {
+  Eigen::Matrix3Xd normals;
+  if (options.split_cells) {
+    normals = VertexNormals(mesh);
     const Components components = ConnectedComponents(mesh);
     std::vector<double> volume(components.count, 0.0);
     for (int f = 0; f < mesh.num_faces(); ++f) {
@@ -393,7 +394,8 @@ bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* la
           if (first < 0) continue;
           const int count = l.NumParticlesAt(neighbour);
           for (int q = first; q < first + count; ++q) {
-            if (q < l.num_surface_particles_ && !behind(l.rest_positions_.col(p), q)) {
+            if (options.split_cells && q < l.num_surface_particles_ &&
+                !behind(l.rest_positions_.col(p), q)) {
               continue;  // in front of this piece: another part of the surface
             }
             particle_pairs.emplace_back(p, q);

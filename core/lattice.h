@@ -54,8 +54,10 @@ struct LatticeOptions {
   double cells_per_diagonal = 48.0;
   // Upper bound on the number of cells of the padded grid (memory guard).
   long long max_grid_cells = 1LL << 28;
-  // One particle per piece of surface in a cell (true; docs/decisions.md,
-  // "Topology-aware lattice") or one per cell, as the paper (false).
+  // The topology-aware lattice (true; docs/decisions.md, "The two promises"):
+  // one particle per piece of surface in a cell, and interior cells joined
+  // only to the surface particles they lie behind. False: the paper's, one
+  // particle per cell and the 26 lattice neighbours.
   bool split_cells = true;
   // Pieces are found within the cell grown by this many cell widths on each
   // side, so that a surface crossing a cell corner is not cut in two by the

@@ -103,8 +103,9 @@ DEFINE_bool(pin_fixed_region, kDefaults.selection.pin_fixed_region,
             "[ablations] Multi-scale: nodes that skin a fixed-handle vertex are Fixed, so the "
             "fixed region stays exactly at rest (the paper: false).");
 DEFINE_bool(split_cells, kDefaults.lattice.split_cells,
-            "[ablations] One lattice particle per piece of surface in a cell, so touching parts "
-            "stay apart (the paper: one per cell).");
+            "[ablations] One lattice particle per piece of surface in a cell, interior cells "
+            "joined only to surfaces they lie behind: touching parts stay apart (the paper: one "
+            "particle per cell, 26 neighbours).");
 DEFINE_bool(keep_left_out_terms, kDefaults.keep_left_out_terms,
             "[ablations] Keep E(j,k) for Half Free j (paper Fig. 5, Deformed 2).");
 DEFINE_bool(fix_fixed_handle_nodes, kDefaults.fix_fixed_handle_nodes,
