@@ -21,13 +21,13 @@
 #include <vector>
 
 #include <Eigen/Geometry>
+#include <glog/logging.h>
 #include <gtest/gtest.h>
 
+#include "experiments/experiment_scenario.h"
 #include "msdeform/core/drag_path.h"
 #include "msdeform/core/lattice.h"
-#include "msdeform/core/mesh_io.h"
 #include "msdeform/core/procedural_meshes.h"
-#include "msdeform/core/scenario.h"
 #include "msdeform/scales/deformer.h"
 
 namespace msdeform {
@@ -146,11 +146,10 @@ std::vector<Variant> FixedHandleVariants() {
 
 std::vector<std::string> ScenarioFiles() {
   std::vector<std::string> files;
-  const std::string folder = std::string(MSDEFORM_SOURCE_DIR) + "/experiments/scenarios";
-  for (const auto& entry : fs::directory_iterator(folder)) {
-    if (entry.path().extension() == ".json") files.push_back(entry.path().string());
-  }
-  std::sort(files.begin(), files.end());
+  std::string error;
+  CHECK(ListScenarioFiles(std::string(MSDEFORM_SOURCE_DIR) + "/experiments/scenarios", &files,
+                          &error))
+      << error;
   return files;
 }
 
@@ -159,19 +158,14 @@ class FixedRegionTest : public ::testing::TestWithParam<std::string> {};
 // Two frames to the scenario's full motion; after each, the largest
 // distance of a fixed vertex from its rest position, over the diagonal.
 TEST_P(FixedRegionTest, FixedVerticesStayAtRest) {
-  Scenario scenario;
-  Mesh mesh;
-  HandleLayout layout;
-  std::vector<int> watch;
-  Eigen::Affine3d target;
+  ExperimentScenario scenario;
   std::string error;
-  ASSERT_TRUE(ReadScenario(GetParam(), &scenario, &error)) << error;
-  ASSERT_TRUE(ReadMesh(scenario.mesh_path, &mesh, &error))
+  ASSERT_TRUE(LoadExperimentScenario(GetParam(), /*frames=*/2, &scenario, &error))
       << error << " (real meshes missing? run data/fetch_meshes.sh)";
-  ASSERT_TRUE(ResolveScenario(scenario, mesh, &layout, &watch, &target, &error)) << error;
+  const Mesh& mesh = scenario.mesh;
+  const HandleLayout& layout = scenario.layout;
+  const std::vector<Eigen::Affine3d>& path = scenario.path;
   ASSERT_FALSE(layout.fixed.empty()) << scenario.name << " fixes nothing";
-  scenario.frames = 2;
-  const std::vector<Eigen::Affine3d> path = DragPath(scenario, mesh, layout);
   const double diagonal = BoundingBoxDiagonal(mesh);
   for (const Variant& variant : FixedHandleVariants()) {
     Deformer deformer;
