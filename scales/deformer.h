@@ -42,112 +42,13 @@
 #include "msdeform/core/mesh.h"
 #include "msdeform/scales/ceres_solver.h"
 #include "msdeform/scales/deformation_energy.h"
+#include "msdeform/scales/deformer_options.h"
 #include "msdeform/scales/frame_solver.h"
 #include "msdeform/scales/gauss_newton_solver.h"
 #include "msdeform/scales/rigidity.h"
 #include "msdeform/scales/scale_selection.h"
 
 namespace msdeform {
-
-enum class Method { kMultiScale, kStatic, kStaticDense };
-
-// The backend that minimises Eq. 17 each frame (scales/frame_solver.h): the
-// Gauss-Newton solver of scales/gauss_newton_solver.h, or Ceres
-// (scales/ceres_solver.h), the reference.
-enum class Solver { kCeres, kGaussNewton };
-
-// Where a frame's solve starts: the rest pose (R = I, t = 0: no warm start),
-// the previous frame's solution (warm start), or its linear extrapolation
-// from the last two frames, x_f + (x_f - x_{f-1}), where that starts with a
-// lower energy than x_f (x_f on the first two frames of a layout).
-enum class InitialGuess { kRest, kPrevious, kExtrapolated };
-
-// "multiscale", "static", "static_dense".
-const char* MethodName(Method method);
-bool ParseMethod(const std::string& name, Method* method);
-// "ceres", "gauss_newton".
-const char* SolverName(Solver solver);
-bool ParseSolver(const std::string& name, Solver* solver);
-// "rest", "previous", "extrapolated".
-const char* InitialGuessName(InitialGuess guess);
-bool ParseInitialGuess(const std::string& name, InitialGuess* guess);
-
-struct DeformerOptions;
-// Sets the multi-scale method's variant switches (rigidity.model,
-// selection.half_free, selection.border) from their names, as the command-line
-// flags --rigidity, --half_free and --border spell them; false with
-// "--<flag>=<value>: expected ..." when a name is not one.
-bool ParseMethodVariant(const std::string& rigidity, const std::string& half_free,
-                        const std::string& border, DeformerOptions* options,
-                        std::string* error);
-
-struct DeformerOptions {
-  Method method = Method::kMultiScale;
-  LatticeOptions lattice;            // cell width (default diag / 48)
-  GraphOptions graph;                // k = 4, P = 100, seed
-  RigidityOptions rigidity;          // S = 20 steps, ...
-  ScaleSelectionOptions selection;   // thresholds, alpha, ablation switches
-  // Nodes of the static baseline graph (Sumner et al. 2007 used about 220).
-  int static_nodes = 220;
-  // Eq. 17 weights (used as sqrt residual scales).
-  double w_rot = 1.0;
-  double w_coh = 10.0;
-  double w_con = 100.0;
-  // Unit of length of the coherence and position residuals (they are divided
-  // by it), so that the weights above do not depend on the mesh's units; 0
-  // means the bounding-box diagonal (docs/decisions.md, "Length unit").
-  double length_unit = 0.0;
-  // Multi-scale: fixed-handle vertices skinned by a non-Fixed node get a
-  // Position term to their rest position, as the static baselines' fixed
-  // handles do (the paper has none: false; docs/decisions.md, "Node classes
-  // on large fixed regions").
-  bool hold_fixed_vertices = true;
-  // Ablation "Deformed 2" (paper Fig. 5): keep E(j, k) for Half Free j.
-  bool keep_left_out_terms = false;
-  // Ablation "Deformed 3": fixed-handle nodes get no rotation (Fixed, not Half
-  // Free); overrides selection.half_free with HalfFreeRule::kNone.
-  bool fix_fixed_handle_nodes = false;
-  // Threads for skinning, the Ceres solve and, when graph.num_threads is 0,
-  // the graph building.
-  int num_threads = 2;
-  // Multi-scale: coarse scales whose skinning data (nearest nodes, weights,
-  // edges: a pass over every vertex each) is kept once built. A scale's data
-  // is built when SetHandles first selects (or tries) it, not in Init; beyond
-  // this many the least recently used is dropped. DG1's is always kept.
-  int cached_scales = 4;
-
-  // The per-frame solve. Both backends minimise the same energy and stop on
-  // the same rule (scales/frame_solver.h): at most 20 iterations, function
-  // tolerance 1e-8, gradient 1e-10, parameter 1e-10.
-  Solver backend = Solver::kGaussNewton;
-  StoppingRule stopping;
-  // The previous frame's solution. The extrapolated guess saves iterations on
-  // some multi-scale edits and costs many on others (the static cactus: 4.5x
-  // the factorisations); docs/decisions.md, "Solver seam and defaults".
-  InitialGuess initial_guess = InitialGuess::kPrevious;
-  // Gauss-Newton: sparse Cholesky (Eigen's SimplicialLLT), factorisation
-  // lagged across iterations and frames (refactorised when a step fails to
-  // shrink the gradient), damping only as a safeguard.
-  GaussNewtonOptions gauss_newton;
-  // Ceres: Levenberg-Marquardt, SPARSE_NORMAL_CHOLESKY on EIGEN_SPARSE,
-  // grouped position terms.
-  CeresOptions ceres;
-
-  bool Check(std::string* error) const;
-};
-
-// Every field of `options` as (name, value) pairs, in declaration order, with
-// names as in the struct ("stopping.max_iterations") and numbers printed
-// exactly (%.17g): what reports and table headers record so a run can be
-// repeated.
-std::vector<std::pair<std::string, std::string>> DescribeOptions(const DeformerOptions& options);
-
-// `options` with the multi-scale method as the paper writes it: lattice
-// shape-matching rigidity, every fixed-handle node Half Free, the Fixed nodes
-// at the border kept Fixed, no Position terms on fixed vertices
-// (docs/method.md §7; the CLI's --rigidity=paper
-// --half_free=every_fixed_handle_node --border=fixed --hold_fixed_vertices=false).
-DeformerOptions PaperProcedure(DeformerOptions options);
 
 // Per-frame numbers.
 struct DragStats {
