@@ -7,29 +7,19 @@
 //   deformer.Drag(deformed_from_rest, &stats, &error);  // one frame, warm-started
 //   deformer.deformed_vertices();
 //
-// Method::kMultiScale follows docs/method.md §2-5: rigidity (by default the
-// harmonic estimate; the paper's lattice shape matching with
-// RigidityModel::kShapeMatching), scale s by Eq. 6-7, node classes as
-// parameter-block fixing (Totally Free: R and t, Half Free: R with t = 0,
-// Fixed: nothing), the coherence edge set without the left-out terms, alpha
-// weights, position constraints on the moveable handle and on the fixed
-// vertices a non-Fixed node skins (hold_fixed_vertices).
-// Method::kStatic / kStaticDense are embedded deformation as in Sumner et al.
-// 2007 on one graph (about 220 nodes, or DG1): all nodes free, every directed
-// edge, alpha = 1, and the fixed handles held by position constraints to their
-// rest positions.
-//
-// Energy weights (Eq. 17) are 1 / 10 / 100 as sqrt residual scales. Lengths
-// in the coherence and position residuals are measured in bounding-box
-// diagonals (the mesh as if scaled to a unit diagonal), so results depend
-// neither on the mesh's units nor on the cell width (docs/decisions.md).
+// The Deformer is a facade over the three stages of an edit
+// (docs/extending_stages.md): Init makes a Precompute (mesh, lattice, graphs;
+// scales/precompute.h), SetHandles a Layout (rigidity, scale, node classes,
+// the energy; scales/layout.h) and a Session (solver, transforms, skinning;
+// scales/session.h), Drag drives the session. The stages cannot be made out
+// of order; the facade refuses calls out of order at run time. The methods
+// (Method::kMultiScale, kStatic, kStaticDense) are described in layout.h.
 
 #ifndef MSDEFORM_SCALES_DEFORMER_H_
 #define MSDEFORM_SCALES_DEFORMER_H_
 
 #include <functional>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -45,24 +35,14 @@
 #include "msdeform/scales/deformer_options.h"
 #include "msdeform/scales/frame_solver.h"
 #include "msdeform/scales/gauss_newton_solver.h"
+#include "msdeform/scales/layout.h"
+#include "msdeform/scales/node_classes.h"
+#include "msdeform/scales/precompute.h"
 #include "msdeform/scales/rigidity.h"
 #include "msdeform/scales/scale_selection.h"
+#include "msdeform/scales/session.h"
 
 namespace msdeform {
-
-// Per-frame numbers.
-struct DragStats {
-  double frame_ms = 0.0;  // the whole Drag
-  double solve_ms = 0.0;
-  double skin_ms = 0.0;  // positions; normals are skinned when asked for
-  int iterations = 0;
-  int factorizations = 0;
-  double initial_cost = 0.0;  // at the initial guess
-  double final_cost = 0.0;
-  bool converged = false;
-  // The solve's convergence trace (scales/frame_solver.h).
-  std::vector<TracePoint> trace;
-};
 
 class Deformer {
  public:
@@ -94,102 +74,76 @@ class Deformer {
   // handle vertex; the others stay at rest).
   bool Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats, std::string* error);
 
+  // The stages, for code that works on them directly (a second layout on the
+  // same precompute, a session of its own): null before a successful Init /
+  // SetHandles.
+  const std::shared_ptr<const Precompute>& precompute() const { return precompute_; }
+  const std::shared_ptr<const Layout>& layout() const { return layout_; }
+  const Session* session() const { return session_.get(); }
+
   // The accessors below read the last successful stage: after a failed Init
   // (the object empty) they are not to be used until an Init succeeds.
-  const Mesh& rest_mesh() const { return mesh_; }
-  const Eigen::Matrix3Xd& deformed_vertices() const { return deformed_vertices_; }
+  // Without a layout they read as at rest (no classes, no terms, the mesh's
+  // vertices and normals).
+  const Mesh& rest_mesh() const;
+  const Eigen::Matrix3Xd& deformed_vertices() const;
   // The deformed unit normals (Eq. 10) of the last Drag, skinned on the first
   // call after it: a Drag skins positions only, so a program that never asks
   // (the command line, the experiments) does not pay for normals. Safe to
   // call from several threads at once (const readers); not during a Drag.
   const Eigen::Matrix3Xd& deformed_normals() const;
   const DeformerOptions& options() const { return options_; }
-  const Lattice& lattice() const { return lattice_; }
+  const Lattice& lattice() const;
   // graphs()[i] is DG_{i+1}; the static baselines add their graph last. The
   // multi-scale method's coarse graphs have their nodes from Init, and their
   // edges and weights only while connected (is_connected(); cached_scales).
-  const std::vector<DeformationGraph>& graphs() const { return graphs_; }
+  const std::vector<DeformationGraph>& graphs() const;
   // graphs()[index], connected first if it is not (then cached as by
-  // SetHandles).
+  // SetHandles; Precompute::ConnectedGraph).
   const DeformationGraph& ConnectedGraph(int index);
   // The graph being solved on, and its index in graphs().
-  int active_graph() const { return active_graph_; }
-  const DeformationGraph& active() const { return graphs_[active_graph_]; }
-  const NodeTransforms& transforms() const { return transforms_; }
+  int active_graph() const;
+  const DeformationGraph& active() const { return graphs()[active_graph()]; }
+  const NodeTransforms& transforms() const;
   // Multi-scale only (empty for the baselines).
-  const RigidityEstimate& rigidity() const { return rigidity_; }
-  const ScaleSelection& selection() const { return selection_; }
+  const RigidityEstimate& rigidity() const;
+  const ScaleSelection& selection() const;
   // Node class per node of the active graph (all Totally Free for baselines).
-  const std::vector<NodeClass>& node_classes() const { return node_classes_; }
-  int num_variables() const;
-  int num_coherence_terms() const { return num_coherence_terms_; }
+  const std::vector<NodeClass>& node_classes() const;
+  int num_variables() const { return layout_ ? layout_->num_variables() : 0; }
+  int num_coherence_terms() const { return layout_ ? layout_->num_coherence_terms() : 0; }
   // Position terms of the moveable handle (one per handle vertex).
-  int num_position_terms() const { return num_position_terms_; }
+  int num_position_terms() const { return layout_ ? layout_->num_position_terms() : 0; }
   // Whether every fixed-handle vertex (outside still components) is skinned
   // only by Fixed nodes, so that it stays exactly at rest: the multi-scale
   // default (pin_fixed_region); usually not the static baselines, nor
   // --pin_fixed_region=false.
-  bool fixed_region_exact() const { return fixed_region_exact_; }
+  bool fixed_region_exact() const { return layout_ ? layout_->fixed_region_exact() : true; }
   // Eq. 17 for the current layout, backend independent (tests, benchmarks).
-  const DeformationEnergy& energy() const { return energy_; }
+  const DeformationEnergy& energy() const;
   // Vertices skinned by Drag: those with a non-Fixed node among their k
   // nearest, outside components without a moveable-handle vertex.
   int num_skinned_vertices() const {
-    return skin_all_ ? mesh_.num_vertices() : static_cast<int>(skinned_vertices_.size());
+    return layout_ ? layout_->num_skinned_vertices() : rest_mesh().num_vertices();
   }
-  double diagonal() const { return diagonal_; }
-  // Milliseconds spent in Init's graph/lattice build, and SetHandles's parts.
+  double diagonal() const { return precompute_ ? precompute_->diagonal() : 0.0; }
+  // Milliseconds spent in Init's graph/lattice build, and SetHandles's parts
+  // (setup: scale selection, classes, energy and the solver's setup).
   double precompute_ms() const { return precompute_ms_; }
-  double rigidity_ms() const { return rigidity_ms_; }
-  double setup_ms() const { return setup_ms_; }
+  double rigidity_ms() const { return layout_ ? layout_->rigidity_ms() : 0.0; }
+  double setup_ms() const {
+    return session_ ? layout_->setup_ms() + session_->setup_ms() : 0.0;
+  }
 
  private:
-  enum class Stage { kEmpty, kInitialised, kHandlesSet };
-  // Back to "initialised, no layout": the per-layout state cleared and the
-  // mesh at rest.
+  // Drops the layout and the session (the mesh back at rest).
   void ResetLayout();
-  bool BuildLayout(const HandleLayout& layout, std::string* error);
-  // options_.graph with num_threads = options_.num_threads where it is 0.
-  GraphOptions GraphBuildOptions() const;
-  bool BuildProblem(std::string* error);
-  void BuildEnergy();
 
-  Stage stage_ = Stage::kEmpty;
-  DeformerOptions options_;
-  Mesh mesh_;
-  Eigen::Matrix3Xd rest_normals_;
-  Components components_;             // of mesh_
-  std::vector<char> still_vertices_;  // per vertex, for the layout; empty: one component
-  double diagonal_ = 0.0;
-  Lattice lattice_;
-  std::vector<DeformationGraph> graphs_;
-  // Connected coarse graphs (index > 0), least recently used first.
-  std::vector<int> connected_coarse_;
-  int static_graph_ = -1;  // index of the static baselines' graph
-  std::unique_ptr<RigidityEstimator> rigidity_estimator_;
-
-  HandleLayout layout_;
-  RigidityEstimate rigidity_;
-  ScaleSelection selection_;
-  int active_graph_ = 0;
-  std::vector<NodeClass> node_classes_;
-  NodeTransforms transforms_;
-  DeformationEnergy energy_;
-  std::unique_ptr<FrameSolver> solver_;
-  NodeTransforms previous_transforms_;  // the frame before, for kExtrapolated
-  int frames_since_layout_ = 0;
-  std::vector<int> skinned_vertices_;
-  bool skin_all_ = true;
-  int num_position_terms_ = 0;
-  bool fixed_region_exact_ = true;
-  int num_coherence_terms_ = 0;
-  Eigen::Matrix3Xd deformed_vertices_;
-  mutable Eigen::Matrix3Xd deformed_normals_;
-  mutable bool normals_stale_ = false;  // a Drag moved the positions since
-  std::unique_ptr<std::mutex> normals_mutex_ = std::make_unique<std::mutex>();
+  DeformerOptions options_;  // the last Init's that passed Check
+  std::shared_ptr<const Precompute> precompute_;  // null: empty
+  std::shared_ptr<const Layout> layout_;          // null: no layout
+  std::unique_ptr<Session> session_;              // with layout_
   double precompute_ms_ = 0.0;
-  double rigidity_ms_ = 0.0;
-  double setup_ms_ = 0.0;
 };
 
 // A drag along a path of handle transforms: the per-frame loop of msdeform,

@@ -6,8 +6,11 @@
 #include <limits>
 #include <queue>
 #include <sstream>
+#include <utility>
 
 #include <glog/logging.h>
+
+#include "msdeform/scales/node_classes.h"
 
 namespace msdeform {
 
@@ -128,37 +131,6 @@ double GeodesicHandleDistance(const DeformationGraph& dg1, const HandleNodes& ha
 
 }  // namespace
 
-bool SkinnedByAFreeNode(const SkinningWeights& weights, const std::vector<NodeClass>& node_class,
-                        int v) {
-  for (int slot = 0; slot < weights.k(); ++slot) {
-    if (weights.weight(slot, v) != 0.0 && node_class[weights.node(slot, v)] != NodeClass::kFixed) {
-      return true;
-    }
-  }
-  return false;
-}
-
-int FirstVertexSkinnedOnlyByFixedNodes(const SkinningWeights& weights,
-                                       const std::vector<NodeClass>& node_class,
-                                       const std::vector<int>& vertices) {
-  for (int v : vertices) {
-    if (!SkinnedByAFreeNode(weights, node_class, v)) return v;
-  }
-  return -1;
-}
-
-std::vector<char> StillNodes(const DeformationGraph& graph, const std::vector<char>& still_dg1) {
-  std::vector<char> still(graph.num_nodes(), 0);
-  if (still_dg1.empty()) return still;
-  for (int j = 0; j < graph.num_nodes(); ++j) {
-    still[j] = graph.members.begin(j) != graph.members.end(j);
-    for (const int* m = graph.members.begin(j); m != graph.members.end(j) && still[j]; ++m) {
-      still[j] = still_dg1[*m] != 0;
-    }
-  }
-  return still;
-}
-
 bool SelectScale(const std::vector<DeformationGraph>& graphs,
                  const std::vector<double>& dg1_extent, const HandleNodes& handles,
                  int nodes_per_scale, double diagonal, const ScaleSelectionOptions& options,
@@ -204,85 +176,14 @@ bool SelectScale(const std::function<const DeformationGraph&(int scale)>& graph_
   while (scale < num_scales && !(result.group1_size < scale * nodes_per_scale)) ++scale;
   result.eq6_scale = scale;
 
-  // Classes, moving finer while a node would hold both kinds of handle.
-  std::vector<char> pinned;
+  // Classes (node_classes.h), moving finer while DG_scale cannot serve the
+  // layout.
+  ScaleClasses classes;
   for (; scale >= 1; --scale) {
-    const DeformationGraph& graph = graph_at(scale);
-    const int n = graph.num_nodes();
-    bool conflict = false;
-    const std::vector<char> still = StillNodes(graph, handles.still);
-    std::vector<char> holds_fixed(n, 0);
-    result.node_extent.assign(n, 0.0);
-    result.node_class.assign(n, NodeClass::kFixed);
-    for (int j = 0; j < n && !conflict; ++j) {
-      bool moveable = false;
-      double extent = 0.0;
-      for (const int* m = graph.members.begin(j); m != graph.members.end(j); ++m) {
-        holds_fixed[j] |= handles.holds_fixed[*m] != 0;
-        moveable |= handles.holds_moveable[*m] != 0;
-        extent = options.member_extent == MemberExtent::kMax ? std::max(extent, dg1_extent[*m])
-                                                             : extent + dg1_extent[*m];
-      }
-      if (options.member_extent == MemberExtent::kMean) extent /= graph.members.size(j);
-      result.node_extent[j] = extent;
-      conflict = holds_fixed[j] && moveable;
-      if (still[j]) continue;  // Fixed, before anything reads the classes
-      if (!holds_fixed[j] && (moveable || extent > result.threshold)) {
-        result.node_class[j] = NodeClass::kTotallyFree;
-      }
+    if (ClassifyNodesAtScale(graph_at(scale), scale, dg1_extent, handles, result.threshold,
+                             options, &classes)) {
+      break;
     }
-    if (conflict) continue;
-    // Nodes that skin a fixed vertex are Fixed. The handle must keep its
-    // nodes free: a pinned node that holds or skins a moveable vertex sends
-    // the selection to a finer scale (on DG1 it stays unpinned).
-    pinned.assign(n, 0);
-    if (options.pin_fixed_region) {
-      const SkinningWeights& weights = graph.weights;
-      for (int v : handles.fixed_vertices) {
-        for (int slot = 0; slot < weights.k(); ++slot) {
-          if (weights.weight(slot, v) != 0.0) pinned[weights.node(slot, v)] = 1;
-        }
-      }
-      std::vector<char> serves_handle(n, 0);
-      for (int v : handles.moveable_vertices) {
-        for (int slot = 0; slot < weights.k(); ++slot) {
-          if (weights.weight(slot, v) != 0.0) serves_handle[weights.node(slot, v)] = 1;
-        }
-      }
-      for (int j = 0; j < n; ++j) {
-        for (const int* m = graph.members.begin(j); m != graph.members.end(j); ++m) {
-          serves_handle[j] |= handles.holds_moveable[*m] != 0;
-        }
-        if (pinned[j] && serves_handle[j]) {
-          if (scale > 1) conflict = true;
-          pinned[j] = 0;
-        }
-      }
-      if (conflict) continue;
-      for (int j = 0; j < n; ++j) {
-        if (pinned[j]) result.node_class[j] = NodeClass::kFixed;
-      }
-    }
-    // Nodes next to the Totally Free region (decided before any changes).
-    std::vector<char> borders_free(n, 0);
-    for (int j = 0; j < n; ++j) {
-      for (const int* k = graph.neighbors.begin(j); k != graph.neighbors.end(j); ++k) {
-        borders_free[j] |= result.node_class[*k] == NodeClass::kTotallyFree;
-      }
-    }
-    for (int j = 0; j < n; ++j) {
-      if (result.node_class[j] == NodeClass::kTotallyFree || still[j] || pinned[j]) continue;
-      if (holds_fixed[j]) {
-        if (options.half_free == HalfFreeRule::kEveryFixedHandleNode ||
-            (options.half_free == HalfFreeRule::kNextToTotallyFree && borders_free[j])) {
-          result.node_class[j] = NodeClass::kHalfFree;
-        }
-      } else if (borders_free[j] && options.border != BorderRule::kFixed) {
-        result.node_class[j] = options.border == BorderRule::kHalfFree ? NodeClass::kHalfFree
-                                                                       : NodeClass::kTotallyFree;
-      }
-    }
-    break;
   }
   if (scale < 1) {
     *error =
@@ -291,7 +192,9 @@ bool SelectScale(const std::function<const DeformationGraph&(int scale)>& graph_
     return false;
   }
   result.scale = scale;
-  result.num_pinned = static_cast<int>(std::count(pinned.begin(), pinned.end(), 1));
+  result.node_extent = std::move(classes.node_extent);
+  result.node_class = std::move(classes.node_class);
+  result.num_pinned = classes.num_pinned;
 
   // Counts and alpha weights (omega per Totally Free node).
   const int n = graph_at(scale).num_nodes();

@@ -7,7 +7,9 @@
 // (0.5 in place of the inner max when no fixed-handle node qualifies).
 // Group 1 is the DG1 nodes with e' > T (P1 of them), and the scale is
 //   s = min{ i : P1 < i P }, clamped to [1, N]                      (Eq. 6).
-// At scale s a node's e' is the max (or, as an ablation, the mean) over its
+// The classes at a scale are decided in node_classes.{h,cc}
+// (ClassifyNodesAtScale), by these rules:
+// at scale s a node's e' is the max (or, as an ablation, the mean) over its
 // DG1 members, and each node is
 //   Half Free    if a member's cell holds a fixed-handle vertex (9 variables)
 //                and, by default, a Totally Free node is its neighbour (the
@@ -116,22 +118,6 @@ struct HandleNodes {
   std::vector<int> fixed_vertices;
   std::vector<int> moveable_vertices;
 };
-
-// Whether vertex v has a non-Fixed node of non-zero weight among its nearest:
-// only such a vertex can move (a Fixed node is the identity).
-bool SkinnedByAFreeNode(const SkinningWeights& weights, const std::vector<NodeClass>& node_class,
-                        int v);
-
-// The first of `vertices` that only Fixed nodes skin (SkinnedByAFreeNode is
-// false: it stays at rest whatever the solve does), or -1 when there is none.
-int FirstVertexSkinnedOnlyByFixedNodes(const SkinningWeights& weights,
-                                       const std::vector<NodeClass>& node_class,
-                                       const std::vector<int>& vertices);
-
-// Per node of `graph`: whether all its DG1 members are still (`still_dg1` as
-// HandleNodes::still; empty gives all false). Such a node is Fixed whatever
-// its extent: it gets no variables.
-std::vector<char> StillNodes(const DeformationGraph& graph, const std::vector<char>& still_dg1);
 
 struct ScaleSelection {
   double threshold = 0.0;        // T (Eq. 7)

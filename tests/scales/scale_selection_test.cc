@@ -1,4 +1,5 @@
 #include "msdeform/scales/scale_selection.h"
+#include "msdeform/scales/node_classes.h"
 
 #include <numeric>
 

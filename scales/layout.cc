@@ -1,0 +1,201 @@
+#include "msdeform/scales/layout.h"
+
+#include <chrono>
+#include <cmath>
+#include <utility>
+
+#include <glog/logging.h>
+
+#include "msdeform/core/timing.h"
+#include "msdeform/scales/node_classes.h"
+
+namespace msdeform {
+namespace {
+
+std::vector<int> Indices(const std::vector<char>& flags) {
+  std::vector<int> indices;
+  for (int i = 0; i < static_cast<int>(flags.size()); ++i)
+    if (flags[i]) indices.push_back(i);
+  return indices;
+}
+
+}  // namespace
+
+Layout::Layout(std::shared_ptr<const Precompute> precompute)
+    : precompute_(std::move(precompute)) {}
+
+std::shared_ptr<const Layout> Layout::Create(std::shared_ptr<const Precompute> precompute,
+                                             const HandleLayout& handles, std::string* error) {
+  CHECK(precompute != nullptr);
+  if (!ValidateHandles(handles, precompute->mesh().num_vertices(), error)) return nullptr;
+  std::shared_ptr<Layout> layout(new Layout(std::move(precompute)));
+  if (!layout->Build(handles, error)) return nullptr;
+  return layout;
+}
+
+bool Layout::Build(const HandleLayout& handles, std::string* error) {
+  const Precompute& pre = *precompute_;
+  const DeformerOptions& options = pre.options();
+  handles_ = handles;
+  still_vertices_ = StillVertices(pre.components(), handles_);
+  const HandleNodes nodes = HandleNodesOf(pre.lattice(), handles_, still_vertices_);
+  if (options.method == Method::kMultiScale) {
+    const auto start = std::chrono::steady_clock::now();
+    if (!pre.EstimateRigidity(Indices(nodes.holds_fixed), Indices(nodes.holds_moveable),
+                              &rigidity_, error)) {
+      return false;
+    }
+    rigidity_ms_ = MillisecondsSince(start);
+    const auto selection_start = std::chrono::steady_clock::now();
+    const int num_dg1 = pre.lattice().num_surface_particles();
+    const std::vector<double> dg1_extent(rigidity_.relative_extent.data(),
+                                         rigidity_.relative_extent.data() + num_dg1);
+    ScaleSelectionOptions selection_options = options.selection;
+    if (options.fix_fixed_handle_nodes) selection_options.half_free = HalfFreeRule::kNone;
+    if (!SelectScale(
+            [&pre](int scale) -> const DeformationGraph& { return pre.ConnectedGraph(scale - 1); },
+            static_cast<int>(pre.graphs().size()), dg1_extent, nodes,
+            options.graph.nodes_per_scale, pre.diagonal(), selection_options, &selection_,
+            error)) {
+      return false;
+    }
+    active_graph_ = selection_.scale - 1;
+    pin_ = Precompute::GraphPin(&pre, active_graph_);
+    // Every class, the still components' Fixed nodes included, was decided
+    // by SelectScale before the alpha weights (docs/method.md §4).
+    node_classes_ = selection_.node_class;
+    BuildEnergy();
+    if (!FindSkinnedVertices(error)) return false;
+    setup_ms_ = MillisecondsSince(selection_start);
+  } else {
+    const auto start = std::chrono::steady_clock::now();
+    active_graph_ = pre.static_graph();
+    pin_ = Precompute::GraphPin(&pre, active_graph_);
+    node_classes_ = StaticGraphNodeClasses(graph(), nodes.still);
+    BuildEnergy();
+    if (!FindSkinnedVertices(error)) return false;
+    setup_ms_ = MillisecondsSince(start);
+  }
+  return true;
+}
+
+int Layout::num_variables() const {
+  int variables = 0;
+  for (NodeClass node_class : node_classes_) {
+    variables += node_class == NodeClass::kTotallyFree ? 12
+                 : node_class == NodeClass::kHalfFree  ? 9
+                                                       : 0;
+  }
+  return variables;
+}
+
+bool Layout::FindSkinnedVertices(std::string* error) {
+  // Only vertices with a non-Fixed node of non-zero weight can move; the rest
+  // stay at rest bit for bit (a Fixed node is the identity). So do the
+  // vertices of still components, also where a coarse node spans two
+  // components (merged when no edge was left) and moves with the other one.
+  const SkinningWeights& weights = graph().weights;
+  skinned_vertices_.clear();
+  for (int v = 0; v < weights.num_vertices(); ++v) {
+    if (!still_vertices_.empty() && still_vertices_[v]) continue;
+    if (SkinnedByAFreeNode(weights, node_classes_, v)) skinned_vertices_.push_back(v);
+  }
+  skin_all_ = static_cast<int>(skinned_vertices_.size()) == weights.num_vertices();
+  if (skin_all_) std::vector<int>().swap(skinned_vertices_);
+
+  // Fixed vertices skinned only by Fixed nodes stay at rest exactly.
+  fixed_region_exact_ = true;
+  for (int v : handles_.fixed) {
+    if (!still_vertices_.empty() && still_vertices_[v]) continue;
+    if (SkinnedByAFreeNode(weights, node_classes_, v)) fixed_region_exact_ = false;
+  }
+
+  // A moveable-handle vertex that no non-Fixed node skins cannot follow the
+  // handle: every frame would leave it at rest.
+  if (const int v = FirstVertexSkinnedOnlyByFixedNodes(weights, node_classes_, handles_.moveable);
+      v >= 0) {
+    *error = "moveable handle vertex " + std::to_string(v) + " is skinned only by Fixed nodes at " +
+             (precompute_->options().method == Method::kMultiScale
+                  ? "scale " + std::to_string(active_graph_ + 1)
+                  : std::string("the static graph")) +
+             " and cannot move; use a finer lattice (a smaller --cell_width) or another --border";
+    return false;
+  }
+  return true;
+}
+
+void Layout::BuildEnergy() {
+  const DeformerOptions& options = precompute_->options();
+  const Mesh& mesh = precompute_->mesh();
+  const DeformationGraph& graph = this->graph();
+  const int n = graph.num_nodes();
+  energy_ = DeformationEnergy();
+  energy_.node_class = node_classes_;
+  num_coherence_terms_ = 0;
+  num_position_terms_ = 0;
+
+  // E_rot over Totally and Half Free nodes.
+  energy_.sqrt_rot = std::sqrt(options.w_rot);
+  for (int j = 0; j < n; ++j)
+    if (node_classes_[j] != NodeClass::kFixed) energy_.rot_nodes.push_back(j);
+
+  // Residuals with a length unit are divided by the length unit.
+  const double length_scale =
+      1.0 / (options.length_unit > 0.0 ? options.length_unit : precompute_->diagonal());
+  // E_coh over the directed edges of E (docs/method.md §5).
+  const bool multiscale = options.method == Method::kMultiScale;
+  auto in_edge_set = [&](int j, int k) {
+    const NodeClass cj = node_classes_[j], ck = node_classes_[k];
+    if (cj == NodeClass::kTotallyFree || ck == NodeClass::kTotallyFree) return true;
+    return options.keep_left_out_terms && cj == NodeClass::kHalfFree;
+  };
+  for (const auto& [a, b] : graph.edges) {
+    for (const auto& [j, k] : {std::make_pair(a, b), std::make_pair(b, a)}) {
+      if (!in_edge_set(j, k)) continue;
+      const double alpha = multiscale ? selection_.Alpha(j, k) : 1.0;
+      energy_.coherence.push_back({j, k, graph.positions.col(k) - graph.positions.col(j),
+                                   std::sqrt(options.w_coh * alpha) * length_scale});
+      ++num_coherence_terms_;
+    }
+  }
+
+  // E_con: the moveable handle follows its target; the fixed handles are held
+  // at rest (static baselines: all; multi-scale: see below).
+  const double sqrt_con = std::sqrt(options.w_con) * length_scale;
+  auto add_position = [&](int v, bool follows_handle) {
+    DeformationEnergy::Position term;
+    for (int slot = 0; slot < graph.weights.k(); ++slot) {
+      const double weight = graph.weights.weight(slot, v);
+      if (weight == 0.0) continue;
+      const int j = graph.weights.node(slot, v);
+      term.nodes.push_back(j);
+      term.terms.push_back({weight, mesh.vertices.col(v) - graph.positions.col(j),
+                            graph.positions.col(j)});
+    }
+    term.rest = mesh.vertices.col(v);
+    term.follows_handle = follows_handle;
+    term.sqrt_weight = sqrt_con;
+    energy_.positions.push_back(std::move(term));
+  };
+  for (int v : handles_.moveable) add_position(v, true);
+  num_position_terms_ = static_cast<int>(handles_.moveable.size());
+  // A still component's fixed vertices stay at rest without a term (they are
+  // not skinned); a term would only pull on a node shared with a moving
+  // component. The multi-scale method needs a term only where a fixed vertex
+  // has a non-Fixed node (a Half Free rotation or a Totally Free neighbour
+  // would carry it along); elsewhere it stays at rest exactly.
+  if (!multiscale || options.hold_fixed_vertices) {
+    for (int v : handles_.fixed) {
+      if (!still_vertices_.empty() && still_vertices_[v]) continue;
+      if (multiscale && !SkinnedByAFreeNode(graph.weights, node_classes_, v)) continue;
+      add_position(v, false);
+    }
+  }
+
+  // Rotations the terms above leave free to spin (a Half Free node with one
+  // edge direction, or none) get a gauge term that picks one member of the
+  // family of equal-energy minima (docs/decisions.md, "Gauge freedom").
+  energy_.gauge = GaugeTerms(energy_);
+}
+
+}  // namespace msdeform

@@ -1,0 +1,115 @@
+// Stage 1 of 3 of an edit (docs/extending_stages.md): everything that depends
+// only on the mesh and the options. Immutable once built.
+//
+//   std::shared_ptr<const Precompute> precompute = Precompute::Create(mesh, options, &error);
+//   std::shared_ptr<const Layout> layout = Layout::Create(precompute, handles, &error);
+//   std::unique_ptr<Session> session = Session::Create(layout, &error);
+//   session->Drag(deformed_from_rest, &stats, &error);
+//
+// Each stage is made from the one before it, so a call out of order does not
+// compile. A precompute serves any number of layouts, also from several
+// threads: the two things it changes after Create, the cache of connected
+// coarse graphs and the rigidity estimator's scratch, are behind locks.
+
+#ifndef MSDEFORM_SCALES_PRECOMPUTE_H_
+#define MSDEFORM_SCALES_PRECOMPUTE_H_
+
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include "msdeform/core/deformation_graph.h"
+#include "msdeform/core/lattice.h"
+#include "msdeform/core/mesh.h"
+#include "msdeform/scales/deformer_options.h"
+#include "msdeform/scales/rigidity.h"
+
+namespace msdeform {
+
+class Precompute {
+ public:
+  // The mesh's rest normals, components and diagonal, its lattice, the
+  // method's graphs (multi-scale: DG1 connected, the coarse scales' nodes
+  // only) and the rigidity estimator. nullptr with a message on invalid
+  // options, an invalid mesh or a mesh the lattice cannot take.
+  static std::shared_ptr<const Precompute> Create(const Mesh& mesh, const DeformerOptions& options,
+                                                  std::string* error);
+
+  Precompute(const Precompute&) = delete;
+  Precompute& operator=(const Precompute&) = delete;
+
+  const DeformerOptions& options() const { return options_; }
+  const Mesh& mesh() const { return mesh_; }
+  const Eigen::Matrix3Xd& rest_normals() const { return rest_normals_; }  // 3 by #V
+  const Components& components() const { return components_; }
+  double diagonal() const { return diagonal_; }
+  const Lattice& lattice() const { return lattice_; }
+  // graphs()[i] is DG_{i+1}; the static baselines add their graph last. The
+  // multi-scale coarse graphs have edges and weights only while connected
+  // (ConnectedGraph; at most options().cached_scales of them, least recently
+  // used dropped first, never a pinned one). Not to be read while another
+  // thread connects a graph.
+  const std::vector<DeformationGraph>& graphs() const { return graphs_; }
+  // The static baselines' graph index; -1 for the multi-scale method.
+  int static_graph() const { return static_graph_; }
+
+  // graphs()[index], connected first if it is not. The reference stays
+  // connected while the graph is pinned (GraphPin), and until the next call
+  // otherwise.
+  const DeformationGraph& ConnectedGraph(int index) const;
+
+  // Keeps graphs()[index] connected while it lives (a layout's graph).
+  class GraphPin {
+   public:
+    GraphPin() = default;
+    GraphPin(const Precompute* precompute, int index);
+    ~GraphPin();
+    GraphPin(GraphPin&& other) noexcept;
+    GraphPin& operator=(GraphPin&& other) noexcept;
+    GraphPin(const GraphPin&) = delete;
+    GraphPin& operator=(const GraphPin&) = delete;
+
+   private:
+    const Precompute* precompute_ = nullptr;
+    int index_ = -1;
+  };
+
+  // Rigidity (multi-scale only) for the given fixed and moveable particles,
+  // as RigidityEstimator::Estimate; one estimate at a time.
+  bool EstimateRigidity(const std::vector<int>& fixed_particles,
+                        const std::vector<int>& moveable_particles, RigidityEstimate* estimate,
+                        std::string* error) const;
+
+  // Milliseconds Create spent (lattice, graphs, rigidity precompute).
+  double build_ms() const { return build_ms_; }
+
+ private:
+  Precompute() = default;
+  bool Build(const Mesh& mesh, const DeformerOptions& options, std::string* error);
+  // options_.graph with num_threads = options_.num_threads where it is 0.
+  GraphOptions GraphBuildOptions() const;
+
+  DeformerOptions options_;
+  Mesh mesh_;
+  Eigen::Matrix3Xd rest_normals_;
+  Components components_;
+  double diagonal_ = 0.0;
+  Lattice lattice_;
+  int static_graph_ = -1;
+  double build_ms_ = 0.0;
+
+  // The graph cache: graphs_' coarse edges and weights come and go.
+  mutable std::mutex graphs_mutex_;
+  mutable std::vector<DeformationGraph> graphs_;
+  mutable std::vector<int> connected_coarse_;  // index > 0, least recently used first
+  mutable std::vector<int> pins_;              // per graph
+
+  mutable std::mutex rigidity_mutex_;
+  mutable std::unique_ptr<RigidityEstimator> rigidity_estimator_;  // multi-scale only
+};
+
+}  // namespace msdeform
+
+#endif  // MSDEFORM_SCALES_PRECOMPUTE_H_

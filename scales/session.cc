@@ -1,0 +1,125 @@
+#include "msdeform/scales/session.h"
+
+#include <chrono>
+#include <cmath>
+#include <utility>
+
+#include <glog/logging.h>
+
+#include "msdeform/core/skinning.h"
+#include "msdeform/core/timing.h"
+#include "msdeform/scales/ceres_solver.h"
+#include "msdeform/scales/gauss_newton_solver.h"
+
+namespace msdeform {
+
+Session::Session(std::shared_ptr<const Layout> layout) : layout_(std::move(layout)) {}
+
+std::unique_ptr<Session> Session::Create(std::shared_ptr<const Layout> layout,
+                                         std::string* error) {
+  CHECK(layout != nullptr);
+  const auto start = std::chrono::steady_clock::now();
+  std::unique_ptr<Session> session(new Session(std::move(layout)));
+  const Precompute& pre = session->layout_->precompute();
+  const DeformerOptions& options = pre.options();
+  session->transforms_ = NodeTransforms::Identity(session->layout_->graph().num_nodes());
+  if (options.backend == Solver::kGaussNewton) {
+    session->solver_ = std::make_unique<GaussNewtonSolver>(options.gauss_newton, options.stopping);
+  } else {
+    session->solver_ =
+        std::make_unique<CeresSolver>(options.ceres, options.stopping, options.num_threads);
+  }
+  if (!session->solver_->Setup(session->layout_->energy(), session->transforms_, error)) {
+    *error = "setting up the " + std::string(SolverName(options.backend)) + " solve: " + *error;
+    return nullptr;
+  }
+  session->previous_transforms_ = session->transforms_;
+  session->deformed_vertices_ = pre.mesh().vertices;
+  session->deformed_normals_ = pre.rest_normals();
+  session->setup_ms_ = MillisecondsSince(start);
+  return session;
+}
+
+bool Session::Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats,
+                   std::string* error) {
+  const auto frame_start = std::chrono::steady_clock::now();
+  if (!deformed_from_rest.matrix().allFinite()) {
+    *error = "the handle transform is not finite";
+    return false;
+  }
+  const Precompute& pre = layout_->precompute();
+  DragStats local_stats;
+  DragStats& frame = stats != nullptr ? *stats : local_stats;
+  frame = DragStats();
+
+  const NodeTransforms last_good = transforms_;
+  // The initial guess; only the free blocks matter (the solver keeps the
+  // others), and the Fixed nodes are the identity in every guess.
+  switch (pre.options().initial_guess) {
+    case InitialGuess::kRest:
+      transforms_ = NodeTransforms::Identity(transforms_.num_nodes());
+      break;
+    case InitialGuess::kPrevious:
+      break;
+    case InitialGuess::kExtrapolated:
+      // Safeguarded: the extrapolation only where it starts lower than the
+      // previous solution (a path that turns, or a frame that did not
+      // converge, can make it worse).
+      if (frames_ >= 2) {
+        NodeTransforms extrapolated = last_good;
+        extrapolated.rotations = 2.0 * last_good.rotations - previous_transforms_.rotations;
+        extrapolated.translations =
+            2.0 * last_good.translations - previous_transforms_.translations;
+        if (solver_->Cost(deformed_from_rest, extrapolated) <
+            solver_->Cost(deformed_from_rest, last_good)) {
+          transforms_ = std::move(extrapolated);
+        }
+      }
+      break;
+  }
+  const auto solve_start = std::chrono::steady_clock::now();
+  SolveSummary summary = solver_->Solve(deformed_from_rest, &transforms_);
+  frame.solve_ms = MillisecondsSince(solve_start);
+  frame.iterations = summary.iterations;
+  frame.factorizations = summary.factorizations;
+  frame.initial_cost = summary.initial_cost;
+  frame.final_cost = summary.final_cost;
+  frame.converged = summary.converged;
+  frame.trace = std::move(summary.trace);
+  if (summary.failed || !std::isfinite(summary.final_cost) || !transforms_.rotations.allFinite() ||
+      !transforms_.translations.allFinite()) {
+    transforms_ = last_good;
+    *error = "the solve failed (" + summary.message + "); kept the last good frame";
+    return false;
+  }
+  previous_transforms_ = last_good;
+  ++frames_;
+
+  const auto skin_start = std::chrono::steady_clock::now();
+  SkinningOptions skinning;
+  skinning.num_threads = pre.options().num_threads;
+  SkinPositionsAndNormals(pre.mesh().vertices, pre.rest_normals(), layout_->graph(), transforms_,
+                          layout_->skin_all() ? nullptr : &layout_->skinned_vertices(),
+                          &deformed_vertices_, /*deformed_normals=*/nullptr, skinning);
+  normals_stale_ = true;
+  frame.skin_ms = MillisecondsSince(skin_start);
+  frame.frame_ms = MillisecondsSince(frame_start);
+  return true;
+}
+
+const Eigen::Matrix3Xd& Session::deformed_normals() const {
+  // Skinned on first use; the lock makes concurrent const readers safe.
+  std::lock_guard<std::mutex> lock(normals_mutex_);
+  if (normals_stale_) {
+    const Precompute& pre = layout_->precompute();
+    SkinningOptions skinning;
+    skinning.num_threads = pre.options().num_threads;
+    SkinPositionsAndNormals(pre.mesh().vertices, pre.rest_normals(), layout_->graph(),
+                            transforms_, layout_->skin_all() ? nullptr : &layout_->skinned_vertices(),
+                            /*deformed=*/nullptr, &deformed_normals_, skinning);
+    normals_stale_ = false;
+  }
+  return deformed_normals_;
+}
+
+}  // namespace msdeform
