@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
@@ -407,6 +408,62 @@ TEST(DeformerCallOrderTest, DeformersInParallelThreadsMatchSerialRuns) {
   for (int t = 0; t < 4; ++t) readers.emplace_back([&, t] { read[t] = reader.deformed_normals(); });
   for (std::thread& thread : readers) thread.join();
   for (int t = 0; t < 4; ++t) EXPECT_EQ(read[t], expected) << "thread " << t;
+}
+
+// The facade holds the three stages (scales/precompute.h): each exists only
+// once its call succeeded, a failed SetHandles drops the layout and the
+// session but keeps the precompute, and a stage made by hand from the
+// facade's precompute drags exactly as the facade does.
+TEST(DeformerCallOrderTest, TheFacadesStagesExistOnlyOnceMade) {
+  const Bar bar;
+  Deformer deformer;
+  std::string error;
+  EXPECT_EQ(deformer.precompute(), nullptr);
+  EXPECT_EQ(deformer.layout(), nullptr);
+  EXPECT_EQ(deformer.session(), nullptr);
+  DeformerOptions coarse = OptionsFor(Method::kMultiScale);
+  coarse.lattice.cells_per_diagonal = 8.0;  // cells of about a voxel
+  ASSERT_TRUE(deformer.Init(bar.mesh, coarse, &error)) << error;
+  const std::shared_ptr<const Precompute> precompute = deformer.precompute();
+  ASSERT_NE(precompute, nullptr);
+  EXPECT_EQ(deformer.layout(), nullptr);
+  EXPECT_EQ(deformer.session(), nullptr);
+  ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
+  ASSERT_NE(deformer.layout(), nullptr);
+  ASSERT_NE(deformer.session(), nullptr);
+  EXPECT_EQ(&deformer.layout()->precompute(), precompute.get());
+
+  std::shared_ptr<const Layout> layout = Layout::Create(precompute, bar.layout, &error);
+  ASSERT_NE(layout, nullptr) << error;
+  std::unique_ptr<Session> session = Session::Create(layout, &error);
+  ASSERT_NE(session, nullptr) << error;
+  ASSERT_TRUE(deformer.Drag(Lift(1.0), nullptr, &error)) << error;
+  ASSERT_TRUE(session->Drag(Lift(1.0), nullptr, &error)) << error;
+  EXPECT_EQ(session->deformed_vertices(), deformer.deformed_vertices());
+
+  // A fixed vertex made moveable: in one lattice cell with fixed ones.
+  HandleLayout conflict = bar.layout;
+  const Lattice& lattice = precompute->lattice();
+  for (size_t i = 1; i < conflict.fixed.size(); ++i) {
+    const int v = conflict.fixed[i];
+    if (lattice.particle_of_vertex(v) != lattice.particle_of_vertex(conflict.fixed[0])) continue;
+    conflict.fixed.erase(conflict.fixed.begin() + i);
+    conflict.moveable.insert(conflict.moveable.begin(), v);
+    break;
+  }
+  ASSERT_LT(conflict.fixed.size(), bar.layout.fixed.size()) << "no two fixed vertices share a cell";
+  EXPECT_FALSE(deformer.SetHandles(conflict, &error));
+  EXPECT_NE(error.find("lattice cell"), std::string::npos) << error;
+  EXPECT_EQ(deformer.layout(), nullptr);
+  EXPECT_EQ(deformer.session(), nullptr);
+  EXPECT_EQ(deformer.precompute(), precompute);
+  EXPECT_EQ(deformer.deformed_vertices(), bar.mesh.vertices);
+  // The hand-made session lives on, its layout unaffected.
+  ASSERT_TRUE(session->Drag(Lift(2.0), nullptr, &error)) << error;
+
+  ASSERT_TRUE(deformer.Init(bar.mesh, OptionsFor(Method::kStatic), &error)) << error;
+  EXPECT_NE(deformer.precompute(), precompute);
+  EXPECT_EQ(deformer.layout(), nullptr);
 }
 
 }  // namespace

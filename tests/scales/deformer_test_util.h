@@ -1,12 +1,17 @@
-// Shared by the deformer tests (deformer_test.cc, deformer_robustness_test.cc):
+// Shared by the deformer and stage tests (deformer_test.cc,
+// deformer_robustness_test.cc, precompute/layout/session_test.cc):
 // the methods, small-graph options for small procedural meshes, and a
 // vertex distance.
 
 #ifndef MSDEFORM_TESTS_SCALES_DEFORMER_TEST_UTIL_H_
 #define MSDEFORM_TESTS_SCALES_DEFORMER_TEST_UTIL_H_
 
-#include <Eigen/Core>
+#include <vector>
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "msdeform/core/procedural_meshes.h"
 #include "msdeform/scales/deformer.h"
 
 namespace msdeform {
@@ -28,6 +33,47 @@ inline DeformerOptions OptionsFor(Method method) {
 // Largest distance between corresponding columns.
 inline double MaxDistance(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {
   return (a - b).colwise().norm().maxCoeff();
+}
+
+// A cylinder (radius 1, height 10 along z) and two handle layouts on it:
+// bottom_fixed (z < 1 fixed, z > 9 moveable) and top_fixed (the reverse). Both
+// select a coarse scale of the multi-scale method.
+struct CylinderLayouts {
+  Mesh mesh = MakeCylinder(1.0, 10.0, 32, 60);
+  HandleLayout bottom_fixed, top_fixed;
+  CylinderLayouts() {
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      const double z = mesh.vertices(2, v);
+      if (z < 1.0) {
+        bottom_fixed.fixed.push_back(v);
+        top_fixed.moveable.push_back(v);
+      }
+      if (z > 9.0) {
+        bottom_fixed.moveable.push_back(v);
+        top_fixed.fixed.push_back(v);
+      }
+    }
+  }
+};
+
+// OptionsFor(method) with a lattice of about 20 cells along the cylinder's
+// diagonal: a few hundred DG1 nodes, so that static_dense stays quick.
+inline DeformerOptions CylinderOptions(Method method) {
+  DeformerOptions options = OptionsFor(method);
+  options.lattice.cells_per_diagonal = 20.0;
+  return options;
+}
+
+// `frames` handle transforms: a growing turn about x with a sideways shift.
+inline std::vector<Eigen::Affine3d> TurnPath(int frames) {
+  std::vector<Eigen::Affine3d> path;
+  for (int f = 1; f <= frames; ++f) {
+    Eigen::Affine3d step = Eigen::Affine3d::Identity();
+    step.linear() = Eigen::AngleAxisd(0.3 * f, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    step.translation() << 0.2 * f, -0.5 * f, 0.0;
+    path.push_back(step);
+  }
+  return path;
 }
 
 }  // namespace msdeform

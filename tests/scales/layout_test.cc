@@ -1,0 +1,143 @@
+// The per-layout stage (scales/layout.h): layouts made from one precompute
+// give what separate Deformers give, the graph a layout solves on stays
+// connected however the precompute's cache is used meanwhile, and a layout
+// that cannot be made is refused with a message.
+
+#include <algorithm>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include "msdeform/scales/layout.h"
+#include "msdeform/scales/precompute.h"
+#include "msdeform/scales/session.h"
+#include "tests/scales/deformer_test_util.h"
+
+namespace msdeform {
+namespace {
+
+// The Deformer's result for one layout and path: vertices after each frame.
+std::vector<Eigen::Matrix3Xd> DeformerFrames(const Mesh& mesh, const DeformerOptions& options,
+                                             const HandleLayout& handles,
+                                             const std::vector<Eigen::Affine3d>& path,
+                                             int* active_graph) {
+  Deformer deformer;
+  std::string error;
+  EXPECT_TRUE(deformer.Init(mesh, options, &error)) << error;
+  EXPECT_TRUE(deformer.SetHandles(handles, &error)) << error;
+  *active_graph = deformer.active_graph();
+  std::vector<Eigen::Matrix3Xd> frames;
+  for (const Eigen::Affine3d& step : path) {
+    EXPECT_TRUE(deformer.Drag(step, nullptr, &error)) << error;
+    frames.push_back(deformer.deformed_vertices());
+  }
+  return frames;
+}
+
+// Two layouts of one precompute, both alive and dragged in turns, give the
+// frames of two Deformers, bit for bit, for every method. With one cached
+// coarse scale, the second layout's scale selection connects other graphs:
+// the first layout's graph stays connected (pinned) all the same.
+TEST(LayoutTest, TwoLayoutsOfOnePrecomputeMatchTwoDeformers) {
+  const CylinderLayouts cylinder;
+  const std::vector<Eigen::Affine3d> path = TurnPath(3);
+  for (Method method : kAllMethods) {
+    DeformerOptions options = CylinderOptions(method);
+    options.cached_scales = 1;
+    int bottom_graph = -1, top_graph = -1;
+    const std::vector<Eigen::Matrix3Xd> bottom =
+        DeformerFrames(cylinder.mesh, options, cylinder.bottom_fixed, path, &bottom_graph);
+    const std::vector<Eigen::Matrix3Xd> top =
+        DeformerFrames(cylinder.mesh, options, cylinder.top_fixed, path, &top_graph);
+
+    std::string error;
+    std::shared_ptr<const Precompute> precompute =
+        Precompute::Create(cylinder.mesh, options, &error);
+    ASSERT_NE(precompute, nullptr) << error;
+    std::shared_ptr<const Layout> first =
+        Layout::Create(precompute, cylinder.bottom_fixed, &error);
+    ASSERT_NE(first, nullptr) << error;
+    std::shared_ptr<const Layout> second = Layout::Create(precompute, cylinder.top_fixed, &error);
+    ASSERT_NE(second, nullptr) << error;
+    EXPECT_EQ(first->active_graph(), bottom_graph);
+    EXPECT_EQ(second->active_graph(), top_graph);
+    // Every graph used once more: the cache drops all but the layouts'.
+    for (int i = 0; i < static_cast<int>(precompute->graphs().size()); ++i) {
+      precompute->ConnectedGraph(i);
+    }
+    EXPECT_TRUE(first->graph().is_connected());
+    EXPECT_TRUE(second->graph().is_connected());
+
+    std::unique_ptr<Session> first_session = Session::Create(first, &error);
+    ASSERT_NE(first_session, nullptr) << error;
+    std::unique_ptr<Session> second_session = Session::Create(second, &error);
+    ASSERT_NE(second_session, nullptr) << error;
+    for (size_t f = 0; f < path.size(); ++f) {
+      ASSERT_TRUE(first_session->Drag(path[f], nullptr, &error)) << error;
+      ASSERT_TRUE(second_session->Drag(path[f], nullptr, &error)) << error;
+      EXPECT_EQ(first_session->deformed_vertices(), bottom[f]) << MethodName(method) << " " << f;
+      EXPECT_EQ(second_session->deformed_vertices(), top[f]) << MethodName(method) << " " << f;
+    }
+  }
+}
+
+// The multi-scale selection picks a coarse scale for both cylinder layouts,
+// so the pin in the test above guards a graph the cache could drop.
+TEST(LayoutTest, CylinderLayoutsSelectCoarseScales) {
+  const CylinderLayouts cylinder;
+  std::string error;
+  DeformerOptions options = CylinderOptions(Method::kMultiScale);
+  options.cached_scales = 1;
+  std::shared_ptr<const Precompute> precompute =
+      Precompute::Create(cylinder.mesh, options, &error);
+  ASSERT_NE(precompute, nullptr) << error;
+  std::shared_ptr<const Layout> layout = Layout::Create(precompute, cylinder.bottom_fixed, &error);
+  ASSERT_NE(layout, nullptr) << error;
+  const int active = layout->active_graph();
+  ASSERT_GT(active, 0);
+  const int other = active == 1 ? 2 : 1;
+  // Pinned while the layout lives: another coarse scale does not evict it.
+  precompute->ConnectedGraph(other);
+  EXPECT_TRUE(precompute->graphs()[active].is_connected());
+  // Unpinned once the layout is gone: the next use of the cache evicts it.
+  layout.reset();
+  precompute->ConnectedGraph(other);
+  EXPECT_FALSE(precompute->graphs()[active].is_connected());
+}
+
+// The layout's own checks: a vertex out of range, a fixed and a moveable
+// vertex in one lattice cell; each is refused with a message, and the
+// precompute serves the next layout as before.
+TEST(LayoutTest, BadLayoutsAreRefusedWithAMessage) {
+  const CylinderLayouts cylinder;
+  std::string error;
+  std::shared_ptr<const Precompute> precompute =
+      Precompute::Create(cylinder.mesh, CylinderOptions(Method::kMultiScale), &error);
+  ASSERT_NE(precompute, nullptr) << error;
+  HandleLayout out_of_range = cylinder.bottom_fixed;
+  out_of_range.moveable.push_back(cylinder.mesh.num_vertices());
+  EXPECT_EQ(Layout::Create(precompute, out_of_range, &error), nullptr);
+  EXPECT_FALSE(error.empty());
+  // A fixed vertex made moveable: in one lattice cell with fixed ones.
+  HandleLayout shared_cell = cylinder.bottom_fixed;
+  const Lattice& lattice = precompute->lattice();
+  for (size_t i = 1; i < shared_cell.fixed.size(); ++i) {
+    const int v = shared_cell.fixed[i];
+    if (lattice.particle_of_vertex(v) != lattice.particle_of_vertex(shared_cell.fixed[0])) continue;
+    shared_cell.fixed.erase(shared_cell.fixed.begin() + i);
+    shared_cell.moveable.push_back(v);
+    std::sort(shared_cell.moveable.begin(), shared_cell.moveable.end());
+    break;
+  }
+  ASSERT_LT(shared_cell.fixed.size(), cylinder.bottom_fixed.fixed.size());
+  error.clear();
+  EXPECT_EQ(Layout::Create(precompute, shared_cell, &error), nullptr);
+  EXPECT_NE(error.find("lattice cell"), std::string::npos) << error;
+  EXPECT_NE(Layout::Create(precompute, cylinder.bottom_fixed, &error), nullptr) << error;
+}
+
+}  // namespace
+}  // namespace msdeform
