@@ -18,6 +18,8 @@
 #endif
 
 #include "msdeform/energies/gauge_cost.h"
+#include "msdeform/energies/rot_cost.h"
+#include "msdeform/scales/gauss_newton_terms.h"
 
 namespace msdeform {
 namespace {
@@ -200,6 +202,10 @@ struct GaussNewtonSolver::Impl {
   std::vector<double> base_values;  // H on that pattern
   std::vector<int> rot_value_index;  // 81 per rot node, column-major 9x9
   std::vector<int> diagonal_index;   // per variable
+  // DeformationEnergy::terms: linear ones are rows of A; nonlinear ones write
+  // term_values (their J^T J entries at the last evaluation with a gradient).
+  GaussNewtonTerms terms;
+  mutable std::vector<double> term_values;
   bool factor_valid = false;        // a factorisation from an earlier iteration exists
   // The last Solve ended wanting a new factorisation (its last step was
   // rejected, or did not shrink the gradient enough): a lagged factor is not
@@ -252,6 +258,7 @@ struct GaussNewtonSolver::Impl {
       for (int k = 0; k < 81; ++k) values[index[k]] += block.data()[k];
       index += 81;
     }
+    terms.AddValues(term_values, values);
     for (int index : diagonal_index) {
       double& diagonal = values[index];
       diagonal += mu * std::min(std::max(diagonal, 1e-6), 1e32);
@@ -390,6 +397,16 @@ struct GaussNewtonSolver::Impl {
     }
     return 0.5 * sum;
   }
+
+  // The nonlinear terms at x: Rot (its specialised 9x9 path, the numbers of
+  // before the generic terms) plus DeformationEnergy::terms' nonlinear ones,
+  // whose J^T J entries go to term_values.
+  double NonlinearCost(const Eigen::VectorXd& x, Eigen::VectorXd* gradient,
+                       std::vector<Matrix9d>* blocks) const {
+    const double rot = RotCost(x, gradient, blocks);
+    if (!terms.has_nonlinear()) return rot;
+    return rot + terms.Cost(x, gradient, gradient != nullptr ? &term_values : nullptr);
+  }
 };
 
 GaussNewtonSolver::GaussNewtonSolver(const GaussNewtonOptions& options,
@@ -420,6 +437,8 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
     CHECK_GE(impl.offset[j], 0) << "Rot term on a Fixed node";
     impl.rot_nodes.push_back(j);
   }
+  if (!impl.terms.Setup(energy.terms, impl.offset, impl.totally_free, transforms, error))
+    return false;
   auto rotation_variable = [&](int j) { return impl.offset[j]; };
   auto translation_variable = [&](int j) {
     return energy.node_class[j] == NodeClass::kTotallyFree ? impl.offset[j] + 9 : -1;
@@ -547,6 +566,7 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
     }
     row += 1;
   }
+  impl.terms.AppendLinearRows(&a_entries, &constant, &row);
   SparseMatrix a_matrix(row, n), p_matrix(row, 13);
   a_matrix.setFromTriplets(a_entries.begin(), a_entries.end());
   for (int r = 0; r < row; ++r) {
@@ -660,6 +680,7 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
   for (int j : impl.rot_nodes)
     for (int c = 0; c < 9; ++c)
       for (int r = 0; r < 9; ++r) entries.emplace_back(impl.offset[j] + r, impl.offset[j] + c, 0.0);
+  impl.terms.AppendPattern(&entries);
   for (int i = 0; i < n; ++i) entries.emplace_back(i, i, 0.0);
   impl.system.resize(n, n);
   impl.system.setFromTriplets(entries.begin(), entries.end());
@@ -671,6 +692,7 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
       for (int r = 0; r < 9; ++r)
         impl.rot_value_index.push_back(
             ValueIndex(impl.system, impl.offset[j] + r, impl.offset[j] + c));
+  impl.terms.IndexValues(impl.system);
   impl.diagonal_index.resize(n);
   for (int i = 0; i < n; ++i) impl.diagonal_index[i] = ValueIndex(impl.system, i, i);
   if (n > 0) impl.Analyze();
@@ -683,7 +705,7 @@ double GaussNewtonSolver::Cost(const Eigen::Affine3d& handle, const NodeTransfor
   CHECK_EQ(static_cast<int>(impl.offset.size()), transforms.num_nodes());
   const Eigen::VectorXd x = impl.Gather(transforms);
   return impl.LinearCost(x, impl.RootOffset(handle)) +
-         impl.RotCost(x, nullptr, nullptr);
+         impl.NonlinearCost(x, nullptr, nullptr);
 }
 
 SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
@@ -713,7 +735,7 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
   double linear_cost = impl.LinearCost(x, root_offset);
   std::vector<Matrix9d> blocks(impl.rot_nodes.size());
   Eigen::VectorXd gradient = hx + g0;
-  double cost = linear_cost + impl.RotCost(x, &gradient, &blocks);
+  double cost = linear_cost + impl.NonlinearCost(x, &gradient, &blocks);
   summary.initial_cost = cost;
   summary.trace.push_back({0.0, cost});
 
@@ -789,7 +811,7 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
     x_new = x + delta;
     h_delta = impl.hessian * delta;
     const double new_linear_cost = linear_cost + delta.dot(hx + g0) + 0.5 * delta.dot(h_delta);
-    const double new_cost = new_linear_cost + impl.RotCost(x_new, nullptr, nullptr);
+    const double new_cost = new_linear_cost + impl.NonlinearCost(x_new, nullptr, nullptr);
     double rho = 1.0;  // gain ratio, Levenberg-Marquardt only
     if (levenberg_marquardt && assembled) {
       // Predicted decrease of the model: 1/2 delta^T (mu D delta - g).
@@ -809,7 +831,7 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
       hx += h_delta;
       linear_cost = impl.LinearCost(x, root_offset);
       gradient = hx + g0;
-      cost = linear_cost + impl.RotCost(x, &gradient, &blocks);
+      cost = linear_cost + impl.NonlinearCost(x, &gradient, &blocks);
       summary.trace.push_back({elapsed_ms(), cost});
       if (levenberg_marquardt) {
         mu = std::max(mu * std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3)),
