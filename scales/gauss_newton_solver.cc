@@ -9,16 +9,12 @@
 #include <unordered_map>
 
 #include <Eigen/Householder>
-#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/QR>
-#include <Eigen/SparseCholesky>
 #include <glog/logging.h>
-#ifdef MSDEFORM_HAVE_CHOLMOD
-#include <Eigen/CholmodSupport>
-#endif
 
 #include "msdeform/energies/gauge_cost.h"
 #include "msdeform/energies/rot_cost.h"
+#include "msdeform/scales/gauss_newton_linear_solver.h"
 #include "msdeform/scales/gauss_newton_terms.h"
 
 namespace msdeform {
@@ -29,6 +25,8 @@ using RowSparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 using Matrix9d = Eigen::Matrix<double, 9, 9>;
 using Vector9d = Eigen::Matrix<double, 9, 1>;
 using Vector12d = Eigen::Matrix<double, 12, 1>;
+using Factorization = GaussNewtonOptions::Factorization;
+using Damping = GaussNewtonOptions::Damping;
 
 // The 12 numbers tau of a handle transform: matrix column-major, translation.
 Vector12d HandleParameters(const Eigen::Affine3d& handle) {
@@ -56,128 +54,6 @@ int ValueIndex(const SparseMatrix& matrix, int row, int col) {
 }
 
 }  // namespace
-
-bool GaussNewtonOptions::Check(std::string* error) const {
-  if (!(min_damping > 0.0) || !std::isfinite(min_damping)) {
-    *error = "Gauss-Newton min_damping must be a finite number > 0";
-    return false;
-  }
-  if (!(initial_damping > 0.0) || !std::isfinite(initial_damping)) {
-    *error = "Gauss-Newton initial_damping must be a finite number > 0";
-    return false;
-  }
-  if (!(forcing_term > 0.0 && forcing_term < 1.0)) {
-    *error = "Gauss-Newton forcing_term must be in (0, 1)";
-    return false;
-  }
-  if (!(refactor_ratio > 0.0) || !std::isfinite(refactor_ratio)) {
-    *error = "Gauss-Newton refactor_ratio must be a finite number > 0";
-    return false;
-  }
-  if (max_cg_iterations < 1) {
-    *error = "Gauss-Newton max_cg_iterations must be >= 1";
-    return false;
-  }
-  return true;
-}
-
-namespace {
-
-template <typename Enum, size_t N>
-bool ParseByName(const std::string& name, const Enum (&values)[N], const char* (*to_name)(Enum),
-                 Enum* value) {
-  for (Enum candidate : values) {
-    if (name == to_name(candidate)) {
-      *value = candidate;
-      return true;
-    }
-  }
-  return false;
-}
-
-using LinearSolver = GaussNewtonOptions::LinearSolver;
-using Cholesky = GaussNewtonOptions::Cholesky;
-using Factorization = GaussNewtonOptions::Factorization;
-using Damping = GaussNewtonOptions::Damping;
-
-}  // namespace
-
-const char* LinearSolverName(LinearSolver solver) {
-  switch (solver) {
-    case LinearSolver::kCholesky:
-      return "cholesky";
-    case LinearSolver::kPcgJacobi:
-      return "pcg_jacobi";
-    case LinearSolver::kPcgIncompleteCholesky:
-      return "pcg_incomplete_cholesky";
-  }
-  return "unknown";
-}
-
-bool ParseLinearSolver(const std::string& name, LinearSolver* solver) {
-  static constexpr LinearSolver kAll[] = {LinearSolver::kCholesky, LinearSolver::kPcgJacobi,
-                                          LinearSolver::kPcgIncompleteCholesky};
-  return ParseByName(name, kAll, LinearSolverName, solver);
-}
-
-const char* CholeskyName(Cholesky cholesky) {
-  switch (cholesky) {
-    case Cholesky::kEigenLLT:
-      return "eigen_llt";
-    case Cholesky::kEigenLDLT:
-      return "eigen_ldlt";
-    case Cholesky::kCholmod:
-      return "cholmod";
-  }
-  return "unknown";
-}
-
-bool ParseCholesky(const std::string& name, Cholesky* cholesky) {
-  static constexpr Cholesky kAll[] = {Cholesky::kEigenLLT, Cholesky::kEigenLDLT,
-                                      Cholesky::kCholmod};
-  return ParseByName(name, kAll, CholeskyName, cholesky);
-}
-
-const char* FactorizationName(Factorization factorization) {
-  switch (factorization) {
-    case Factorization::kEveryIteration:
-      return "every_iteration";
-    case Factorization::kPerFrame:
-      return "per_frame";
-    case Factorization::kLagged:
-      return "lagged";
-  }
-  return "unknown";
-}
-
-bool ParseFactorization(const std::string& name, Factorization* factorization) {
-  static constexpr Factorization kAll[] = {Factorization::kEveryIteration,
-                                           Factorization::kPerFrame, Factorization::kLagged};
-  return ParseByName(name, kAll, FactorizationName, factorization);
-}
-
-const char* DampingName(Damping damping) {
-  switch (damping) {
-    case Damping::kGaussNewton:
-      return "gauss_newton";
-    case Damping::kLevenbergMarquardt:
-      return "levenberg_marquardt";
-  }
-  return "unknown";
-}
-
-bool ParseDamping(const std::string& name, Damping* damping) {
-  static constexpr Damping kAll[] = {Damping::kGaussNewton, Damping::kLevenbergMarquardt};
-  return ParseByName(name, kAll, DampingName, damping);
-}
-
-bool GaussNewtonHasCholmod() {
-#ifdef MSDEFORM_HAVE_CHOLMOD
-  return true;
-#else
-  return false;
-#endif
-}
 
 struct GaussNewtonSolver::Impl {
   GaussNewtonOptions options;
@@ -212,42 +88,8 @@ struct GaussNewtonSolver::Impl {
   // carried into the next frame then, so a small iteration budget cannot keep
   // reusing a factor that already failed.
   bool refactor_next = false;
-  Eigen::SimplicialLLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> llt;
-  Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
-#ifdef MSDEFORM_HAVE_CHOLMOD
-  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> cholmod;
-#endif
-  // PCG: the preconditioner (inverse diagonal, or an incomplete Cholesky).
-  Eigen::VectorXd inverse_diagonal;
-  Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> incomplete;
+  std::unique_ptr<GaussNewtonLinearSolver> linear_solver;  // gauss_newton_linear_solver.h
   double forcing_reference = 0.0;  // max |g_0| of the frame
-
-  bool UsesCholesky() const { return options.linear_solver == LinearSolver::kCholesky; }
-
-  Cholesky Backend() const {
-#ifdef MSDEFORM_HAVE_CHOLMOD
-    return options.cholesky;
-#else
-    return options.cholesky == Cholesky::kCholmod ? Cholesky::kEigenLLT : options.cholesky;
-#endif
-  }
-
-  void Analyze() {
-    if (!UsesCholesky()) return;
-    switch (Backend()) {
-      case Cholesky::kEigenLLT:
-        llt.analyzePattern(system);
-        break;
-      case Cholesky::kEigenLDLT:
-        ldlt.analyzePattern(system);
-        break;
-      case Cholesky::kCholmod:
-#ifdef MSDEFORM_HAVE_CHOLMOD
-        cholmod.analyzePattern(system);
-#endif
-        break;
-    }
-  }
 
   // Writes J^T J + mu D at the rotation blocks `blocks` into `system`.
   void Assemble(const std::vector<Matrix9d>& blocks, double mu) {
@@ -263,83 +105,6 @@ struct GaussNewtonSolver::Impl {
       double& diagonal = values[index];
       diagonal += mu * std::min(std::max(diagonal, 1e-6), 1e32);
     }
-  }
-
-  // Numeric factorisation of `system` (Cholesky), or the preconditioner
-  // (PCG); false when it is not (numerically) positive definite.
-  bool Factorize() {
-    switch (options.linear_solver) {
-      case LinearSolver::kPcgJacobi: {
-        inverse_diagonal.resize(system.rows());
-        for (int i = 0; i < system.rows(); ++i)
-          inverse_diagonal[i] = 1.0 / system.valuePtr()[diagonal_index[i]];
-        return inverse_diagonal.allFinite() && (inverse_diagonal.array() > 0.0).all();
-      }
-      case LinearSolver::kPcgIncompleteCholesky:
-        incomplete.compute(system);
-        return incomplete.info() == Eigen::Success;
-      case LinearSolver::kCholesky:
-        break;
-    }
-    switch (Backend()) {
-      case Cholesky::kEigenLLT:
-        llt.factorize(system);
-        return llt.info() == Eigen::Success;
-      case Cholesky::kEigenLDLT:
-        ldlt.factorize(system);
-        return ldlt.info() == Eigen::Success && (ldlt.vectorD().array() > 0.0).all();
-      case Cholesky::kCholmod:
-#ifdef MSDEFORM_HAVE_CHOLMOD
-        cholmod.factorize(system);
-        return cholmod.info() == Eigen::Success;
-#endif
-        break;
-    }
-    return false;
-  }
-
-  Eigen::VectorXd Precondition(const Eigen::VectorXd& r) const {
-    if (options.linear_solver == LinearSolver::kPcgJacobi)
-      return inverse_diagonal.cwiseProduct(r);
-    return incomplete.solve(r);
-  }
-
-  // Solves system * delta = rhs: by the last Cholesky factor, or by PCG on
-  // the current `system` values to the relative residual `eta`.
-  bool SolveSystem(const Eigen::VectorXd& rhs, double eta, Eigen::VectorXd* delta) {
-    if (!UsesCholesky()) {
-      delta->setZero(rhs.size());
-      Eigen::VectorXd r = rhs, z = Precondition(r), p = z, q;
-      double rz = r.dot(z);
-      const double target = eta * rhs.norm();
-      for (int it = 0; it < options.max_cg_iterations && r.norm() > target; ++it) {
-        q.noalias() = system * p;
-        const double pq = p.dot(q);
-        if (!(pq > 0.0)) break;
-        const double step = rz / pq;
-        *delta += step * p;
-        r -= step * q;
-        z = Precondition(r);
-        const double rz_new = r.dot(z);
-        p = z + (rz_new / rz) * p;
-        rz = rz_new;
-      }
-      return delta->allFinite();
-    }
-    switch (Backend()) {
-      case Cholesky::kEigenLLT:
-        *delta = llt.solve(rhs);
-        break;
-      case Cholesky::kEigenLDLT:
-        *delta = ldlt.solve(rhs);
-        break;
-      case Cholesky::kCholmod:
-#ifdef MSDEFORM_HAVE_CHOLMOD
-        *delta = cholmod.solve(rhs);
-#endif
-        break;
-    }
-    return delta->allFinite();
   }
 
   // The variables of `transforms`.
@@ -695,7 +460,8 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
   impl.terms.IndexValues(impl.system);
   impl.diagonal_index.resize(n);
   for (int i = 0; i < n; ++i) impl.diagonal_index[i] = ValueIndex(impl.system, i, i);
-  if (n > 0) impl.Analyze();
+  impl.linear_solver = MakeGaussNewtonLinearSolver(options_);
+  if (n > 0) impl.linear_solver->Analyze(impl.system);
   return true;
 }
 
@@ -753,7 +519,7 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
   }
   // PCG multiplies by the current J^T J, so it reassembles every iteration
   // and only its preconditioner follows the factorisation rule.
-  const bool cholesky = impl.UsesCholesky();
+  const bool cholesky = impl.linear_solver->direct();
   bool need_factor = !impl.factor_valid || impl.refactor_next ||
                      options_.factorization != Factorization::kLagged ||
                      levenberg_marquardt;
@@ -773,7 +539,7 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
     if (need_factor) {
       ++summary.factorizations;
       need_factor = false;
-      impl.factor_valid = impl.Factorize();
+      impl.factor_valid = impl.linear_solver->Factorize(impl.system);
       fresh = true;
       factor_failed = !impl.factor_valid;
       if (!impl.factor_valid) {
@@ -792,7 +558,7 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
     const double eta = std::min(
         options_.forcing_term,
         std::sqrt(gradient_norm / std::max(impl.forcing_reference, 1e-300)));
-    if (!impl.SolveSystem(-gradient, eta, &delta)) {
+    if (!impl.linear_solver->Solve(impl.system, -gradient, eta, &delta)) {
       summary.trace.push_back({elapsed_ms(), cost});
       factor_failed = true;
       impl.factor_valid = false;
