@@ -1,6 +1,8 @@
 // The Ceres backend (scales/frame_solver.h): Eq. 17 as a ceres::Problem of the
-// cost functors in energies/, node classes as parameter-block fixing (Totally
-// Free: R and t vary, Half Free: R only, Fixed: none). The reference the
+// cost functors in energies/ (analytic or autodiff, CeresOptions::jacobians)
+// plus one residual block per DeformationEnergy::terms entry, node classes as
+// parameter-block fixing (Totally Free: R and t vary, Half Free: R only,
+// Fixed: none). The reference the
 // Gauss-Newton backend (scales/gauss_newton_solver.h) is tested against.
 
 #ifndef MSDEFORM_SCALES_CERES_SOLVER_H_
