@@ -15,30 +15,37 @@
 
 namespace msdeform {
 
-bool RotCostAnalytic::Evaluate(double const* const* parameters, double* residuals,
-                               double** jacobians) const {
-  const double* c[3] = {parameters[0], parameters[0] + 3, parameters[0] + 6};
-  auto dot = [](const double* a, const double* b) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-  };
-  const double s = sqrt_weight_;
-  // Residual r pairs columns (first[r], second[r]); the last three are c.c - 1.
+void RotResiduals(const double* R, double s, double* residuals,
+                  Eigen::Matrix<double, 6, 9>* jacobian) {
+  // Residual r pairs columns (kFirst[r], kSecond[r]); the last three are c.c - 1.
   static constexpr int kFirst[6] = {0, 0, 1, 0, 1, 2};
   static constexpr int kSecond[6] = {1, 2, 2, 0, 1, 2};
   for (int r = 0; r < 6; ++r) {
-    residuals[r] = s * (dot(c[kFirst[r]], c[kSecond[r]]) - (r >= 3 ? 1.0 : 0.0));
+    const double* a = R + 3 * kFirst[r];
+    const double* b = R + 3 * kSecond[r];
+    residuals[r] = s * (a[0] * b[0] + a[1] * b[1] + a[2] * b[2] - (r >= 3 ? 1.0 : 0.0));
   }
-  if (jacobians != nullptr && jacobians[0] != nullptr) {
-    double* J = jacobians[0];
-    std::fill(J, J + 6 * 9, 0.0);
-    for (int r = 0; r < 6; ++r) {
-      const int a = kFirst[r], b = kSecond[r];
-      for (int i = 0; i < 3; ++i) {
-        J[r * 9 + a * 3 + i] += s * c[b][i];
-        J[r * 9 + b * 3 + i] += s * c[a][i];
-      }
+  if (jacobian == nullptr) return;
+  jacobian->setZero();
+  for (int r = 0; r < 6; ++r) {
+    const int a = kFirst[r], b = kSecond[r];
+    for (int i = 0; i < 3; ++i) {
+      (*jacobian)(r, a * 3 + i) += s * R[b * 3 + i];
+      (*jacobian)(r, b * 3 + i) += s * R[a * 3 + i];
     }
   }
+}
+
+bool RotCostAnalytic::Evaluate(double const* const* parameters, double* residuals,
+                               double** jacobians) const {
+  if (jacobians == nullptr || jacobians[0] == nullptr) {
+    RotResiduals(parameters[0], sqrt_weight_, residuals, nullptr);
+    return true;
+  }
+  Eigen::Matrix<double, 6, 9> jacobian;
+  RotResiduals(parameters[0], sqrt_weight_, residuals, &jacobian);
+  Eigen::Map<Eigen::Matrix<double, 6, 9, Eigen::RowMajor>> row_major(jacobians[0]);
+  row_major = jacobian;
   return true;
 }
 
@@ -100,11 +107,13 @@ std::vector<SkinningTerm> WithoutZeroWeights(std::vector<SkinningTerm> terms) {
 }  // namespace
 
 ceres::CostFunction* PositionCost::Create(std::vector<SkinningTerm> terms,
-                                          const Eigen::Vector3d& target, double sqrt_weight) {
+                                          const Eigen::Vector3d& target, double sqrt_weight,
+                                          PositionCost** functor) {
   terms = WithoutZeroWeights(std::move(terms));
   const size_t num_terms = terms.size();
-  auto* cost = new ceres::DynamicAutoDiffCostFunction<PositionCost, 4>(
-      new PositionCost(std::move(terms), target, sqrt_weight));
+  auto* owned = new PositionCost(std::move(terms), target, sqrt_weight);
+  if (functor != nullptr) *functor = owned;
+  auto* cost = new ceres::DynamicAutoDiffCostFunction<PositionCost, 4>(owned);
   for (size_t i = 0; i < num_terms; ++i) {
     cost->AddParameterBlock(9);
     cost->AddParameterBlock(3);

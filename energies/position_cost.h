@@ -46,12 +46,15 @@ struct PositionCost {
     return true;
   }
 
-  // The autodiff reference; one (R, t) block pair per term.
+  // The autodiff reference; one (R, t) block pair per term. With functor !=
+  // nullptr, *functor is the functor the cost function owns (to move its
+  // target each frame).
   static ceres::CostFunction* Create(std::vector<SkinningTerm> terms,
-                                     const Eigen::Vector3d& target, double sqrt_weight);
+                                     const Eigen::Vector3d& target, double sqrt_weight,
+                                     PositionCost** functor = nullptr);
 
   const std::vector<SkinningTerm> terms;
-  const Eigen::Vector3d target;
+  Eigen::Vector3d target;  // q; not const, so that a drag frame can move it
   const double sqrt_weight;
 };
 

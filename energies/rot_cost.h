@@ -12,6 +12,7 @@
 
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/sized_cost_function.h>
+#include <Eigen/Core>
 
 namespace msdeform {
 
@@ -40,6 +41,13 @@ struct RotCost {
 
   const double sqrt_weight;
 };
+
+// The six residuals of RotCost at R (9 doubles, column-major) scaled by s,
+// with jacobian != nullptr also their 6x9 Jacobian (column c * 3 + a is
+// R(a, c)). The one analytic evaluation: RotCostAnalytic, the Gauss-Newton
+// backend's per-node 9x9 blocks and EvaluateEnergy's reference all call it.
+void RotResiduals(const double* R, double s, double* residuals,
+                  Eigen::Matrix<double, 6, 9>* jacobian);
 
 // The same residuals with a hand-written Jacobian (checked against RotCost
 // in tests/energies/rot_cost_test.cc); what the deformer uses.

@@ -590,6 +590,17 @@ std::vector<SolverVariant> SolverVariants() {
                         o->backend = Solver::kCeres;
                         o->ceres.linear_solver = ceres::CGNR;
                       }});
+  // The Jacobians (CeresOptions::jacobians): the autodiff functors take one
+  // position block per vertex, so the analytic per-vertex row is their
+  // like-for-like timing.
+  variants.push_back({"ceres_lm_per_vertex", [](DeformerOptions* o) {
+                        o->backend = Solver::kCeres;
+                        o->ceres.group_position_terms = false;
+                      }});
+  variants.push_back({"ceres_lm_autodiff", [](DeformerOptions* o) {
+                        o->backend = Solver::kCeres;
+                        o->ceres.jacobians = CeresOptions::Jacobians::kAutodiff;
+                      }});
   return variants;
 }
 
@@ -643,6 +654,11 @@ std::string DescribeSolver(const DeformerOptions& options) {
       text << " (" << SparseLibraryName(ceres.sparse_library) << ")";
     } else {
       text << " (jacobi)";
+    }
+    if (ceres.jacobians != CeresOptions::Jacobians::kAnalytic) {
+      text << "; " << JacobiansName(ceres.jacobians) << " Jacobians";
+    } else if (!ceres.group_position_terms) {
+      text << "; per-vertex position blocks";
     }
   }
   text << "; initial guess " << InitialGuessName(options.initial_guess);

@@ -60,7 +60,8 @@ struct SolverVariant {
 // gn_per_frame, gn_lm, gn_pcg_jacobi, gn_pcg_ichol, gn_ldlt, gn_cholmod,
 // gn_cold, gn_previous, gn_extrapolated, gn_exact_extrapolated,
 // ceres_lm_<lib> and ceres_dogleg_<lib> for every lib of
-// CeresSparseLibraries(), ceres_cgnr. Each changes the defaults in one
+// CeresSparseLibraries(), ceres_cgnr, ceres_lm_per_vertex (one position
+// block per vertex) and ceres_lm_autodiff (CeresOptions::jacobians). Each changes the defaults in one
 // respect (gn_exact_extrapolated: two), so a variant can repeat the defaults
 // (gn_extrapolated while the default initial guess is extrapolated); the lab
 // runs it anyway and says so in its header: the two rows differ by timing

@@ -11,6 +11,7 @@
 #include <glog/logging.h>
 
 #include "msdeform/energies/coherence_cost.h"
+#include "msdeform/energies/energy_term.h"
 #include "msdeform/energies/gauge_cost.h"
 #include "msdeform/energies/position_cost.h"
 #include "msdeform/energies/position_group_cost.h"
@@ -64,6 +65,26 @@ bool ParseSparseLibrary(const std::string& name, ceres::SparseLinearAlgebraLibra
   if (std::find(available.begin(), available.end(), parsed) == available.end()) return false;
   *type = parsed;
   return true;
+}
+
+const char* JacobiansName(CeresOptions::Jacobians jacobians) {
+  switch (jacobians) {
+    case CeresOptions::Jacobians::kAnalytic:
+      return "analytic";
+    case CeresOptions::Jacobians::kAutodiff:
+      return "autodiff";
+  }
+  return "unknown";
+}
+
+bool ParseJacobians(const std::string& name, CeresOptions::Jacobians* jacobians) {
+  for (auto value : {CeresOptions::Jacobians::kAnalytic, CeresOptions::Jacobians::kAutodiff}) {
+    if (name == JacobiansName(value)) {
+      *jacobians = value;
+      return true;
+    }
+  }
+  return false;
 }
 
 std::string CeresVersion() { return CERES_VERSION_STRING; }
@@ -130,7 +151,8 @@ struct CeresSolver::Impl {
   NodeTransforms parameters;  // the storage of every parameter block
   std::unique_ptr<ceres::Problem> problem;
   struct PositionTerm {
-    PositionCostAnalytic* cost;  // owned by problem
+    PositionCostAnalytic* cost;  // owned by problem (analytic), or
+    PositionCost* functor;       // owned by its autodiff cost function
     Eigen::Vector3d rest;
   };
   std::vector<PositionTerm> position_costs;      // ungrouped
@@ -176,25 +198,41 @@ bool CeresSolver::Setup(const DeformationEnergy& energy, const NodeTransforms& t
     if (node_class[j] == NodeClass::kFixed) problem.SetParameterBlockConstant(rotation(j));
   };
 
+  const bool autodiff = options_.jacobians == CeresOptions::Jacobians::kAutodiff;
   for (int j : energy.rot_nodes) {
     ensure_blocks(j);
-    problem.AddResidualBlock(new RotCostAnalytic(energy.sqrt_rot), nullptr, rotation(j));
+    problem.AddResidualBlock(
+        autodiff ? RotCost::Create(energy.sqrt_rot) : new RotCostAnalytic(energy.sqrt_rot),
+        nullptr, rotation(j));
   }
   for (const DeformationEnergy::Gauge& term : energy.gauge) {
     ensure_blocks(term.node);
-    problem.AddResidualBlock(new GaugeCostAnalytic(term.axis, term.sqrt_weight), nullptr,
-                             rotation(term.node));
+    problem.AddResidualBlock(autodiff ? GaugeCost::Create(term.axis, term.sqrt_weight)
+                                      : new GaugeCostAnalytic(term.axis, term.sqrt_weight),
+                             nullptr, rotation(term.node));
   }
   for (const DeformationEnergy::Coherence& term : energy.coherence) {
     ensure_blocks(term.j);
     ensure_blocks(term.k);
     // g_j = 0 and g_k = edge: the functor only uses their difference.
+    const Eigen::Vector3d origin = Eigen::Vector3d::Zero();
     problem.AddResidualBlock(
-        new CoherenceCostAnalytic(Eigen::Vector3d::Zero(), term.edge, term.sqrt_weight), nullptr,
-        rotation(term.j), translation(term.j), translation(term.k));
+        autodiff ? CoherenceCost::Create(origin, term.edge, term.sqrt_weight)
+                 : new CoherenceCostAnalytic(origin, term.edge, term.sqrt_weight),
+        nullptr, rotation(term.j), translation(term.j), translation(term.k));
+  }
+  for (const EnergyTerm& term : energy.terms) {
+    if (!CheckEnergyTerm(term, n, error)) return false;
+    std::vector<double*> blocks;
+    for (const TermBlock& block : term.blocks) {
+      ensure_blocks(block.node);
+      blocks.push_back(block.kind == TermBlock::Kind::kRotation ? rotation(block.node)
+                                                                : translation(block.node));
+    }
+    problem.AddResidualBlock(term.NewCostFunction(autodiff), nullptr, blocks);
   }
 
-  if (!options_.group_position_terms) {
+  if (!options_.group_position_terms || autodiff) {
     for (const DeformationEnergy::Position& term : energy.positions) {
       std::vector<double*> blocks;
       for (int j : term.nodes) {
@@ -202,9 +240,16 @@ bool CeresSolver::Setup(const DeformationEnergy& energy, const NodeTransforms& t
         blocks.push_back(rotation(j));
         blocks.push_back(translation(j));
       }
-      auto* cost = new PositionCostAnalytic(term.terms, term.rest, term.sqrt_weight);
+      PositionCost* functor = nullptr;
+      PositionCostAnalytic* analytic = nullptr;
+      ceres::CostFunction* cost;
+      if (autodiff) {
+        cost = PositionCost::Create(term.terms, term.rest, term.sqrt_weight, &functor);
+      } else {
+        cost = analytic = new PositionCostAnalytic(term.terms, term.rest, term.sqrt_weight);
+      }
       problem.AddResidualBlock(cost, nullptr, blocks);
-      if (term.follows_handle) impl.position_costs.push_back({cost, term.rest});
+      if (term.follows_handle) impl.position_costs.push_back({analytic, functor, term.rest});
     }
     return true;
   }
@@ -258,8 +303,10 @@ bool CeresSolver::Setup(const DeformationEnergy& energy, const NodeTransforms& t
 // blocks leave out of Ceres's cost.
 double CeresSolver::SetHandle(const Eigen::Affine3d& handle) {
   Impl& impl = *impl_;
-  for (Impl::PositionTerm& term : impl.position_costs)
-    term.cost->set_target(handle * term.rest);
+  for (Impl::PositionTerm& term : impl.position_costs) {
+    if (term.cost != nullptr) term.cost->set_target(handle * term.rest);
+    if (term.functor != nullptr) term.functor->target = handle * term.rest;
+  }
   double constant_cost = 0.0;
   for (PositionGroupCost* group : impl.position_groups) {
     group->SetHandle(handle);

@@ -1,6 +1,8 @@
 // The Ceres backend (scales/frame_solver.h): Eq. 17 as a ceres::Problem of the
-// cost functors in energies/, node classes as parameter-block fixing (Totally
-// Free: R and t vary, Half Free: R only, Fixed: none). The reference the
+// cost functors in energies/ (analytic or autodiff, CeresOptions::jacobians)
+// plus one residual block per DeformationEnergy::terms entry, node classes as
+// parameter-block fixing (Totally Free: R and t vary, Half Free: R only,
+// Fixed: none). The reference the
 // Gauss-Newton backend (scales/gauss_newton_solver.h) is tested against.
 
 #ifndef MSDEFORM_SCALES_CERES_SOLVER_H_
@@ -30,6 +32,15 @@ struct CeresOptions {
   // least-squares block (energies/position_group_cost.h) instead of one
   // residual block each. Same minimiser; false gives the per-vertex blocks.
   bool group_position_terms = true;
+  // Which Jacobians the residual blocks use, both from the functors in
+  // energies/: kAnalytic the hand-written ones (RotCostAnalytic, ...,
+  // PositionGroupCost), kAutodiff ceres::AutoDiffCostFunction of the
+  // templated functors (RotCost, CoherenceCost, GaugeCost, PositionCost), one
+  // position block per handle vertex (group_position_terms does not apply:
+  // the grouped block has no functor). Same minimum; autodiff is slower.
+  // DeformationEnergy::terms follow it too (analytic where a term has one).
+  enum class Jacobians { kAnalytic, kAutodiff };
+  Jacobians jacobians = Jacobians::kAnalytic;
 
   bool Check(std::string* error) const;
 };
@@ -42,6 +53,9 @@ std::string CeresLinearSolverName(ceres::LinearSolverType type);
 bool ParseCeresLinearSolver(const std::string& name, ceres::LinearSolverType* type);
 std::string SparseLibraryName(ceres::SparseLinearAlgebraLibraryType type);
 bool ParseSparseLibrary(const std::string& name, ceres::SparseLinearAlgebraLibraryType* type);
+// "analytic", "autodiff".
+const char* JacobiansName(CeresOptions::Jacobians jacobians);
+bool ParseJacobians(const std::string& name, CeresOptions::Jacobians* jacobians);
 // "2.1.0": the Ceres msdeform is built against.
 std::string CeresVersion();
 // The sparse libraries this build of Ceres has, among those three.

@@ -2,29 +2,11 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "msdeform/energies/coherence_cost.h"
 #include "msdeform/energies/gauge_cost.h"
+#include "msdeform/energies/rot_cost.h"
 
 namespace msdeform {
-
-void RotResiduals(const double* R, double s, double* residuals,
-                  Eigen::Matrix<double, 6, 9>* jacobian) {
-  static constexpr int kFirst[6] = {0, 0, 1, 0, 1, 2};
-  static constexpr int kSecond[6] = {1, 2, 2, 0, 1, 2};
-  for (int r = 0; r < 6; ++r) {
-    const double* a = R + 3 * kFirst[r];
-    const double* b = R + 3 * kSecond[r];
-    residuals[r] = s * (a[0] * b[0] + a[1] * b[1] + a[2] * b[2] - (r >= 3 ? 1.0 : 0.0));
-  }
-  if (jacobian == nullptr) return;
-  jacobian->setZero();
-  for (int r = 0; r < 6; ++r) {
-    const int a = kFirst[r], b = kSecond[r];
-    for (int i = 0; i < 3; ++i) {
-      (*jacobian)(r, a * 3 + i) += s * R[b * 3 + i];
-      (*jacobian)(r, b * 3 + i) += s * R[a * 3 + i];
-    }
-  }
-}
 
 int DeformationEnergy::num_variables() const {
   int variables = 0;
@@ -72,29 +54,36 @@ double EvaluateEnergy(const DeformationEnergy& energy, const NodeTransforms& tra
     RotResiduals(transforms.rotations.col(j).data(), energy.sqrt_rot, r, nullptr);
     for (double value : r) sum += value * value;
   }
+  const Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   for (const DeformationEnergy::Coherence& term : energy.coherence) {
-    const Eigen::Vector3d r =
-        term.sqrt_weight * (transforms.rotation(term.j) * term.edge - term.edge +
-                            transforms.translations.col(term.j) -
-                            transforms.translations.col(term.k));
+    // g_j = 0, g_k = edge: the functor only uses their difference.
+    Eigen::Vector3d r;
+    CoherenceCost(origin, term.edge, term.sqrt_weight)(
+        transforms.rotations.col(term.j).data(), transforms.translations.col(term.j).data(),
+        transforms.translations.col(term.k).data(), r.data());
     sum += r.squaredNorm();
   }
+  std::vector<const double*> parameters;
   for (const DeformationEnergy::Position& term : energy.positions) {
-    Eigen::Vector3d skinned = term.follows_handle ? Eigen::Vector3d(-(handle * term.rest))
-                                                  : Eigen::Vector3d(-term.rest);
-    for (size_t i = 0; i < term.nodes.size(); ++i) {
-      const int j = term.nodes[i];
-      skinned += term.terms[i].weight * (transforms.rotation(j) * term.terms[i].offset +
-                                         term.terms[i].position + transforms.translations.col(j));
+    parameters.clear();
+    for (int j : term.nodes) {
+      parameters.push_back(transforms.rotations.col(j).data());
+      parameters.push_back(transforms.translations.col(j).data());
     }
-    sum += (term.sqrt_weight * skinned).squaredNorm();
+    const Eigen::Vector3d target =
+        term.follows_handle ? Eigen::Vector3d(handle * term.rest) : term.rest;
+    Eigen::Vector3d r;
+    PositionCost(term.terms, target, term.sqrt_weight)(parameters.data(), r.data());
+    sum += r.squaredNorm();
   }
   for (const DeformationEnergy::Gauge& term : energy.gauge) {
     const double r = GaugeCostAnalytic::Jacobian(term.axis, term.sqrt_weight)
                          .dot(transforms.rotations.col(term.node));
     sum += r * r;
   }
-  return 0.5 * sum;
+  double extra = 0.0;
+  for (const EnergyTerm& term : energy.terms) extra += EnergyTermCost(term, transforms);
+  return 0.5 * sum + extra;
 }
 
 }  // namespace msdeform

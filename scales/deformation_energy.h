@@ -17,6 +17,7 @@
 #include <Eigen/Geometry>
 
 #include "msdeform/core/deformation_graph.h"
+#include "msdeform/energies/energy_term.h"
 #include "msdeform/energies/position_cost.h"
 #include "msdeform/scales/scale_selection.h"
 
@@ -60,6 +61,10 @@ struct DeformationEnergy {
     double sqrt_weight;
   };
   std::vector<Gauge> gauge;
+  // Terms beyond Eq. 17 (energies/energy_term.h): each backend runs them
+  // from this description alone (examples/energy_terms/ has one). They do
+  // not enter GaugeTerms.
+  std::vector<EnergyTerm> terms;
 
   // 12 per Totally Free node, 9 per Half Free node.
   int num_variables() const;
@@ -83,16 +88,11 @@ struct DeformationEnergy {
 std::vector<DeformationEnergy::Gauge> GaugeTerms(const DeformationEnergy& energy);
 
 // 1/2 sum of squared residuals of `energy` at `transforms` with the handle at
-// `handle` (deformed_from_rest), evaluated term by term (the reference every
-// backend's reported cost is tested against).
+// `handle` (deformed_from_rest), evaluated term by term through the functors
+// of energies/ (the reference every backend's reported cost is tested
+// against).
 double EvaluateEnergy(const DeformationEnergy& energy, const NodeTransforms& transforms,
                       const Eigen::Affine3d& handle);
-
-// The six Rot residuals (Eq. 12) of R (9 doubles, column-major) scaled by s:
-// the three off-diagonal column dot products, then |c_i|^2 - 1. With
-// jacobian != nullptr also their 6x9 Jacobian.
-void RotResiduals(const double* R, double s, double* residuals,
-                  Eigen::Matrix<double, 6, 9>* jacobian);
 
 }  // namespace msdeform
 

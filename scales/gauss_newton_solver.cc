@@ -3,21 +3,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdint>
-#include <map>
 #include <string>
-#include <unordered_map>
 
-#include <Eigen/Householder>
-#include <Eigen/IterativeLinearSolvers>
-#include <Eigen/QR>
-#include <Eigen/SparseCholesky>
 #include <glog/logging.h>
-#ifdef MSDEFORM_HAVE_CHOLMOD
-#include <Eigen/CholmodSupport>
-#endif
 
-#include "msdeform/energies/gauge_cost.h"
+#include "msdeform/energies/rot_cost.h"
+#include "msdeform/scales/gauss_newton_linear_solver.h"
+#include "msdeform/scales/gauss_newton_linear_terms.h"
+#include "msdeform/scales/gauss_newton_terms.h"
 
 namespace msdeform {
 namespace {
@@ -27,6 +20,8 @@ using RowSparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 using Matrix9d = Eigen::Matrix<double, 9, 9>;
 using Vector9d = Eigen::Matrix<double, 9, 1>;
 using Vector12d = Eigen::Matrix<double, 12, 1>;
+using Factorization = GaussNewtonOptions::Factorization;
+using Damping = GaussNewtonOptions::Damping;
 
 // The 12 numbers tau of a handle transform: matrix column-major, translation.
 Vector12d HandleParameters(const Eigen::Affine3d& handle) {
@@ -55,128 +50,6 @@ int ValueIndex(const SparseMatrix& matrix, int row, int col) {
 
 }  // namespace
 
-bool GaussNewtonOptions::Check(std::string* error) const {
-  if (!(min_damping > 0.0) || !std::isfinite(min_damping)) {
-    *error = "Gauss-Newton min_damping must be a finite number > 0";
-    return false;
-  }
-  if (!(initial_damping > 0.0) || !std::isfinite(initial_damping)) {
-    *error = "Gauss-Newton initial_damping must be a finite number > 0";
-    return false;
-  }
-  if (!(forcing_term > 0.0 && forcing_term < 1.0)) {
-    *error = "Gauss-Newton forcing_term must be in (0, 1)";
-    return false;
-  }
-  if (!(refactor_ratio > 0.0) || !std::isfinite(refactor_ratio)) {
-    *error = "Gauss-Newton refactor_ratio must be a finite number > 0";
-    return false;
-  }
-  if (max_cg_iterations < 1) {
-    *error = "Gauss-Newton max_cg_iterations must be >= 1";
-    return false;
-  }
-  return true;
-}
-
-namespace {
-
-template <typename Enum, size_t N>
-bool ParseByName(const std::string& name, const Enum (&values)[N], const char* (*to_name)(Enum),
-                 Enum* value) {
-  for (Enum candidate : values) {
-    if (name == to_name(candidate)) {
-      *value = candidate;
-      return true;
-    }
-  }
-  return false;
-}
-
-using LinearSolver = GaussNewtonOptions::LinearSolver;
-using Cholesky = GaussNewtonOptions::Cholesky;
-using Factorization = GaussNewtonOptions::Factorization;
-using Damping = GaussNewtonOptions::Damping;
-
-}  // namespace
-
-const char* LinearSolverName(LinearSolver solver) {
-  switch (solver) {
-    case LinearSolver::kCholesky:
-      return "cholesky";
-    case LinearSolver::kPcgJacobi:
-      return "pcg_jacobi";
-    case LinearSolver::kPcgIncompleteCholesky:
-      return "pcg_incomplete_cholesky";
-  }
-  return "unknown";
-}
-
-bool ParseLinearSolver(const std::string& name, LinearSolver* solver) {
-  static constexpr LinearSolver kAll[] = {LinearSolver::kCholesky, LinearSolver::kPcgJacobi,
-                                          LinearSolver::kPcgIncompleteCholesky};
-  return ParseByName(name, kAll, LinearSolverName, solver);
-}
-
-const char* CholeskyName(Cholesky cholesky) {
-  switch (cholesky) {
-    case Cholesky::kEigenLLT:
-      return "eigen_llt";
-    case Cholesky::kEigenLDLT:
-      return "eigen_ldlt";
-    case Cholesky::kCholmod:
-      return "cholmod";
-  }
-  return "unknown";
-}
-
-bool ParseCholesky(const std::string& name, Cholesky* cholesky) {
-  static constexpr Cholesky kAll[] = {Cholesky::kEigenLLT, Cholesky::kEigenLDLT,
-                                      Cholesky::kCholmod};
-  return ParseByName(name, kAll, CholeskyName, cholesky);
-}
-
-const char* FactorizationName(Factorization factorization) {
-  switch (factorization) {
-    case Factorization::kEveryIteration:
-      return "every_iteration";
-    case Factorization::kPerFrame:
-      return "per_frame";
-    case Factorization::kLagged:
-      return "lagged";
-  }
-  return "unknown";
-}
-
-bool ParseFactorization(const std::string& name, Factorization* factorization) {
-  static constexpr Factorization kAll[] = {Factorization::kEveryIteration,
-                                           Factorization::kPerFrame, Factorization::kLagged};
-  return ParseByName(name, kAll, FactorizationName, factorization);
-}
-
-const char* DampingName(Damping damping) {
-  switch (damping) {
-    case Damping::kGaussNewton:
-      return "gauss_newton";
-    case Damping::kLevenbergMarquardt:
-      return "levenberg_marquardt";
-  }
-  return "unknown";
-}
-
-bool ParseDamping(const std::string& name, Damping* damping) {
-  static constexpr Damping kAll[] = {Damping::kGaussNewton, Damping::kLevenbergMarquardt};
-  return ParseByName(name, kAll, DampingName, damping);
-}
-
-bool GaussNewtonHasCholmod() {
-#ifdef MSDEFORM_HAVE_CHOLMOD
-  return true;
-#else
-  return false;
-#endif
-}
-
 struct GaussNewtonSolver::Impl {
   GaussNewtonOptions options;
   std::vector<int> offset;  // first variable of node j, or -1
@@ -200,48 +73,18 @@ struct GaussNewtonSolver::Impl {
   std::vector<double> base_values;  // H on that pattern
   std::vector<int> rot_value_index;  // 81 per rot node, column-major 9x9
   std::vector<int> diagonal_index;   // per variable
+  // DeformationEnergy::terms: linear ones are rows of A; nonlinear ones write
+  // term_values (their J^T J entries at the last evaluation with a gradient).
+  GaussNewtonTerms terms;
+  mutable std::vector<double> term_values;
   bool factor_valid = false;        // a factorisation from an earlier iteration exists
   // The last Solve ended wanting a new factorisation (its last step was
   // rejected, or did not shrink the gradient enough): a lagged factor is not
   // carried into the next frame then, so a small iteration budget cannot keep
   // reusing a factor that already failed.
   bool refactor_next = false;
-  Eigen::SimplicialLLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> llt;
-  Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
-#ifdef MSDEFORM_HAVE_CHOLMOD
-  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> cholmod;
-#endif
-  // PCG: the preconditioner (inverse diagonal, or an incomplete Cholesky).
-  Eigen::VectorXd inverse_diagonal;
-  Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> incomplete;
+  std::unique_ptr<GaussNewtonLinearSolver> linear_solver;  // gauss_newton_linear_solver.h
   double forcing_reference = 0.0;  // max |g_0| of the frame
-
-  bool UsesCholesky() const { return options.linear_solver == LinearSolver::kCholesky; }
-
-  Cholesky Backend() const {
-#ifdef MSDEFORM_HAVE_CHOLMOD
-    return options.cholesky;
-#else
-    return options.cholesky == Cholesky::kCholmod ? Cholesky::kEigenLLT : options.cholesky;
-#endif
-  }
-
-  void Analyze() {
-    if (!UsesCholesky()) return;
-    switch (Backend()) {
-      case Cholesky::kEigenLLT:
-        llt.analyzePattern(system);
-        break;
-      case Cholesky::kEigenLDLT:
-        ldlt.analyzePattern(system);
-        break;
-      case Cholesky::kCholmod:
-#ifdef MSDEFORM_HAVE_CHOLMOD
-        cholmod.analyzePattern(system);
-#endif
-        break;
-    }
-  }
 
   // Writes J^T J + mu D at the rotation blocks `blocks` into `system`.
   void Assemble(const std::vector<Matrix9d>& blocks, double mu) {
@@ -252,87 +95,11 @@ struct GaussNewtonSolver::Impl {
       for (int k = 0; k < 81; ++k) values[index[k]] += block.data()[k];
       index += 81;
     }
+    terms.AddValues(term_values, values);
     for (int index : diagonal_index) {
       double& diagonal = values[index];
       diagonal += mu * std::min(std::max(diagonal, 1e-6), 1e32);
     }
-  }
-
-  // Numeric factorisation of `system` (Cholesky), or the preconditioner
-  // (PCG); false when it is not (numerically) positive definite.
-  bool Factorize() {
-    switch (options.linear_solver) {
-      case LinearSolver::kPcgJacobi: {
-        inverse_diagonal.resize(system.rows());
-        for (int i = 0; i < system.rows(); ++i)
-          inverse_diagonal[i] = 1.0 / system.valuePtr()[diagonal_index[i]];
-        return inverse_diagonal.allFinite() && (inverse_diagonal.array() > 0.0).all();
-      }
-      case LinearSolver::kPcgIncompleteCholesky:
-        incomplete.compute(system);
-        return incomplete.info() == Eigen::Success;
-      case LinearSolver::kCholesky:
-        break;
-    }
-    switch (Backend()) {
-      case Cholesky::kEigenLLT:
-        llt.factorize(system);
-        return llt.info() == Eigen::Success;
-      case Cholesky::kEigenLDLT:
-        ldlt.factorize(system);
-        return ldlt.info() == Eigen::Success && (ldlt.vectorD().array() > 0.0).all();
-      case Cholesky::kCholmod:
-#ifdef MSDEFORM_HAVE_CHOLMOD
-        cholmod.factorize(system);
-        return cholmod.info() == Eigen::Success;
-#endif
-        break;
-    }
-    return false;
-  }
-
-  Eigen::VectorXd Precondition(const Eigen::VectorXd& r) const {
-    if (options.linear_solver == LinearSolver::kPcgJacobi)
-      return inverse_diagonal.cwiseProduct(r);
-    return incomplete.solve(r);
-  }
-
-  // Solves system * delta = rhs: by the last Cholesky factor, or by PCG on
-  // the current `system` values to the relative residual `eta`.
-  bool SolveSystem(const Eigen::VectorXd& rhs, double eta, Eigen::VectorXd* delta) {
-    if (!UsesCholesky()) {
-      delta->setZero(rhs.size());
-      Eigen::VectorXd r = rhs, z = Precondition(r), p = z, q;
-      double rz = r.dot(z);
-      const double target = eta * rhs.norm();
-      for (int it = 0; it < options.max_cg_iterations && r.norm() > target; ++it) {
-        q.noalias() = system * p;
-        const double pq = p.dot(q);
-        if (!(pq > 0.0)) break;
-        const double step = rz / pq;
-        *delta += step * p;
-        r -= step * q;
-        z = Precondition(r);
-        const double rz_new = r.dot(z);
-        p = z + (rz_new / rz) * p;
-        rz = rz_new;
-      }
-      return delta->allFinite();
-    }
-    switch (Backend()) {
-      case Cholesky::kEigenLLT:
-        *delta = llt.solve(rhs);
-        break;
-      case Cholesky::kEigenLDLT:
-        *delta = ldlt.solve(rhs);
-        break;
-      case Cholesky::kCholmod:
-#ifdef MSDEFORM_HAVE_CHOLMOD
-        *delta = cholmod.solve(rhs);
-#endif
-        break;
-    }
-    return delta->allFinite();
   }
 
   // The variables of `transforms`.
@@ -390,6 +157,16 @@ struct GaussNewtonSolver::Impl {
     }
     return 0.5 * sum;
   }
+
+  // The nonlinear terms at x: Rot (its specialised 9x9 path, the numbers of
+  // before the generic terms) plus DeformationEnergy::terms' nonlinear ones,
+  // whose J^T J entries go to term_values.
+  double NonlinearCost(const Eigen::VectorXd& x, Eigen::VectorXd* gradient,
+                       std::vector<Matrix9d>* blocks) const {
+    const double rot = RotCost(x, gradient, blocks);
+    if (!terms.has_nonlinear()) return rot;
+    return rot + terms.Cost(x, gradient, gradient != nullptr ? &term_values : nullptr);
+  }
 };
 
 GaussNewtonSolver::GaussNewtonSolver(const GaussNewtonOptions& options,
@@ -420,236 +197,15 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
     CHECK_GE(impl.offset[j], 0) << "Rot term on a Fixed node";
     impl.rot_nodes.push_back(j);
   }
-  auto rotation_variable = [&](int j) { return impl.offset[j]; };
-  auto translation_variable = [&](int j) {
-    return energy.node_class[j] == NodeClass::kTotallyFree ? impl.offset[j] + 9 : -1;
-  };
-
-  // Linear residuals r = A x + c - P tau, row by row.
-  std::vector<Eigen::Triplet<double, int>> a_entries, p_entries;
-  std::vector<double> constant;
-  int row = 0;
-  auto add_rotation = [&](int j, const Eigen::Vector3d& vector, double scale) {
-    // scale * R_j * vector into rows row..row+2.
-    if (rotation_variable(j) >= 0) {
-      for (int a = 0; a < 3; ++a)
-        for (int c = 0; c < 3; ++c)
-          a_entries.emplace_back(row + a, rotation_variable(j) + c * 3 + a, scale * vector[c]);
-    } else {
-      const Eigen::Vector3d value = scale * (transforms.rotation(j) * vector);
-      for (int a = 0; a < 3; ++a) constant[row + a] += value[a];
-    }
-  };
-  auto add_translation = [&](int j, double scale) {
-    if (translation_variable(j) >= 0) {
-      for (int a = 0; a < 3; ++a) a_entries.emplace_back(row + a, translation_variable(j) + a, scale);
-    } else {
-      for (int a = 0; a < 3; ++a) constant[row + a] += scale * transforms.translations(a, j);
-    }
-  };
-  for (const DeformationEnergy::Coherence& term : energy.coherence) {
-    constant.resize(row + 3, 0.0);
-    add_rotation(term.j, term.edge, term.sqrt_weight);
-    for (int a = 0; a < 3; ++a) constant[row + a] -= term.sqrt_weight * term.edge[a];
-    add_translation(term.j, term.sqrt_weight);
-    add_translation(term.k, -term.sqrt_weight);
-    row += 3;
-  }
-  // Position terms (one per handle vertex, and per held fixed vertex: a
-  // hundred thousand on a 1.7M-vertex mesh) are not rows of A: their three
-  // rows share one pattern, u_i = s w_i [o_i; 1] per node i (rotation column
-  // c * 3 + a and translation a for coordinate a), so their products are
-  // accumulated as 4x4 moments per node pair and expanded once below (I_3
-  // Kronecker each moment). p = s [rest; 1] is the handle row's pattern.
-  const int num_position_nodes = num_nodes;
-  std::unordered_map<int64_t, Eigen::Matrix4d> pair_moment;        // sum u_j u_k^T
-  std::vector<Eigen::Matrix4d> handle_moment;                      // sum u_j p^T
-  std::vector<Eigen::Matrix<double, 4, 3>> constant_moment;        // sum u_j c^T
-  // The terms' rows for the compressed residuals (Impl::root), grouped by
-  // their variable nodes (sorted) and whether they follow the handle. A row
-  // [u_1 .. u_k, p, c] (4 k + 7 numbers; u_i with 0 for a translation that
-  // is not a variable) gives coordinate a's residual as
-  //   row . [X_1a .. X_ka, -theta_a, e_a],
-  // X_ia = (R_i(a, 0..2), t_i(a)), theta_a = (handle(a, 0..2), its translation(a)).
-  struct PositionGroup {
-    std::vector<int> nodes;
-    std::vector<double> rows;  // row-major, 4 k + 7 wide
-  };
-  std::vector<PositionGroup> groups;
-  std::map<std::vector<int>, int> group_of_key;
-  std::vector<int> key, order;
-  if (!energy.positions.empty()) {
-    handle_moment.assign(num_position_nodes, Eigen::Matrix4d::Zero());
-    constant_moment.assign(num_position_nodes, Eigen::Matrix<double, 4, 3>::Zero());
-  }
-  std::vector<int> variable_nodes;
-  std::vector<Eigen::Vector4d> patterns;
-  for (const DeformationEnergy::Position& term : energy.positions) {
-    const double s = term.sqrt_weight;
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    variable_nodes.clear();
-    patterns.clear();
-    for (size_t i = 0; i < term.nodes.size(); ++i) {
-      const SkinningTerm& skin = term.terms[i];
-      const int j = term.nodes[i];
-      const double sw = s * skin.weight;
-      if (rotation_variable(j) < 0) c += sw * (transforms.rotation(j) * skin.offset);
-      if (translation_variable(j) < 0) c += sw * transforms.translations.col(j);
-      c += sw * skin.position;
-      if (rotation_variable(j) >= 0) {
-        variable_nodes.push_back(j);
-        patterns.push_back(sw * Eigen::Vector4d(skin.offset[0], skin.offset[1], skin.offset[2], 1.0));
-      }
-    }
-    Eigen::Vector4d p = Eigen::Vector4d::Zero();
-    if (term.follows_handle) {
-      p << s * term.rest, s;
-    } else {
-      c -= s * term.rest;
-    }
-    order.resize(variable_nodes.size());
-    for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
-    std::sort(order.begin(), order.end(),
-              [&](int a, int b) { return variable_nodes[a] < variable_nodes[b]; });
-    key.assign(1, term.follows_handle ? 1 : 0);
-    for (int i : order) key.push_back(variable_nodes[i]);
-    auto [group, inserted] = group_of_key.try_emplace(key, static_cast<int>(groups.size()));
-    if (inserted) groups.push_back({std::vector<int>(key.begin() + 1, key.end()), {}});
-    std::vector<double>& rows = groups[group->second].rows;
-    for (int i : order) {
-      for (int e = 0; e < 4; ++e) {
-        const bool variable = e < 3 || translation_variable(variable_nodes[i]) >= 0;
-        rows.push_back(variable ? patterns[i][e] : 0.0);
-      }
-    }
-    for (int e = 0; e < 4; ++e) rows.push_back(p[e]);
-    for (int a = 0; a < 3; ++a) rows.push_back(c[a]);
-    for (size_t i = 0; i < variable_nodes.size(); ++i) {
-      const int j = variable_nodes[i];
-      if (term.follows_handle) handle_moment[j].noalias() += patterns[i] * p.transpose();
-      constant_moment[j].noalias() += patterns[i] * c.transpose();
-      for (size_t k = 0; k < variable_nodes.size(); ++k) {
-        const int64_t key = static_cast<int64_t>(j) * num_position_nodes + variable_nodes[k];
-        auto [it, inserted] = pair_moment.try_emplace(key, Eigen::Matrix4d::Zero());
-        it->second.noalias() += patterns[i] * patterns[k].transpose();
-      }
-    }
-  }
-  for (const DeformationEnergy::Gauge& term : energy.gauge) {
-    // Linear in R with no constant: one row of A.
-    CHECK_GE(rotation_variable(term.node), 0) << "gauge term on a Fixed node";
-    constant.resize(row + 1, 0.0);
-    const Eigen::Matrix<double, 1, 9> jacobian =
-        GaugeCostAnalytic::Jacobian(term.axis, term.sqrt_weight);
-    for (int i = 0; i < 9; ++i) {
-      if (jacobian[i] != 0.0)
-        a_entries.emplace_back(row, rotation_variable(term.node) + i, jacobian[i]);
-    }
-    row += 1;
-  }
-  SparseMatrix a_matrix(row, n), p_matrix(row, 13);
-  a_matrix.setFromTriplets(a_entries.begin(), a_entries.end());
-  for (int r = 0; r < row; ++r) {
-    if (constant[r] != 0.0) p_entries.emplace_back(r, 12, -constant[r]);
-  }
-  // p_matrix = [P, -c]: the residual is A x - p_matrix [tau; 1].
-  p_matrix.setFromTriplets(p_entries.begin(), p_entries.end());
-  const SparseMatrix a_transposed = a_matrix.transpose();
-  // The position terms' moments as variables: the column of node j's
-  // pattern entry c (0..2 rotation, 3 translation) for coordinate a, -1 when
-  // that part of j is not a variable; the handle's parameter column likewise.
-  auto variable_of = [&](int j, int c, int a) {
-    return c < 3 ? rotation_variable(j) + c * 3 + a : translation_variable(j) < 0 ? -1 : translation_variable(j) + a;
-  };
-  auto handle_column = [](int d, int a) { return d < 3 ? d * 3 + a : 9 + a; };
-  std::vector<Eigen::Triplet<double, int>> position_hessian, position_atp;
-  position_hessian.reserve(48 * pair_moment.size());
-  for (const auto& [key, moment] : pair_moment) {
-    const int j = static_cast<int>(key / num_position_nodes);
-    const int k = static_cast<int>(key % num_position_nodes);
-    for (int a = 0; a < 3; ++a) {
-      for (int c = 0; c < 4; ++c) {
-        const int row_variable = variable_of(j, c, a);
-        if (row_variable < 0) continue;
-        for (int d = 0; d < 4; ++d) {
-          const int column_variable = variable_of(k, d, a);
-          if (column_variable >= 0 && moment(c, d) != 0.0) {
-            position_hessian.emplace_back(row_variable, column_variable, moment(c, d));
-          }
-        }
-      }
-    }
-  }
-  for (int j = 0; j < static_cast<int>(handle_moment.size()); ++j) {
-    if (rotation_variable(j) < 0) continue;
-    for (int a = 0; a < 3; ++a) {
-      for (int c = 0; c < 4; ++c) {
-        const int row_variable = variable_of(j, c, a);
-        if (row_variable < 0) continue;
-        for (int d = 0; d < 4; ++d) {
-          if (handle_moment[j](c, d) != 0.0) {
-            position_atp.emplace_back(row_variable, handle_column(d, a), handle_moment[j](c, d));
-          }
-        }
-        // Column 12 is -c (p_matrix's last column).
-        if (constant_moment[j](c, a) != 0.0) {
-          position_atp.emplace_back(row_variable, 12, -constant_moment[j](c, a));
-        }
-      }
-    }
-  }
-  SparseMatrix hessian_positions(n, n), atp_positions(n, 13);
-  hessian_positions.setFromTriplets(position_hessian.begin(), position_hessian.end());
-  atp_positions.setFromTriplets(position_atp.begin(), position_atp.end());
-  impl.hessian = (SparseMatrix(a_transposed * a_matrix) + hessian_positions).pruned();
-  const SparseMatrix atp = a_transposed * p_matrix + atp_positions;  // n by 13
-  impl.handle_gradient = atp.leftCols(12);
-  impl.linear_gradient = -Eigen::VectorXd(atp.col(12));
-
-  // The compressed residuals: A's rows (Coherence, gauge), then per position
-  // group R of a QR of its rows (R^T R = M^T M, so the same sum of squares for
-  // every x and tau; Householder QR is backward stable, so the rounding is
-  // about 1e-16 |M| |z| |M z|, not 1e-16 |M z|^2's expanded terms), or the
-  // rows themselves when there are no more of them than columns.
-  std::vector<Eigen::Triplet<double, int>> root_entries = a_entries, root_handle_entries;
-  for (const Eigen::Triplet<double, int>& entry : p_entries)
-    root_handle_entries.emplace_back(entry.row(), entry.col(), -entry.value());
-  int root_rows = row;
-  for (const PositionGroup& group : groups) {
-    const int k = static_cast<int>(group.nodes.size());
-    const int width = 4 * k + 7;
-    const int count = static_cast<int>(group.rows.size()) / width;
-    Eigen::MatrixXd factor = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic,
-                                                            Eigen::RowMajor>>(
-        group.rows.data(), count, width);
-    if (count > width) {
-      Eigen::HouseholderQR<Eigen::MatrixXd> qr(factor);
-      factor = qr.matrixQR().topRows(width).triangularView<Eigen::Upper>();
-    }
-    for (int i = 0; i < factor.rows(); ++i) {
-      for (int a = 0; a < 3; ++a) {
-        for (int node = 0; node < k; ++node) {
-          for (int e = 0; e < 4; ++e) {
-            const double value = factor(i, 4 * node + e);
-            const int variable = variable_of(group.nodes[node], e, a);
-            if (value != 0.0 && variable >= 0) root_entries.emplace_back(root_rows, variable, value);
-          }
-        }
-        for (int d = 0; d < 4; ++d) {
-          const double value = factor(i, 4 * k + d);
-          if (value != 0.0) root_handle_entries.emplace_back(root_rows, handle_column(d, a), -value);
-        }
-        const double value = factor(i, 4 * k + 4 + a);
-        if (value != 0.0) root_handle_entries.emplace_back(root_rows, 12, value);
-        ++root_rows;
-      }
-    }
-  }
-  impl.root.resize(root_rows, n);
-  impl.root.setFromTriplets(root_entries.begin(), root_entries.end());
-  impl.root.makeCompressed();
-  impl.root_handle.resize(root_rows, 13);
-  impl.root_handle.setFromTriplets(root_handle_entries.begin(), root_handle_entries.end());
+  if (!impl.terms.Setup(energy.terms, impl.offset, impl.totally_free, transforms, error))
+    return false;
+  LinearTerms linear;
+  AssembleLinearTerms(energy, transforms, impl.offset, impl.terms, n, &linear);
+  impl.hessian = std::move(linear.hessian);
+  impl.linear_gradient = std::move(linear.linear_gradient);
+  impl.handle_gradient = std::move(linear.handle_gradient);
+  impl.root = std::move(linear.root);
+  impl.root_handle = std::move(linear.root_handle);
 
   // The pattern of J^T J: H plus the 9x9 rotation blocks plus the diagonal.
   std::vector<Eigen::Triplet<double, int>> entries;
@@ -660,6 +216,7 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
   for (int j : impl.rot_nodes)
     for (int c = 0; c < 9; ++c)
       for (int r = 0; r < 9; ++r) entries.emplace_back(impl.offset[j] + r, impl.offset[j] + c, 0.0);
+  impl.terms.AppendPattern(&entries);
   for (int i = 0; i < n; ++i) entries.emplace_back(i, i, 0.0);
   impl.system.resize(n, n);
   impl.system.setFromTriplets(entries.begin(), entries.end());
@@ -671,9 +228,11 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
       for (int r = 0; r < 9; ++r)
         impl.rot_value_index.push_back(
             ValueIndex(impl.system, impl.offset[j] + r, impl.offset[j] + c));
+  impl.terms.IndexValues(impl.system);
   impl.diagonal_index.resize(n);
   for (int i = 0; i < n; ++i) impl.diagonal_index[i] = ValueIndex(impl.system, i, i);
-  if (n > 0) impl.Analyze();
+  impl.linear_solver = MakeGaussNewtonLinearSolver(options_);
+  if (n > 0) impl.linear_solver->Analyze(impl.system);
   return true;
 }
 
@@ -683,7 +242,7 @@ double GaussNewtonSolver::Cost(const Eigen::Affine3d& handle, const NodeTransfor
   CHECK_EQ(static_cast<int>(impl.offset.size()), transforms.num_nodes());
   const Eigen::VectorXd x = impl.Gather(transforms);
   return impl.LinearCost(x, impl.RootOffset(handle)) +
-         impl.RotCost(x, nullptr, nullptr);
+         impl.NonlinearCost(x, nullptr, nullptr);
 }
 
 SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
@@ -713,7 +272,7 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
   double linear_cost = impl.LinearCost(x, root_offset);
   std::vector<Matrix9d> blocks(impl.rot_nodes.size());
   Eigen::VectorXd gradient = hx + g0;
-  double cost = linear_cost + impl.RotCost(x, &gradient, &blocks);
+  double cost = linear_cost + impl.NonlinearCost(x, &gradient, &blocks);
   summary.initial_cost = cost;
   summary.trace.push_back({0.0, cost});
 
@@ -731,7 +290,7 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
   }
   // PCG multiplies by the current J^T J, so it reassembles every iteration
   // and only its preconditioner follows the factorisation rule.
-  const bool cholesky = impl.UsesCholesky();
+  const bool cholesky = impl.linear_solver->direct();
   bool need_factor = !impl.factor_valid || impl.refactor_next ||
                      options_.factorization != Factorization::kLagged ||
                      levenberg_marquardt;
@@ -751,7 +310,7 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
     if (need_factor) {
       ++summary.factorizations;
       need_factor = false;
-      impl.factor_valid = impl.Factorize();
+      impl.factor_valid = impl.linear_solver->Factorize(impl.system);
       fresh = true;
       factor_failed = !impl.factor_valid;
       if (!impl.factor_valid) {
@@ -770,7 +329,7 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
     const double eta = std::min(
         options_.forcing_term,
         std::sqrt(gradient_norm / std::max(impl.forcing_reference, 1e-300)));
-    if (!impl.SolveSystem(-gradient, eta, &delta)) {
+    if (!impl.linear_solver->Solve(impl.system, -gradient, eta, &delta)) {
       summary.trace.push_back({elapsed_ms(), cost});
       factor_failed = true;
       impl.factor_valid = false;
@@ -789,7 +348,7 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
     x_new = x + delta;
     h_delta = impl.hessian * delta;
     const double new_linear_cost = linear_cost + delta.dot(hx + g0) + 0.5 * delta.dot(h_delta);
-    const double new_cost = new_linear_cost + impl.RotCost(x_new, nullptr, nullptr);
+    const double new_cost = new_linear_cost + impl.NonlinearCost(x_new, nullptr, nullptr);
     double rho = 1.0;  // gain ratio, Levenberg-Marquardt only
     if (levenberg_marquardt && assembled) {
       // Predicted decrease of the model: 1/2 delta^T (mu D delta - g).
@@ -809,7 +368,7 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
       hx += h_delta;
       linear_cost = impl.LinearCost(x, root_offset);
       gradient = hx + g0;
-      cost = linear_cost + impl.RotCost(x, &gradient, &blocks);
+      cost = linear_cost + impl.NonlinearCost(x, &gradient, &blocks);
       summary.trace.push_back({elapsed_ms(), cost});
       if (levenberg_marquardt) {
         mu = std::max(mu * std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3)),

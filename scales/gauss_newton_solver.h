@@ -9,7 +9,11 @@
 //   F(x) = 1/2 |r_rot(x)|^2 + 1/2 |A x + c - P tau|^2,
 // r_rot the six Rot residuals (Eq. 12) per free node, and the second term
 // every Coherence (Eq. 14) and Position (Eq. 16) residual and the gauge terms,
-// all linear in x.
+// all linear in x (scales/gauss_newton_linear_terms.h). The terms of
+// DeformationEnergy::terms join the one or the other by their `linear` flag
+// (scales/gauss_newton_terms.h): a linear one becomes rows of A, a nonlinear
+// one is evaluated like r_rot, through its own residual and Jacobian, on
+// J^T J entries that join the pattern once per layout.
 // So J^T J = H + blockdiag(J_rot^T J_rot) with H = A^T A constant: H, its
 // sparsity pattern with the 9x9 rotation blocks, and the symbolic Cholesky
 // analysis are built once per handle layout (Setup); a frame only moves tau

@@ -117,7 +117,8 @@ TEST(SolverVariantsTest, NamesAreUniqueAndOnlyTheSolverDiffers) {
   for (const char* name :
        {"gn_lagged", "gn_exact", "gn_per_frame", "gn_lm", "gn_pcg_jacobi", "gn_pcg_ichol",
         "gn_ldlt", "gn_cholmod", "gn_cold", "gn_extrapolated", "gn_refactor_025",
-        "ceres_lm_eigen_sparse", "ceres_dogleg_eigen_sparse", "ceres_cgnr"}) {
+        "ceres_lm_eigen_sparse", "ceres_dogleg_eigen_sparse", "ceres_cgnr", "ceres_lm_per_vertex",
+        "ceres_lm_autodiff"}) {
     EXPECT_TRUE(names.count(name)) << name;
   }
   // gn_lagged is the default options; every variant keeps the energy and the
