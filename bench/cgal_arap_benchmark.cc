@@ -21,7 +21,7 @@
 #include "bench/bench_data.h"
 #include "msdeform/core/mesh_io.h"
 #include "msdeform/core/scenario.h"
-#include "experiments/cgal_arap.h"
+#include "msdeform/methods/cgal_arap.h"
 
 namespace msdeform {
 namespace {

@@ -11,7 +11,7 @@
 
 #include <pybind11/stl.h>
 
-#include "experiments/cgal_arap.h"
+#include "msdeform/methods/cgal_arap.h"
 #include "experiments/experiment_scenario.h"
 #include "experiments/metrics.h"
 #include "experiments/runner.h"
