@@ -176,7 +176,7 @@ const Eigen::Matrix3Xd& CgalArapMethod::deformed_vertices() const {
 
 bool CgalArapMethod::DoPrecompute(const Mesh& mesh, const MethodOptions& options,
                                   std::string* error) {
-  if (!options.cgal.Check(error)) return false;
+  if (!options.cgal.Check(error) || !ValidateMesh(mesh, error)) return false;
   mesh_ = mesh;
   options_ = options.cgal;
   return true;

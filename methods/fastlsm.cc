@@ -1,5 +1,6 @@
 #include "msdeform/methods/fastlsm.h"
 
+#include <algorithm>
 #include <chrono>
 #include <limits>
 
@@ -78,6 +79,7 @@ bool FastLsm::DoSetHandles(const HandleLayout& layout, std::string* error) {
   positions_ = lattice_.rest_positions();
   velocities_ = Eigen::Matrix3Xd::Zero(3, n);
   rotations_.assign(n, Eigen::Quaterniond::Identity());
+  first_step_ = true;
   deformed_vertices_ = mesh_.vertices;
   setup_ms_ = MillisecondsSince(start);
   return true;
@@ -97,7 +99,10 @@ bool FastLsm::DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* sta
   }
   const double keep = 1.0 - options_.damping;
   for (int step = 0; step < options_.steps_per_frame; ++step) {
-    shape_matching_.ComputeGoals(positions_, &goals_);
+    // Each region's rotation warm-started from the step before (from the
+    // identity on a layout's first step).
+    shape_matching_.ComputeGoals(positions_, &goals_, /*warm_start=*/!first_step_);
+    first_step_ = false;
     for (int i = 0; i < n; ++i) {
       if (kind_[i] != Kind::kFree) continue;
       velocities_.col(i) = keep * (velocities_.col(i) + goals_.col(i) - positions_.col(i));
@@ -122,23 +127,16 @@ bool FastLsm::DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* sta
 void FastLsm::Skin(const Eigen::Affine3d& deformed_from_rest) {
   const Eigen::Matrix3Xd& rest = lattice_.rest_positions();
   const CompressedLists& regions = shape_matching_.regions();
-  // The best-fit rigid transform of each free particle's region that holds
-  // a vertex, computed once per particle.
+  const CompressedLists& adjacency = lattice_.particle_adjacency();
   const int n = lattice_.num_particles();
+  const double w = lattice_.cell_width();
+  // Each particle's frame, fitted once per frame when a vertex needs it.
   std::vector<char> fitted(n, 0);
   std::vector<Eigen::Matrix3d> rotation(n);
   Eigen::Matrix3Xd centroid(3, n), rest_centroid(3, n);
-  for (int v = 0; v < mesh_.num_vertices(); ++v) {
-    const int p = lattice_.particle_of_vertex(v);
-    const Eigen::Vector3d x0 = mesh_.vertices.col(v);
-    if (kind_[p] == Kind::kFixed) {
-      deformed_vertices_.col(v) = x0;
-      continue;
-    }
-    if (kind_[p] == Kind::kDriven) {
-      deformed_vertices_.col(v) = deformed_from_rest * x0;
-      continue;
-    }
+  auto frame_of = [&](int p, const Eigen::Vector3d& x0) -> Eigen::Vector3d {
+    if (kind_[p] == Kind::kFixed) return x0;
+    if (kind_[p] == Kind::kDriven) return deformed_from_rest * x0;
     if (!fitted[p]) {
       Eigen::Vector3d c = Eigen::Vector3d::Zero(), c0 = Eigen::Vector3d::Zero();
       for (const int* j = regions.begin(p); j != regions.end(p); ++j) {
@@ -157,7 +155,33 @@ void FastLsm::Skin(const Eigen::Affine3d& deformed_from_rest) {
       rest_centroid.col(p) = c0;
       fitted[p] = 1;
     }
-    deformed_vertices_.col(v) = rotation[p] * (x0 - rest_centroid.col(p)) + centroid.col(p);
+    return rotation[p] * (x0 - rest_centroid.col(p)) + centroid.col(p);
+  };
+  // Trilinear hat weight of particle j at rest point x0 (cell centres are
+  // the particles' rest positions, one cell width apart).
+  auto weight = [&](int j, const Eigen::Vector3d& x0) {
+    const Eigen::Vector3d d = ((x0 - rest.col(j)).cwiseAbs() / w);
+    return std::max(0.0, 1.0 - d.x()) * std::max(0.0, 1.0 - d.y()) *
+           std::max(0.0, 1.0 - d.z());
+  };
+  for (int v = 0; v < mesh_.num_vertices(); ++v) {
+    const int p = lattice_.particle_of_vertex(v);
+    const Eigen::Vector3d x0 = mesh_.vertices.col(v);
+    if (kind_[p] != Kind::kFree) {
+      deformed_vertices_.col(v) = frame_of(p, x0);
+      continue;
+    }
+    // The vertex's particle (weight >= 1/8: the vertex is inside its cell)
+    // and its lattice neighbours, blended by their trilinear weights.
+    double total = weight(p, x0);
+    Eigen::Vector3d sum = total * frame_of(p, x0);
+    for (const int* j = adjacency.begin(p); j != adjacency.end(p); ++j) {
+      const double wj = weight(*j, x0);
+      if (wj <= 0.0) continue;
+      sum += wj * frame_of(*j, x0);
+      total += wj;
+    }
+    deformed_vertices_.col(v) = sum / total;
   }
 }
 
