@@ -18,6 +18,7 @@
 #define MSDEFORM_METHODS_METHOD_H_
 
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -92,6 +93,11 @@ class EditingMethod {
   std::string name_;
   Stage stage_ = Stage::kEmpty;
 };
+
+// Drags `method` (SetHandles done) through `path`, as scales/deformer.h's
+// DragAlong does for a Deformer: false with "frame F of N: <what failed>".
+bool DragAlong(EditingMethod* method, const std::vector<Eigen::Affine3d>& path,
+               const DragAlongOptions& options, DragLog* log, std::string* error);
 
 }  // namespace msdeform
 
