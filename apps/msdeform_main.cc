@@ -128,7 +128,7 @@ bool PrepareJob(Job* job, std::string* error) {
   // the graph methods only, so it sees the default for the others.
   job->method = FLAGS_method;
   if (!IsMethodName(job->method)) {
-    *error = "--method=" + job->method + ": unknown method (expected " + MethodNameList() + ")";
+    *error = "--method=" + job->method + ": expected " + MethodNameList();
     return false;
   }
   Method graph_method;
