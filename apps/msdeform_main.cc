@@ -32,6 +32,8 @@
 #include "msdeform/core/mesh_io.h"
 #include "msdeform/core/scenario.h"
 #include "msdeform/core/timing.h"
+#include "msdeform/methods/method_options.h"
+#include "msdeform/methods/registry.h"
 #include "msdeform/scales/deformer.h"
 #include "msdeform/scales/deformer_flags.h"
 
@@ -55,6 +57,15 @@ DEFINE_string(report, "", "[output] JSON report. Default: --out with extension .
 DEFINE_string(dump_nodes, "", "[output] CSV of the DG1 nodes: node,x,y,z,e_prime,class.");
 DEFINE_string(out_frames, "",
               "[output] Folder for every frame's mesh, <name>_0001.<ext> ... (ext of --out).");
+// The non-graph methods' options (methods/method_options.h); --method itself
+// is scales/deformer_flags.cc's and takes any registered name here.
+DECLARE_string(method);  // scales/deformer_flags.cc
+DEFINE_int32(cgal_iterations, msdeform::CgalArapOptions().iterations,
+             "[method] cgal_arap, cgal_sr_arap: local/global iterations per frame.");
+DEFINE_int32(fastlsm_steps, msdeform::FastLsmOptions().steps_per_frame,
+             "[method] fastlsm: shape-matching steps per frame.");
+DEFINE_double(fastlsm_damping, msdeform::FastLsmOptions().damping,
+              "[method] fastlsm: fraction of each particle's velocity removed per step, [0, 1).");
 DEFINE_bool(overwrite, false, "[output] Replace outputs that exist (otherwise an error).");
 DEFINE_bool(quiet, false, "[diagnostics] Print nothing but errors.");
 DEFINE_bool(verbose, false,
@@ -83,7 +94,9 @@ struct Job {
   std::vector<Eigen::Affine3d> path;  // one transform per frame
   std::string out_path, report_path, nodes_path, frames_dir;
   MeshReadReport read_report;
+  std::string method;  // a registered name (methods/registry.h)
   DeformerOptions options;
+  MethodOptions method_options;  // options, and the other methods' own
   double load_ms = 0.0;
 };
 
@@ -111,13 +124,41 @@ bool LoadMesh(const std::string& path, Mesh* mesh, MeshReadReport* report, std::
 }
 
 bool PrepareJob(Job* job, std::string* error) {
-  if (!DeformerOptionsFromFlags(&job->options, error)) return false;
+  // --method names any registered method; DeformerOptionsFromFlags parses
+  // the graph methods only, so it sees the default for the others.
+  job->method = FLAGS_method;
+  if (!IsMethodName(job->method)) {
+    *error = "--method=" + job->method + ": expected " + MethodNameList();
+    return false;
+  }
+  Method graph_method;
+  const bool is_graph = ParseMethod(job->method, &graph_method);
+  if (!is_graph) FLAGS_method = MethodName(DeformerOptions().method);
+  const bool parsed = DeformerOptionsFromFlags(&job->options, error);
+  FLAGS_method = job->method;
+  if (!parsed) return false;
+  job->method_options.deformer = job->options;
+  job->method_options.cgal.iterations = FLAGS_cgal_iterations;
+  job->method_options.fastlsm.steps_per_frame = FLAGS_fastlsm_steps;
+  job->method_options.fastlsm.damping = FLAGS_fastlsm_damping;
+  if (!job->method_options.cgal.Check(error)) {
+    *error = "--cgal_iterations=" + std::to_string(FLAGS_cgal_iterations) + ": " + *error;
+    return false;
+  }
+  if (!job->method_options.fastlsm.Check(error)) {
+    *error = "--fastlsm_steps/--fastlsm_damping: " + *error;
+    return false;
+  }
+  if (!is_graph && !FLAGS_dump_nodes.empty()) {
+    *error = "--dump_nodes: the " + job->method + " method has no deformation graph";
+    return false;
+  }
   if (FLAGS_frames < 0 || FLAGS_frames > kMaxScenarioFrames) {
     *error = "--frames=" + std::to_string(FLAGS_frames) + ": expected 0.." +
              std::to_string(kMaxScenarioFrames);
     return false;
   }
-  const std::string method = MethodName(job->options.method);
+  const std::string& method = job->method;
   const std::string solver = SolverName(job->options.backend);
 
   // Inputs: names first, so that the outputs can be checked against them
@@ -332,16 +373,20 @@ int Run(const std::vector<std::string>& command_line) {
   std::string error;
   Job job;
   if (!PrepareJob(&job, &error)) return Fail(error);
-  Deformer deformer;
-  if (!deformer.Init(job.mesh, job.options, &error)) return Fail(job.mesh_path + ": " + error);
-  if (job.options.method == Method::kStatic &&
-      deformer.graphs().back().num_nodes() < job.options.static_nodes && !FLAGS_quiet) {
+  std::unique_ptr<EditingMethod> method = CreateMethod(job.method, &error);
+  if (method == nullptr) return Fail("--method=" + job.method + ": " + error);
+  if (!method->Precompute(job.mesh, job.method_options, &error)) {
+    return Fail(job.mesh_path + ": " + error);
+  }
+  const Deformer* deformer = method->deformer();  // null: not a graph method
+  if (deformer != nullptr && job.options.method == Method::kStatic &&
+      deformer->graphs().back().num_nodes() < job.options.static_nodes && !FLAGS_quiet) {
     std::cerr << "msdeform: notice: --static_nodes=" << job.options.static_nodes
-              << " is more than the mesh's " << deformer.graphs().back().num_nodes()
-              << " DG1 nodes; the static graph has " << deformer.graphs().back().num_nodes()
+              << " is more than the mesh's " << deformer->graphs().back().num_nodes()
+              << " DG1 nodes; the static graph has " << deformer->graphs().back().num_nodes()
               << "\n";
   }
-  if (!deformer.SetHandles(job.layout, &error)) return Fail("handles: " + error);
+  if (!method->SetHandles(job.layout, &error)) return Fail("handles: " + error);
 
   // Every frame's mesh (--out_frames) is staged with the other outputs.
   StagedOutputs staged;
@@ -359,7 +404,7 @@ int Run(const std::vector<std::string>& command_line) {
     if (!job.frames_dir.empty() && frame_error.empty()) {
       const std::string path = FramePath(job, frame);
       std::string staged_path;
-      deformed.vertices = deformer.deformed_vertices();
+      deformed.vertices = method->deformed_vertices();
       if (!staged.Stage(path, &staged_path, &frame_error) ||
           !WriteMesh(staged_path, deformed, &frame_error)) {
         frame_error = staged.Translate(frame_error);
@@ -373,7 +418,7 @@ int Run(const std::vector<std::string>& command_line) {
     }
   };
   DragLog log;
-  if (!DragAlong(&deformer, job.path, drag_options, &log, &error)) {
+  if (!DragAlong(method.get(), job.path, drag_options, &log, &error)) {
     return Fail(job.mesh_path + ": " + error + "; " + std::to_string(log.failed_frames.size()) +
                 " failed frame(s); no output written");
   }
@@ -389,22 +434,23 @@ int Run(const std::vector<std::string>& command_line) {
     factorizations_total += stats.factorizations;
   }
   const double final_cost = log.frames.back().final_cost;
-  const double diagonal = deformer.diagonal();
+  const double diagonal =
+      deformer != nullptr ? deformer->diagonal() : BoundingBoxDiagonal(job.mesh);
 
   double handle_sq = 0.0;
   for (int v : job.layout.moveable) {
-    handle_sq += (deformer.deformed_vertices().col(v) - job.path.back() * job.mesh.vertices.col(v))
+    handle_sq += (method->deformed_vertices().col(v) - job.path.back() * job.mesh.vertices.col(v))
                      .squaredNorm();
   }
   const double handle_rms = std::sqrt(handle_sq / job.layout.moveable.size());
   double leakage_sum = 0.0, leakage_max = 0.0;
   for (int v : job.watch) {
-    const double moved = (deformer.deformed_vertices().col(v) - job.mesh.vertices.col(v)).norm();
+    const double moved = (method->deformed_vertices().col(v) - job.mesh.vertices.col(v)).norm();
     leakage_sum += moved;
     leakage_max = std::max(leakage_max, moved);
   }
 
-  deformed.vertices = deformer.deformed_vertices();
+  deformed.vertices = method->deformed_vertices();
   if (!deformed.vertices.allFinite()) {
     return Fail(job.mesh_path + ": the deformed mesh has non-finite coordinates; no output written");
   }
@@ -414,16 +460,14 @@ int Run(const std::vector<std::string>& command_line) {
     return Fail(staged.Translate(error));
   }
   if (!job.nodes_path.empty() && (!staged.Stage(job.nodes_path, &staged_path, &error) ||
-                                  !WriteText(staged_path, NodesCsv(deformer), &error))) {
+                                  !WriteText(staged_path, NodesCsv(*deformer), &error))) {
     return Fail(staged.Translate(error));
   }
 
-  const Lattice& lattice = deformer.lattice();
-  const ScaleSelection& selection = deformer.selection();
   Json report;
   report["name"] = job.name;
   report["mesh"] = job.mesh_path;
-  report["method"] = MethodName(job.options.method);
+  report["method"] = job.method;
   report["solver"] = SolverName(job.options.backend);
   report["seed"] = job.options.graph.seed;
   if (!Provenance(job, command_line, &report, &error)) return Fail(error);
@@ -434,42 +478,52 @@ int Run(const std::vector<std::string>& command_line) {
   report["diag"] = diagonal;
   report["handle_vertices"] = {{"fixed", job.layout.fixed.size()},
                                {"moveable", job.layout.moveable.size()}};
-  report["lattice"] = {{"cell_width", lattice.cell_width()},
-                       {"surface_particles", lattice.num_surface_particles()},
-                       {"num_split_cells", lattice.num_split_cells()},
-                       {"interior_particles", lattice.num_interior_particles()},
-                       {"particles", lattice.num_particles()}};
-  report["scales"] = Json::array();
-  for (size_t i = 0; i < deformer.graphs().size(); ++i) {
-    // Edges only where the scale was connected (built when used; null otherwise).
-    const DeformationGraph& graph = deformer.graphs()[i];
-    report["scales"].push_back(
-        {{"scale", i + 1},
-         {"nodes", graph.num_nodes()},
-         {"edges", graph.is_connected() ? Json(graph.edges.size()) : Json(nullptr)}});
+  if (const Lattice* lattice = method->lattice()) {
+    report["lattice"] = {{"cell_width", lattice->cell_width()},
+                         {"surface_particles", lattice->num_surface_particles()},
+                         {"num_split_cells", lattice->num_split_cells()},
+                         {"interior_particles", lattice->num_interior_particles()},
+                         {"particles", lattice->num_particles()}};
   }
   int totally_free = 0, half_free = 0, fixed = 0;
-  for (NodeClass c : deformer.node_classes()) {
-    totally_free += c == NodeClass::kTotallyFree;
-    half_free += c == NodeClass::kHalfFree;
-    fixed += c == NodeClass::kFixed;
+  if (deformer != nullptr) {
+    report["scales"] = Json::array();
+    for (size_t i = 0; i < deformer->graphs().size(); ++i) {
+      // Edges only where the scale was connected (built when used; null otherwise).
+      const DeformationGraph& graph = deformer->graphs()[i];
+      report["scales"].push_back(
+          {{"scale", i + 1},
+           {"nodes", graph.num_nodes()},
+           {"edges", graph.is_connected() ? Json(graph.edges.size()) : Json(nullptr)}});
+    }
+    for (NodeClass c : deformer->node_classes()) {
+      totally_free += c == NodeClass::kTotallyFree;
+      half_free += c == NodeClass::kHalfFree;
+      fixed += c == NodeClass::kFixed;
+    }
+    const ScaleSelection& selection = deformer->selection();
+    report["rigidity"] = {{"threshold", selection.threshold},
+                          {"group1", selection.group1_size},
+                          {"eq6_scale", selection.eq6_scale},
+                          {"local_detail_edit", selection.local_detail_edit}};
+    report["selected_scale"] = deformer->active_graph() + 1;
+    report["nodes"] = {{"totally_free", totally_free}, {"half_free", half_free}, {"fixed", fixed}};
+    // Pinned: kept Fixed because they skin a fixed vertex (scale_selection.h).
+    if (job.options.method == Method::kMultiScale) {
+      report["nodes"]["pinned"] = selection.num_pinned;
+    }
+    report["fixed_region_exact"] = deformer->fixed_region_exact();
+  } else {
+    // What the method optimises (ROI vertices, free lattice particles).
+    report["nodes_optimized"] = method->nodes_optimized();
   }
-  report["rigidity"] = {{"threshold", selection.threshold},
-                        {"group1", selection.group1_size},
-                        {"eq6_scale", selection.eq6_scale},
-                        {"local_detail_edit", selection.local_detail_edit}};
-  report["selected_scale"] = deformer.active_graph() + 1;
-  report["nodes"] = {{"totally_free", totally_free}, {"half_free", half_free}, {"fixed", fixed}};
-  // Pinned: kept Fixed because they skin a fixed vertex (scale_selection.h).
-  if (job.options.method == Method::kMultiScale) report["nodes"]["pinned"] = selection.num_pinned;
-  report["fixed_region_exact"] = deformer.fixed_region_exact();
-  report["variables"] = deformer.num_variables();
-  report["coherence_terms"] = deformer.num_coherence_terms();
+  report["variables"] = method->variables();
+  if (deformer != nullptr) report["coherence_terms"] = deformer->num_coherence_terms();
   report["frames"] = job.path.size();
   report["timings_ms"] = {{"load", job.load_ms},
-                          {"precompute", deformer.precompute_ms()},
-                          {"rigidity", deformer.rigidity_ms()},
-                          {"setup", deformer.setup_ms()},
+                          {"precompute", method->precompute_ms()},
+                          {"rigidity", method->rigidity_ms()},
+                          {"setup", method->setup_ms()},
                           {"frame_median", Median(frame_ms)},
                           {"solve_median", Median(solve_ms)},
                           {"skin_median", Median(skin_ms)},
@@ -493,12 +547,18 @@ int Run(const std::vector<std::string>& command_line) {
   }
   if (!staged.Commit(&error)) return Fail(error);
 
-  if (!FLAGS_quiet) {
+  if (!FLAGS_quiet && deformer != nullptr) {
     std::printf("msdeform: %s (%d vertices), %s method, %s solver: scale %d of %zu; "
                 "%d Totally Free + %d Half Free nodes optimised (%d variables)\n",
-                job.name.c_str(), job.mesh.num_vertices(), MethodName(job.options.method),
-                SolverName(job.options.backend), deformer.active_graph() + 1,
-                deformer.graphs().size(), totally_free, half_free, deformer.num_variables());
+                job.name.c_str(), job.mesh.num_vertices(), job.method.c_str(),
+                SolverName(job.options.backend), deformer->active_graph() + 1,
+                deformer->graphs().size(), totally_free, half_free, deformer->num_variables());
+  } else if (!FLAGS_quiet) {
+    std::printf("msdeform: %s (%d vertices), %s method: %d elements optimised (%d variables)\n",
+                job.name.c_str(), job.mesh.num_vertices(), job.method.c_str(),
+                method->nodes_optimized(), method->variables());
+  }
+  if (!FLAGS_quiet) {
     std::printf("  %zu frames: median frame %.2f ms (solve %.2f, skin %.2f); handle rms %.3g = "
                 "%.2g of the bbox diagonal (distance of the handle vertices from their targets)\n",
                 job.path.size(), Median(frame_ms), Median(solve_ms), Median(skin_ms), handle_rms,

@@ -1,4 +1,4 @@
-// CGAL's ARAP (experiments/cgal_arap.h: Surface_mesh_deformation, cotangent
+// CGAL's ARAP (methods/cgal_arap.h: Surface_mesh_deformation, cotangent
 // weights) on the same handles as bench/deformer_benchmark.cc: the default
 // claw edit on the 26K, 104K and 416K armadillo. Reports the milliseconds of
 // one local/global iteration (a frame of `iterations` iterations divided by
@@ -21,7 +21,7 @@
 #include "bench/bench_data.h"
 #include "msdeform/core/mesh_io.h"
 #include "msdeform/core/scenario.h"
-#include "experiments/cgal_arap.h"
+#include "msdeform/methods/cgal_arap.h"
 
 namespace msdeform {
 namespace {

@@ -81,7 +81,7 @@ def main(run_dir, markdown_path, chart_path):
             r["frame_ms"], r["solve_ms"], r["skin_ms"], r["peak_mb"]))
     lines += [
         "",
-        "CGAL's ARAP (`bench/cgal_arap_benchmark`, experiments/cgal_arap.h: the same handles,",
+        "CGAL's ARAP (`bench/cgal_arap_benchmark`, methods/cgal_arap.h: the same handles,",
         "Laplacian assembly and factorisation, then one local/global iteration; a frame is 20",
         "iterations) on the same meshes, up to 1.66M vertices (6.66M would need about four times",
         "the memory and time of 1.66M; not run):",

@@ -49,13 +49,21 @@ DEFINE_string(variants, "",
               "[solver] Solver lab: comma-separated variant names (default: all, e.g. gn_lagged, "
               "gn_exact, ceres_lm_eigen_sparse).");
 DEFINE_string(methods, "",
-              "[method] Comma-separated methods of table 2: multiscale, static, static_dense, "
-              "cgal_arap (default: all four).");
+              "[method] Comma-separated methods of table 2, any registered one: multiscale, "
+              "static, static_dense, cgal_arap, cgal_sr_arap, fastlsm (default: all; "
+              "methods/registry.h).");
+DEFINE_string(reference_method, "cgal_arap",
+              "[method] The method whose final mesh is the reference of arap_distance_rel "
+              "(empty: none).");
 DEFINE_bool(time_other_backend, true,
             "[solver] Also time multiscale and static with the other backend (Ceres when "
             "--solver=gauss_newton, the default).");
 DEFINE_int32(cgal_iterations, msdeform::CgalArapOptions().iterations,
              "[solver] CGAL ARAP iterations per frame.");
+DEFINE_int32(fastlsm_steps, msdeform::FastLsmOptions().steps_per_frame,
+             "[solver] FastLSM shape-matching steps per frame.");
+DEFINE_double(fastlsm_damping, msdeform::FastLsmOptions().damping,
+              "[solver] FastLSM: fraction of each particle's velocity removed per step, [0, 1).");
 
 namespace msdeform {
 namespace {
@@ -86,6 +94,9 @@ bool FillOptions(RunnerOptions* options, std::string* error) {
   if (!DeformerOptionsFromFlags(&options->deformer, error)) return false;
   options->threads = options->deformer.num_threads;
   options->cgal.iterations = FLAGS_cgal_iterations;
+  options->reference_method = FLAGS_reference_method;
+  options->fastlsm.steps_per_frame = FLAGS_fastlsm_steps;
+  options->fastlsm.damping = FLAGS_fastlsm_damping;
   options->progress = PrintLine;
   return options->Check(error);
 }

@@ -5,12 +5,14 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 #include "msdeform/core/scenario.h"
 #include "msdeform/core/timing.h"
 #include "experiments/metrics.h"
 #include "experiments/tables.h"
+#include "msdeform/methods/registry.h"
 
 namespace msdeform {
 namespace {
@@ -55,26 +57,29 @@ std::string Int(long long value) { return std::to_string(value); }
 
 }  // namespace
 
-bool RunDeformer(const ExperimentScenario& scenario, const DeformerOptions& options,
-                 const std::string& label, const Eigen::Matrix3Xd* arap_result,
-                 RunResult* result, std::string* error) {
+bool RunMethod(const ExperimentScenario& scenario, const std::string& method_name,
+               const MethodOptions& options, const std::string& label,
+               const Eigen::Matrix3Xd* reference, RunResult* result, Eigen::Matrix3Xd* deformed,
+               std::string* error) {
   const auto wall_start = Clock::now();
   *result = RunResult();
   result->scenario = scenario.name;
   result->method = label;
-  Deformer deformer;
-  if (!deformer.Init(scenario.mesh, options, error) ||
-      !deformer.SetHandles(scenario.layout, error)) {
-    *error = scenario.name + " / " + label + ": " + *error;
-    return false;
-  }
-  DragLog log;
-  if (!DragAlong(&deformer, scenario.path, DragAlongOptions(), &log, error)) {
+  std::unique_ptr<EditingMethod> method = CreateMethod(method_name, error);
+  if (method == nullptr || !method->Precompute(scenario.mesh, options, error) ||
+      !method->SetHandles(scenario.layout, error)) {
     *error = scenario.name + " / " + label + ": " + *error;
     return false;
   }
   std::vector<double> frame_ms, solve_ms, skin_ms, iterations;
-  for (const DragStats& stats : log.frames) {
+  const int num_frames = static_cast<int>(scenario.path.size());
+  for (int f = 0; f < num_frames; ++f) {
+    MethodStats stats;
+    if (!method->Drag(scenario.path[f], &stats, error)) {
+      *error = scenario.name + " / " + label + ": frame " + std::to_string(f + 1) + " of " +
+               std::to_string(num_frames) + ": " + *error;
+      return false;
+    }
     frame_ms.push_back(stats.frame_ms);
     solve_ms.push_back(stats.solve_ms);
     skin_ms.push_back(stats.skin_ms);
@@ -84,91 +89,76 @@ bool RunDeformer(const ExperimentScenario& scenario, const DeformerOptions& opti
     result->final_cost = stats.final_cost;
     if (!stats.converged) ++result->unconverged_frames;
   }
-  const Lattice& lattice = deformer.lattice();
-  result->cell_width = lattice.cell_width();
-  result->particles = lattice.num_particles();
-  result->dg1_nodes = deformer.graphs()[0].num_nodes();
-  {
-    const int num_particles = lattice.num_surface_particles();
+  if (const Lattice* lattice = method->lattice()) {
+    result->cell_width = lattice->cell_width();
+    result->particles = lattice->num_particles();
+    const int num_particles = lattice->num_surface_particles();
     std::vector<char> holds_fixed(num_particles, 0), counted(num_particles, 0);
-    for (int v : scenario.layout.fixed) holds_fixed[lattice.particle_of_vertex(v)] = 1;
+    for (int v : scenario.layout.fixed) holds_fixed[lattice->particle_of_vertex(v)] = 1;
     for (int v : scenario.layout.moveable) {
-      const int cell = lattice.particle_of_vertex(v);
+      const int cell = lattice->particle_of_vertex(v);
       if (holds_fixed[cell] && !counted[cell]) {
         counted[cell] = 1;
         ++result->shared_cells;
       }
     }
   }
-  result->num_scales = options.method == Method::kMultiScale
-                           ? static_cast<int>(deformer.graphs().size())
-                           : 1;
-  result->selected_scale = deformer.active_graph() + 1;
-  result->graph_nodes = deformer.active().num_nodes();
-  std::vector<int> optimised;
-  for (int j = 0; j < static_cast<int>(deformer.node_classes().size()); ++j) {
-    const NodeClass c = deformer.node_classes()[j];
-    result->totally_free += c == NodeClass::kTotallyFree;
-    result->half_free += c == NodeClass::kHalfFree;
-    if (c != NodeClass::kFixed) optimised.push_back(j);
+  const Eigen::Matrix3Xd& final_vertices = method->deformed_vertices();
+  result->orthogonality = kNaN;
+  if (const Deformer* deformer = method->deformer()) {
+    result->dg1_nodes = deformer->graphs()[0].num_nodes();
+    result->num_scales = deformer->options().method == Method::kMultiScale
+                             ? static_cast<int>(deformer->graphs().size())
+                             : 1;
+    result->selected_scale = deformer->active_graph() + 1;
+    result->graph_nodes = deformer->active().num_nodes();
+    std::vector<int> optimised;
+    for (int j = 0; j < static_cast<int>(deformer->node_classes().size()); ++j) {
+      const NodeClass c = deformer->node_classes()[j];
+      result->totally_free += c == NodeClass::kTotallyFree;
+      result->half_free += c == NodeClass::kHalfFree;
+      if (c != NodeClass::kFixed) optimised.push_back(j);
+    }
+    result->orthogonality = OrthogonalityError(deformer->transforms(), optimised);
   }
-  result->nodes_optimized = static_cast<int>(optimised.size());
-  result->variables = deformer.num_variables();
-  result->precompute_ms = deformer.precompute_ms();
-  result->rigidity_ms = deformer.rigidity_ms();
-  result->setup_ms = deformer.setup_ms();
+  result->nodes_optimized = method->nodes_optimized();
+  result->variables = method->variables();
+  result->precompute_ms = method->precompute_ms();
+  result->rigidity_ms = method->rigidity_ms();
+  result->setup_ms = method->setup_ms();
   result->frame_ms = Median(frame_ms);
   result->solve_ms = Median(solve_ms);
   result->skin_ms = Median(skin_ms);
   result->iterations_median = Median(iterations);
-  MeasureQuality(scenario, deformer.deformed_vertices(), result);
+  MeasureQuality(scenario, final_vertices, result);
   result->arap_distance_rel =
-      arap_result == nullptr
+      reference == nullptr
           ? kNaN
-          : (deformer.deformed_vertices() - *arap_result).colwise().norm().mean() /
-                result->diagonal;
-  result->orthogonality = OrthogonalityError(deformer.transforms(), optimised);
+          : (final_vertices - *reference).colwise().norm().mean() / result->diagonal;
+  result->other_backend_frame_ms = kNaN;
+  if (deformed != nullptr) *deformed = final_vertices;
   result->wall_ms = MillisecondsSince(wall_start);
   return true;
 }
 
+bool RunDeformer(const ExperimentScenario& scenario, const DeformerOptions& options,
+                 const std::string& label, const Eigen::Matrix3Xd* arap_result,
+                 RunResult* result, std::string* error) {
+  MethodOptions method_options;
+  method_options.deformer = options;
+  return RunMethod(scenario, MethodName(options.method), method_options, label, arap_result,
+                   result, nullptr, error);
+}
+
 bool RunCgalArap(const ExperimentScenario& scenario, const CgalArapOptions& options,
                  RunResult* result, Eigen::Matrix3Xd* deformed, std::string* error) {
-  const auto wall_start = Clock::now();
-  *result = RunResult();
-  result->scenario = scenario.name;
-  result->method = "cgal_arap";
-  CgalArap arap;
-  if (!arap.Init(scenario.mesh, scenario.layout, {}, options, error)) {
-    *error = scenario.name + " / cgal_arap: " + *error;
+  MethodOptions method_options;
+  method_options.cgal = options;
+  if (!RunMethod(scenario, "cgal_arap", method_options, "cgal_arap", nullptr, result, deformed,
+                 error)) {
     return false;
   }
-  std::vector<double> frame_ms, solve_ms;
-  for (size_t f = 0; f < scenario.path.size(); ++f) {
-    CgalArapStats stats;
-    const auto frame_start = Clock::now();
-    if (!arap.Drag(scenario.path[f], &stats, error)) {
-      *error = scenario.name + " / cgal_arap: frame " + std::to_string(f + 1) + ": " + *error;
-      return false;
-    }
-    frame_ms.push_back(MillisecondsSince(frame_start));
-    solve_ms.push_back(stats.solve_ms);
-    result->solve_total_ms += stats.solve_ms;
-  }
-  result->nodes_optimized = arap.roi_size();
-  result->variables = 3 * arap.roi_size();
-  result->setup_ms = arap.convert_ms() + arap.preprocess_ms();
-  result->frame_ms = Median(frame_ms);
-  result->solve_ms = Median(solve_ms);
-  result->iterations_median = options.iterations;
-  result->iterations_total = options.iterations * static_cast<int>(scenario.path.size());
-  result->final_cost = kNaN;
-  MeasureQuality(scenario, arap.deformed_vertices(), result);
-  result->orthogonality = kNaN;
   result->arap_distance_rel = 0.0;
-  result->other_backend_frame_ms = kNaN;
-  if (deformed != nullptr) *deformed = arap.deformed_vertices();
-  result->wall_ms = MillisecondsSince(wall_start);
   return true;
 }
 
@@ -186,14 +176,25 @@ bool RunnerOptions::Check(std::string* error) const {
     return false;
   }
   for (const std::string& method : methods) {
-    Method parsed;
-    if (method != "cgal_arap" && !ParseMethod(method, &parsed)) {
-      *error = "methods: unknown method '" + method +
-               "' (expected multiscale, static, static_dense or cgal_arap)";
+    if (!IsMethodName(method)) {
+      *error = "methods: unknown method '" + method + "' (expected " + MethodNameList() + ")";
       return false;
     }
   }
-  return deformer.Check(error) && cgal.Check(error);
+  for (const std::string& method : other_backend_methods) {
+    if (!IsMethodName(method)) {
+      *error = "other_backend_methods: unknown method '" + method + "' (expected " +
+               MethodNameList() + ")";
+      return false;
+    }
+  }
+  for (const std::string* method : {&reference_method, &table1_method}) {
+    if (!method->empty() && !IsMethodName(*method)) {
+      *error = "unknown method '" + *method + "' (expected " + MethodNameList() + ")";
+      return false;
+    }
+  }
+  return deformer.Check(error) && cgal.Check(error) && fastlsm.Check(error);
 }
 
 namespace {
@@ -245,8 +246,8 @@ std::vector<Variant> Ablations() {
 
 std::string Describe(const RunResult& r) {
   std::ostringstream line;
-  line << r.method << " " << FormatNumber(r.frame_ms, 3) << " ms/frame";
-  if (r.method != "cgal_arap") line << " (" << r.nodes_optimized << " nodes)";
+  line << r.method << " " << FormatNumber(r.frame_ms, 3) << " ms/frame ("
+       << r.nodes_optimized << " nodes)";
   return line.str();
 }
 
@@ -264,7 +265,7 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
   if (!ListScenarioFiles(options.scenario_dir, &files, error)) return false;
   std::vector<std::string> only = options.only;
   std::vector<std::string> methods = options.methods;
-  if (methods.empty()) methods = {"multiscale", "static", "static_dense", "cgal_arap"};
+  if (methods.empty()) methods = MethodNames();
   std::vector<std::string> ablation_names = options.ablation_scenarios;
   int frames = options.frames;
   if (options.quick) {
@@ -290,6 +291,10 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
   DeformerOptions base = options.deformer;
   base.num_threads = options.threads;
   base.graph.num_threads = options.threads;
+  MethodOptions method_base;
+  method_base.deformer = base;
+  method_base.cgal = options.cgal;
+  method_base.fastlsm = options.fastlsm;
 
   Table table1{"Table 1: the multi-scale method per model (paper Table 1)",
                {"model", "scenario", "vertices", "faces", "cell_width", "particles", "d1",
@@ -298,7 +303,7 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
                 "frame_ms"},
                {},
                {}};
-  Table table2{"Table 2: multi-scale against the single static graphs and CGAL's ARAP",
+  Table table2{"Table 2: multi-scale against the single static graphs, CGAL's ARAP and SR-ARAP, and FastLSM",
                {"scenario", "method", "vertices", "nodes_optimized", "variables", "frame_ms",
                 "solve_ms", "skin_ms", "setup_ms", "iterations", "unconverged_frames",
                 "handle_rms_rel", "fixed_max_rel", "arap_energy", "arap_energy_joint", "strain",
@@ -339,33 +344,42 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
          << (scenario.has_watch ? std::to_string(scenario.watch.size()) : std::string("no"))
          << " watch, " << scenario.path.size() << " frames):";
 
-    // CGAL's ARAP first: its final mesh is the reference of arap_distance_rel.
-    Eigen::Matrix3Xd arap_result;
-    const bool run_cgal = Contains(methods, "cgal_arap");
-    RunResult cgal;
-    if (run_cgal && !RunCgalArap(scenario, options.cgal, &cgal, &arap_result, error)) return false;
-    const Eigen::Matrix3Xd* reference = run_cgal ? &arap_result : nullptr;
-    for (Method method : {Method::kMultiScale, Method::kStatic, Method::kStaticDense}) {
-      if (!Contains(methods, MethodName(method))) continue;
-      DeformerOptions run_options = base;
-      run_options.method = method;
+    // The reference method first: its final mesh is the reference of
+    // arap_distance_rel (its own row then measures 0).
+    Eigen::Matrix3Xd reference_result;
+    const bool run_reference =
+        !options.reference_method.empty() && Contains(methods, options.reference_method);
+    RunResult reference_row;
+    if (run_reference &&
+        !RunMethod(scenario, options.reference_method, method_base, options.reference_method,
+                   nullptr, &reference_row, &reference_result, error)) {
+      return false;
+    }
+    if (run_reference) reference_row.arap_distance_rel = 0.0;
+    const Eigen::Matrix3Xd* reference = run_reference ? &reference_result : nullptr;
+    for (const std::string& method : MethodNames()) {
+      if (!Contains(methods, method)) continue;
       RunResult r;
-      if (!RunDeformer(scenario, run_options, MethodName(method), reference, &r, error)) {
+      if (method == options.reference_method) {
+        r = reference_row;
+      } else if (!RunMethod(scenario, method, method_base, method, reference, &r, nullptr,
+                            error)) {
         return false;
       }
-      r.other_backend_frame_ms = kNaN;
-      if (options.time_other_backend && method != Method::kStaticDense) {
-        run_options.backend =
-            run_options.backend == Solver::kCeres ? Solver::kGaussNewton : Solver::kCeres;
+      if (options.time_other_backend && Contains(options.other_backend_methods, method)) {
+        MethodOptions other_options = method_base;
+        other_options.deformer.backend =
+            base.backend == Solver::kCeres ? Solver::kGaussNewton : Solver::kCeres;
         RunResult other;
-        if (!RunDeformer(scenario, run_options, MethodName(method), nullptr, &other, error)) {
+        if (!RunMethod(scenario, method, other_options, method, nullptr, &other, nullptr,
+                       error)) {
           return false;
         }
         r.other_backend_frame_ms = other.frame_ms;
       }
       add_table2(r);
       line << " " << Describe(r) << ";";
-      if (method == Method::kMultiScale) {
+      if (method == options.table1_method) {
         line << " [scale " << r.selected_scale << "/" << r.num_scales << ", "
              << r.shared_cells << " particles shared by handle and fixed]";
         table1.AddRow({fs::path(scenario.mesh_path).stem().string(), r.scenario,
@@ -376,10 +390,6 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
                        Int(r.totally_free), Int(r.half_free), Int(r.nodes_optimized),
                        Int(r.variables), FormatNumber(r.frame_ms)});
       }
-    }
-    if (run_cgal) {
-      add_table2(cgal);
-      line << " " << Describe(cgal) << ";";
     }
 
     if (Contains(ablation_names, scenario.name)) {
@@ -409,7 +419,10 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
                           : std::string("each scenario's frames"))
            << ", " << options.threads << " thread(s), " << SolverName(base.backend)
            << " backend, max " << base.stopping.max_iterations << " iterations per frame, CGAL "
-           << options.cgal.iterations << " iterations per frame, seed " << base.graph.seed;
+           << options.cgal.iterations << " iterations per frame, FastLSM "
+           << options.fastlsm.steps_per_frame << " steps per frame (r = "
+           << options.fastlsm.region_half_width << ", damping " << options.fastlsm.damping
+           << "), seed " << base.graph.seed;
   std::vector<std::string> header = ProvenanceLines();
   header.push_back(settings.str());
   // Every setting that changes a number: the base options each row starts
@@ -427,7 +440,12 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
   table2.notes.push_back(units);
   table2.notes.push_back("cgal_arap: nodes_optimized = ROI vertices (all but the fixed), "
                          "variables = 3 per ROI vertex; setup_ms = conversion + factorisation; "
-                         "precompute_ms and rigidity_ms = 0 (it has neither step).");
+                         "precompute_ms and rigidity_ms = 0 (it has neither step). cgal_sr_arap: "
+                         "the same with CGAL's SR-ARAP.");
+  table2.notes.push_back("fastlsm: nodes_optimized = free lattice particles (neither handle nor "
+                         "fixed), variables = 3 per free particle, iterations = shape-matching "
+                         "steps per frame, precompute_ms = lattice and regions, setup_ms = the "
+                         "layout's particles.");
   table2.notes.push_back("precompute_ms = Deformer::Init (lattice, graphs, weights); rigidity_ms = "
                          "the shape-matching estimate in SetHandles (multiscale only); setup_ms = "
                          "the rest of SetHandles (scale selection, classes, problem).");

@@ -1,6 +1,7 @@
 // The experiment runner behind msdeform_experiments: every scenario under a
-// folder with the multi-scale method, both static baselines and CGAL's ARAP,
-// then the ablations (docs/method.md §7), written as tables
+// folder with each registered editing method (methods/registry.h: the
+// multi-scale method, both static baselines, CGAL's ARAP and SR-ARAP,
+// FastLSM), all run through the one interface, then the ablations (docs/method.md §7), written as tables
 // (experiments/results/README.md explains them):
 //   table1      per model: lattice, graphs, scale, optimised nodes, times
 //   table2      per scenario x method: size, time, accuracy, distortion, leakage
@@ -18,21 +19,22 @@
 #include <string>
 #include <vector>
 
-#include "experiments/cgal_arap.h"
 #include "experiments/experiment_scenario.h"
+#include "msdeform/methods/method_options.h"
 #include "msdeform/scales/deformer.h"
 
 namespace msdeform {
 
 // Everything measured on one run of one method on one scenario. NaN marks a
-// number that does not apply (no watch region; no node rotations for CGAL).
+// number that does not apply (no watch region; no node rotations for a method
+// that is not a graph; no energy for CGAL's and FastLSM).
 struct RunResult {
   std::string scenario;
-  std::string method;  // multiscale, static, static_dense, cgal_arap, or a variant name
+  std::string method;  // a registered method (methods/registry.h) or a variant name
   int vertices = 0;
   int faces = 0;
   double diagonal = 0.0;
-  // Lattice and graphs (deformer methods).
+  // Lattice (methods with one) and graphs (graph methods); 0 otherwise.
   double cell_width = 0.0;
   int particles = 0;
   int dg1_nodes = 0;
@@ -68,8 +70,8 @@ struct RunResult {
   double arap_energy_joint = 0.0;  // over the band near the fixed region (NaN: none)
   double strain = 0.0;
   double orthogonality = 0.0;  // mean |R^T R - I|_F over optimised nodes (NaN for CGAL)
-  // Mean distance of the final vertices to CGAL ARAP's on the same drag, over
-  // the diagonal (NaN when CGAL's was not run).
+  // Mean distance of the final vertices to the reference method's (CGAL ARAP
+  // by default) on the same drag, over the diagonal (NaN when it was not run).
   double arap_distance_rel = 0.0;
   // Median frame time with the other backend (Ceres when the run's backend
   // is Gauss-Newton and the reverse; multiscale and static; NaN when not run).
@@ -77,15 +79,22 @@ struct RunResult {
   double wall_ms = 0.0;
 };
 
-// Runs the deformer with `options` over the scenario's drag path and measures
-// it. `label` names the row (a method or a variant). `arap_result`, when not
-// null, is CGAL ARAP's final mesh on the same drag (for arap_distance_rel).
+// Runs the registered method `method` with `options` over the scenario's drag
+// path through the method interface and measures it. `label` names the row
+// (the method or a variant). `reference`, when not null, is the reference
+// method's final mesh on the same drag (for arap_distance_rel). The final
+// mesh goes to *deformed when not null.
+bool RunMethod(const ExperimentScenario& scenario, const std::string& method,
+               const MethodOptions& options, const std::string& label,
+               const Eigen::Matrix3Xd* reference, RunResult* result, Eigen::Matrix3Xd* deformed,
+               std::string* error);
+
+// RunMethod for the graph method options.method.
 bool RunDeformer(const ExperimentScenario& scenario, const DeformerOptions& options,
                  const std::string& label, const Eigen::Matrix3Xd* arap_result,
                  RunResult* result, std::string* error);
 
-// The same for CGAL's ARAP (ROI = every non-fixed vertex); its final mesh
-// goes to *deformed when not null.
+// RunMethod for cgal_arap, the reference itself (arap_distance_rel = 0).
 bool RunCgalArap(const ExperimentScenario& scenario, const CgalArapOptions& options,
                  RunResult* result, Eigen::Matrix3Xd* deformed, std::string* error);
 
@@ -104,12 +113,18 @@ struct RunnerOptions {
   int threads = 1;
   // Only these scenario names (empty: all).
   std::vector<std::string> only;
-  // Methods of table 2, any of multiscale, static, static_dense, cgal_arap
-  // (empty: all four).
+  // Methods of table 2, any registered names (empty: every registered
+  // method). Rows follow the registry's order.
   std::vector<std::string> methods;
-  // Also time multiscale and static with the other backend
-  // (other_backend_frame_ms).
+  // The method whose final mesh is the reference of arap_distance_rel (run
+  // first when it is among `methods`; empty: none).
+  std::string reference_method = "cgal_arap";
+  // The method of table 1 (one row per scenario when it is run).
+  std::string table1_method = "multiscale";
+  // Also time these methods with the other backend of options.deformer
+  // (other_backend_frame_ms) when time_other_backend.
   bool time_other_backend = true;
+  std::vector<std::string> other_backend_methods = {"multiscale", "static"};
   // Scenarios of the ablation table (full run); camel_hoof_lift_free_leg is
   // the edit with a free limb that touches the lifted one (its leakage).
   std::vector<std::string> ablation_scenarios = {"man_knee_bend", "armadillo_arm_raise",
@@ -120,6 +135,7 @@ struct RunnerOptions {
   // are set per run.
   DeformerOptions deformer;
   CgalArapOptions cgal;
+  FastLsmOptions fastlsm;
   // Called with one line per finished scenario (and per table); may be empty.
   std::function<void(const std::string&)> progress;
 

@@ -11,7 +11,9 @@
 
 #include <pybind11/stl.h>
 
-#include "experiments/cgal_arap.h"
+#include "msdeform/methods/cgal_arap.h"
+#include "msdeform/methods/method_options.h"
+#include "msdeform/methods/registry.h"
 #include "experiments/experiment_scenario.h"
 #include "experiments/metrics.h"
 #include "experiments/runner.h"
@@ -133,6 +135,44 @@ py::tuple RunCgalArapOn(const ExperimentScenario& scenario, int iterations, doub
   {
     py::gil_scoped_release release;
     ok = RunCgalArap(scenario, options, &result, &deformed, &error);
+  }
+  if (!ok) ThrowRuntimeError(error);
+  return py::make_tuple(RunResultToDict(result), PositionsToArray(deformed));
+}
+
+py::tuple RunMethodOn(const ExperimentScenario& scenario, const std::string& method,
+                      const py::object& options, const py::object& label,
+                      const py::object& reference, int cgal_iterations, int fastlsm_steps,
+                      double fastlsm_damping, const py::kwargs& kwargs) {
+  MethodOptions method_options;
+  method_options.deformer = DeformerOptionsFrom(options, kwargs);
+  method_options.cgal.iterations = cgal_iterations;
+  method_options.fastlsm.steps_per_frame = fastlsm_steps;
+  method_options.fastlsm.damping = fastlsm_damping;
+  std::string error;
+  if (!IsMethodName(method)) ThrowValueError("method: " + (CreateMethod(method, &error), error));
+  if (!method_options.deformer.Check(&error) || !method_options.cgal.Check(&error) ||
+      !method_options.fastlsm.Check(&error)) {
+    ThrowValueError(error);
+  }
+  const std::string name = label.is_none() ? method : label.cast<std::string>();
+  Eigen::Matrix3Xd reference_positions;
+  if (!reference.is_none()) {
+    reference_positions = PositionsFromArray(reference, "reference");
+    if (reference_positions.cols() != scenario.mesh.num_vertices()) {
+      ThrowValueError("reference: " + std::to_string(reference_positions.cols()) +
+                      " vertices, the scenario's mesh has " +
+                      std::to_string(scenario.mesh.num_vertices()));
+    }
+  }
+  RunResult result;
+  Eigen::Matrix3Xd deformed;
+  bool ok;
+  {
+    py::gil_scoped_release release;
+    ok = RunMethod(scenario, method, method_options, name,
+                   reference.is_none() ? nullptr : &reference_positions, &result, &deformed,
+                   &error);
   }
   if (!ok) ThrowRuntimeError(error);
   return py::make_tuple(RunResultToDict(result), PositionsToArray(deformed));
@@ -290,6 +330,20 @@ void BindScenario(py::module_& m) {
 }
 
 void BindRunner(py::module_& m) {
+  m.def("run_method", &RunMethodOn, py::arg("scenario"), py::arg("method"),
+        py::arg("options") = py::none(), py::arg("label") = py::none(),
+        py::arg("reference") = py::none(),
+        py::arg("cgal_iterations") = CgalArapOptions().iterations,
+        py::arg("fastlsm_steps") = FastLsmOptions().steps_per_frame,
+        py::arg("fastlsm_damping") = FastLsmOptions().damping,
+        "run_method(scenario, method, options=None, label=None, reference=None, "
+        "cgal_iterations=20, fastlsm_steps=20, fastlsm_damping=0.1, **kwargs)\n\n"
+        "Runs any registered method (msdeform.METHODS) over the scenario's drag path through "
+        "the method interface, as the experiment runner does (experiments/runner.h, "
+        "RunMethod). options and keyword arguments as for Deformer. reference, the reference "
+        "method's final vertices on the same drag, gives arap_distance_rel (NaN without). "
+        "Returns (row, V2): run_deformer's dict and the final vertices (#V, 3). Raises "
+        "ValueError for an unknown method or bad options, RuntimeError when a frame fails.");
   m.def("run_deformer", &RunDeformerOn, py::arg("scenario"), py::arg("options") = py::none(),
         py::arg("label") = py::none(), py::arg("arap_result") = py::none(),
         "run_deformer(scenario, options=None, label=None, arap_result=None, **kwargs)\n\n"

@@ -38,6 +38,7 @@ namespace py = pybind11;
 void BindIo(py::module_& m);
 void BindOptions(py::module_& m);
 void BindDeformer(py::module_& m);
+void BindMethod(py::module_& m);
 void BindExperiments(py::module_& m);
 void BindFlags(py::module_& m);
 

@@ -15,6 +15,7 @@ PYBIND11_MODULE(_msdeform, m) {
   python::BindIo(m);
   python::BindOptions(m);
   python::BindDeformer(m);
+  python::BindMethod(m);
   python::BindExperiments(m);
   python::BindFlags(m);
 }

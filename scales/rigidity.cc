@@ -315,10 +315,10 @@ void RigidityEstimator::ComputeGoalsInLatticeUnits(const Eigen::Matrix3Xd& posit
 }
 
 void RigidityEstimator::ComputeGoals(const Eigen::Matrix3Xd& positions,
-                                     Eigen::Matrix3Xd* goals) {
+                                     Eigen::Matrix3Xd* goals, bool warm_start) {
   CHECK_EQ(positions.cols(), num_particles());
   CHECK(goals != nullptr);
-  std::fill(rotations_.begin(), rotations_.end(), Eigen::Quaterniond::Identity());
+  if (!warm_start) std::fill(rotations_.begin(), rotations_.end(), Eigen::Quaterniond::Identity());
   const Eigen::Matrix3Xd lattice_positions = (positions.colwise() - centre_) / cell_width_;
   long long iterations = 0;
   ComputeGoalsInLatticeUnits(lattice_positions, goals, &iterations);

@@ -155,9 +155,12 @@ class RigidityEstimator {
                 std::string* error);
 
   // Goals (Eq. 2) for the given current positions, 3 by #particles in mesh
-  // units, with rotations cold-started from the identity. Exposes one shape
-  // matching step; shape matching is exact for a rigid motion.
-  void ComputeGoals(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* goals);
+  // units, with rotations cold-started from the identity, or with
+  // `warm_start` from the previous call's (a simulation that calls it every
+  // step, like methods/fastlsm.h). Exposes one shape matching step; shape
+  // matching is exact for a rigid motion.
+  void ComputeGoals(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* goals,
+                    bool warm_start = false);
 
   const RigidityOptions& options() const { return options_; }
   int num_particles() const { return static_cast<int>(rest_.cols()); }

@@ -5,6 +5,8 @@
 #include <utility>
 
 #include "msdeform/core/timing.h"
+#include "msdeform/methods/graph_method.h"
+#include "msdeform/methods/registry.h"
 
 namespace msdeform {
 namespace editor {
@@ -22,12 +24,13 @@ struct EditSession::Job {
   // In.
   bool init = false;
   bool set_handles = false;
-  DeformerOptions options;
+  std::string method_name;
+  MethodOptions options;
   const Mesh* mesh = nullptr;  // the session's, unchanged while the job runs
   std::string mesh_path;
   HandleLayout layout;
   std::vector<Eigen::Affine3d> path;
-  std::unique_ptr<Deformer> deformer;  // reused unless init
+  std::unique_ptr<EditingMethod> method;  // reused unless init
   Clock::time_point requested;
   std::function<void()> on_done;
   // Out.
@@ -47,21 +50,21 @@ std::unique_ptr<Job> RunJob(std::unique_ptr<Job> job) {
   std::string error;
   if (job->init) {
     const auto start = Clock::now();
-    job->deformer = std::make_unique<Deformer>();
-    if (!job->deformer->Init(*job->mesh, job->options, &error)) {
+    job->method = CreateMethod(job->method_name, &error);
+    if (job->method == nullptr || !job->method->Precompute(*job->mesh, job->options, &error)) {
       job->error = job->mesh_path + ": " + error;
-      job->deformer.reset();
+      job->method.reset();
     }
     job->timing.init = true;
     job->timing.init_ms = MillisecondsSince(start);
   }
-  if (job->deformer != nullptr && job->set_handles) {
-    if (!job->deformer->SetHandles(job->layout, &error)) {
+  if (job->method != nullptr && job->set_handles) {
+    if (!job->method->SetHandles(job->layout, &error)) {
       job->error = "handles: " + error;
     } else {
       job->configured = true;
-      job->timing.rigidity_ms = job->deformer->rigidity_ms();
-      job->timing.setup_ms = job->deformer->setup_ms();
+      job->timing.rigidity_ms = job->method->rigidity_ms();
+      job->timing.setup_ms = job->method->setup_ms();
     }
   }
   if (job->configured && !job->path.empty()) {
@@ -69,7 +72,7 @@ std::unique_ptr<Job> RunJob(std::unique_ptr<Job> job) {
     DragAlongOptions drag_options;
     drag_options.continue_after_failure = true;  // as msdeform: only the last frame counts
     DragLog log;
-    if (!DragAlong(job->deformer.get(), job->path, drag_options, &log, &error)) {
+    if (!DragAlong(job->method.get(), job->path, drag_options, &log, &error)) {
       job->error = job->mesh_path + ": " + error + "; " + std::to_string(log.failed_frames.size()) +
                    " failed frame(s)";
       job->path_failed = true;
@@ -98,7 +101,7 @@ void EditSession::Open(EditInputs inputs, const DeformerOptions& options) {
   inputs_.mesh = Mesh();
   rest_normals_ = VertexNormals(mesh_);
   options_ = options;
-  deformer_.reset();
+  method_.reset();
   configured_ = false;
   error_.clear();
   transform_ = Eigen::Affine3d::Identity();
@@ -114,6 +117,8 @@ void EditSession::Open(EditInputs inputs, const DeformerOptions& options) {
 }
 
 void EditSession::SetOptions(const DeformerOptions& options) {
+  // A graph method chosen in the options replaces a non-graph one.
+  if (options.method != options_.method) other_method_.clear();
   options_ = options;
   if (!has_mesh()) return;
   if (busy()) {
@@ -160,7 +165,7 @@ bool EditSession::CommitLayout(std::string* why) {
     pending_layout_ = true;
     return true;
   }
-  StartJob(/*init=*/deformer_ == nullptr, /*set_handles=*/true, {});
+  StartJob(/*init=*/method_ == nullptr, /*set_handles=*/true, {});
   return true;
 }
 
@@ -171,7 +176,7 @@ void EditSession::ResetPose() {
     pending_layout_ = true;
     return;
   }
-  StartJob(/*init=*/deformer_ == nullptr, /*set_handles=*/true, {});
+  StartJob(/*init=*/method_ == nullptr, /*set_handles=*/true, {});
 }
 
 void EditSession::StartJob(bool init, bool set_handles, std::vector<Eigen::Affine3d> path) {
@@ -179,14 +184,16 @@ void EditSession::StartJob(bool init, bool set_handles, std::vector<Eigen::Affin
   job->requested = Clock::now();
   job->init = init;
   job->set_handles = set_handles;
-  job->options = options_;
+  job->method_name = method_name();
+  job->options = method_options_;
+  job->options.deformer = options_;
   job->mesh = &mesh_;
   job->mesh_path = inputs_.mesh_path;
   job->layout = committed_layout_;
   job->path = std::move(path);
   job->on_done = on_job_done_;
-  if (!init) job->deformer = std::move(deformer_);
-  deformer_.reset();
+  if (!init) job->method = std::move(method_);
+  method_.reset();
   configured_ = false;
   ++geometry_version_;  // the rest pose is shown while the job runs
   job_ = std::async(std::launch::async, RunJob<Job>, std::move(job));
@@ -194,7 +201,7 @@ void EditSession::StartJob(bool init, bool set_handles, std::vector<Eigen::Affin
 
 void EditSession::TakeJob() {
   std::unique_ptr<Job> job = job_.get();
-  deformer_ = std::move(job->deformer);
+  method_ = std::move(job->method);
   configured_ = job->configured;
   error_ = job->error;
   error_in_path_ = job->path_failed;
@@ -208,7 +215,7 @@ void EditSession::TakeJob() {
     // New options keep the pose; a new layout starts from rest.
     if (!pending_layout_ && !transform_.matrix().isIdentity(0.0)) path.push_back(transform_);
     if (pending_layout_) transform_ = Eigen::Affine3d::Identity();
-    const bool init = pending_init_ || deformer_ == nullptr;
+    const bool init = pending_init_ || method_ == nullptr;
     pending_init_ = pending_layout_ = false;
     StartJob(init, !committed_layout_.moveable.empty(), std::move(path));
   }
@@ -230,7 +237,7 @@ bool EditSession::WaitFor(std::chrono::milliseconds timeout) const {
   return !job_.valid() || job_.wait_for(timeout) == std::future_status::ready;
 }
 
-bool EditSession::ready() const { return !busy() && deformer_ != nullptr && configured_; }
+bool EditSession::ready() const { return !busy() && method_ != nullptr && configured_; }
 
 bool EditSession::Drag(const Eigen::Affine3d& deformed_from_rest, std::string* error) {
   if (!ready()) {
@@ -238,7 +245,7 @@ bool EditSession::Drag(const Eigen::Affine3d& deformed_from_rest, std::string* e
     return false;
   }
   DragStats stats;
-  if (!deformer_->Drag(deformed_from_rest, &stats, error)) {
+  if (!method_->Drag(deformed_from_rest, &stats, error)) {
     error_ = *error;
     error_in_path_ = false;
     return false;
@@ -252,11 +259,48 @@ bool EditSession::Drag(const Eigen::Affine3d& deformed_from_rest, std::string* e
 }
 
 const Eigen::Matrix3Xd& EditSession::positions() const {
-  return ready() ? deformer_->deformed_vertices() : mesh_.vertices;
+  return ready() ? method_->deformed_vertices() : mesh_.vertices;
 }
 
 const Eigen::Matrix3Xd& EditSession::normals() const {
-  return ready() ? deformer_->deformed_normals() : rest_normals_;
+  if (!ready()) return rest_normals_;
+  if (const Deformer* graph = method_->deformer()) return graph->deformed_normals();
+  // A method without skinned normals: the deformed mesh's vertex normals,
+  // computed once per pose.
+  if (method_normals_version_ != geometry_version_) {
+    Mesh deformed = mesh_;
+    deformed.vertices = method_->deformed_vertices();
+    method_normals_ = VertexNormals(deformed);
+    method_normals_version_ = geometry_version_;
+  }
+  return method_normals_;
+}
+
+std::string EditSession::method_name() const {
+  return other_method_.empty() ? std::string(MethodName(options_.method)) : other_method_;
+}
+
+bool EditSession::SetMethod(const std::string& name, std::string* error) {
+  if (!IsMethodName(name)) {
+    *error = "--method=" + name + ": expected " + MethodNameList();
+    return false;
+  }
+  DeformerOptions options = options_;
+  Method graph;
+  if (ParseMethod(name, &graph)) {
+    other_method_.clear();
+    options.method = graph;
+  } else {
+    other_method_ = name;
+  }
+  SetOptions(options);
+  return true;
+}
+
+void EditSession::SetMethodOptions(const CgalArapOptions& cgal, const FastLsmOptions& fastlsm) {
+  method_options_.cgal = cgal;
+  method_options_.fastlsm = fastlsm;
+  SetOptions(options_);
 }
 
 Eigen::Vector3d EditSession::HandleCentroid() const {
@@ -275,7 +319,7 @@ std::string EditSession::Status() const {
   std::ostringstream text;
   if (!has_mesh()) return "no mesh: open one (File)";
   text << inputs_.name << ": " << mesh_.num_vertices() << " vertices, "
-       << MethodName(options_.method) << " / " << SolverName(options_.backend) << "; ";
+       << method_name() << " / " << SolverName(options_.backend) << "; ";
   if (!error_.empty()) {
     text << "error: " << error_;
   } else if (busy()) {
@@ -284,10 +328,12 @@ std::string EditSession::Status() const {
     text << "paint the moveable handle (H) and the fixed region (F)";
   } else if (labels_changed_) {
     text << "selection changed: release the mouse to apply it";
-  } else if (ready()) {
-    const Deformer& d = *deformer_;
+  } else if (ready() && method_->deformer() != nullptr) {
+    const Deformer& d = *method_->deformer();
     text << "scale " << d.active_graph() + 1 << " of " << d.graphs().size() << ", "
          << d.num_variables() << " variables";
+  } else if (ready()) {
+    text << method_->variables() << " variables";
   }
   return text.str();
 }

@@ -1,5 +1,7 @@
 // The editor's model, without a window: the mesh, the vertex labels the user
-// paints, the Deformer, and the handle transform being dragged.
+// paints, the editing method (any registered one, methods/registry.h: by
+// default the graph method of the options), and the handle transform being
+// dragged.
 //
 //   EditSession session;
 //   session.Open(std::move(inputs), options);   // Init (+ SetHandles + path) in the background
@@ -32,6 +34,8 @@
 
 #include "apps/editor/edit_inputs.h"
 #include "apps/editor/selection.h"
+#include "msdeform/methods/method.h"
+#include "msdeform/methods/method_options.h"
 #include "msdeform/scales/deformer.h"
 
 namespace msdeform {
@@ -70,6 +74,17 @@ class EditSession {
   // again, and the current handle transform again (one Drag), so methods can
   // be compared at the same pose.
   void SetOptions(const DeformerOptions& options);
+  // The method by its registered name (msdeform --method): a graph method
+  // sets options().method, another (cgal_arap, cgal_sr_arap, fastlsm) runs
+  // with options() for what it uses and method_options() for its own. Then
+  // as SetOptions. False, with "--method=<name>: expected <names>", for an
+  // unknown name (nothing changes).
+  bool SetMethod(const std::string& name, std::string* error);
+  // CGAL's iterations and FastLSM's steps; applied as SetOptions.
+  void SetMethodOptions(const CgalArapOptions& cgal, const FastLsmOptions& fastlsm);
+  // The registered name of the method in use.
+  std::string method_name() const;
+  const MethodOptions& method_options() const { return method_options_; }
 
   // Labels `vertices` (ids of the mesh); the layout takes effect at
   // CommitLayout.
@@ -110,8 +125,13 @@ class EditSession {
   // The labels since the last CommitLayout differ from the committed layout.
   bool layout_pending() const { return labels_changed_; }
   const HandleLayout& committed_layout() const { return committed_layout_; }
-  // The deformer when one exists and no job runs (for overlays), else null.
-  const Deformer* deformer() const { return busy() ? nullptr : deformer_.get(); }
+  // The graph method's deformer when one exists and no job runs (for
+  // overlays), else null (also for a method that is not a graph).
+  const Deformer* deformer() const {
+    return busy() || method_ == nullptr ? nullptr : method_->deformer();
+  }
+  // The method when one exists and no job runs, else null.
+  const EditingMethod* method() const { return busy() ? nullptr : method_.get(); }
   const Eigen::Affine3d& transform() const { return transform_; }
   // Positions and normals to draw: the deformer's when ready, else the rest
   // mesh's. 3 by #V.
@@ -147,11 +167,17 @@ class EditSession {
   Mesh mesh_;  // the rest mesh (inputs_.mesh moved here)
   Eigen::Matrix3Xd rest_normals_;
   DeformerOptions options_;
+  // Empty: the graph method options_.method; else a registered method that is
+  // not a graph.
+  std::string other_method_;
+  MethodOptions method_options_;  // its cgal and fastlsm parts
+  mutable Eigen::Matrix3Xd method_normals_;  // normals of a non-graph method's pose
+  mutable int method_normals_version_ = -1;
   std::vector<VertexLabel> labels_;
   bool labels_changed_ = false;
   HandleLayout committed_layout_;
   bool configured_ = false;  // SetHandles succeeded for committed_layout_
-  std::unique_ptr<Deformer> deformer_;
+  std::unique_ptr<EditingMethod> method_;
   std::future<std::unique_ptr<Job>> job_;
   std::function<void()> on_job_done_;
   // A follow-up requested while a job runs.

@@ -28,7 +28,10 @@
 #include "apps/outputs.h"
 #include "msdeform/core/build_info.h"
 #include "msdeform/core/main_guard.h"
+#include "msdeform/methods/registry.h"
 #include "msdeform/scales/deformer_flags.h"
+
+DECLARE_string(method);  // scales/deformer_flags.cc: any registered method here
 
 namespace {
 const msdeform::editor::EditorOptions kDefaults;
@@ -110,7 +113,7 @@ EditorOptions WindowOptions(bool visible) {
   return options;
 }
 
-int RunScriptMode(DeformerOptions options) {
+int RunScriptMode(DeformerOptions options, const std::string& method) {
   for (const char* flag :
        {"mesh", "sel", "def", "scenario", "frames", "screenshot", "screenshot_camera", "out"}) {
     if (FlagGiven(flag)) {
@@ -126,6 +129,7 @@ int RunScriptMode(DeformerOptions options) {
     return Fail(error);
   }
   EditSession session;
+  if (!session.SetMethod(method, &error)) return Fail(error);
   EditorApp app(&session);
   if (!app.Init(WindowOptions(FLAGS_keep_open), &error)) return Fail(error);
   StagedOutputs staged;
@@ -138,7 +142,7 @@ int RunScriptMode(DeformerOptions options) {
   return 0;
 }
 
-int RunFilesMode(const DeformerOptions& options) {
+int RunFilesMode(const DeformerOptions& options, const std::string& method) {
   OpenRequest request;
   request.mesh = FLAGS_mesh;
   request.sel = FLAGS_sel;
@@ -164,6 +168,7 @@ int RunFilesMode(const DeformerOptions& options) {
     std::cerr << "msdeform_editor: notice: " << inputs.read_report.notice << "\n";
   }
   EditSession session;
+  if (!session.SetMethod(method, &error)) return Fail(error);
   session.Open(std::move(inputs), options);
   if (!one_shot) {
     EditorApp app(&session);
@@ -215,14 +220,22 @@ int RunFilesMode(const DeformerOptions& options) {
 int Run() {
   DeformerOptions options;
   std::string error;
-  if (!DeformerOptionsFromFlags(&options, &error)) return Fail(error);
+  // --method names any registered method (as msdeform's); the flags' parser
+  // takes the graph methods only, so it sees the default for the others.
+  const std::string method = FLAGS_method;
+  if (!IsMethodName(method)) return Fail("--method=" + method + ": expected " + MethodNameList());
+  Method graph_method;
+  if (!ParseMethod(method, &graph_method)) FLAGS_method = MethodName(options.method);
+  const bool parsed = DeformerOptionsFromFlags(&options, &error);
+  FLAGS_method = method;
+  if (!parsed) return Fail(error);
   if (FLAGS_width < 320 || FLAGS_width > 8192) {
     return Fail("--width=" + std::to_string(FLAGS_width) + ": expected 320..8192 pixels");
   }
   if (FLAGS_height < 240 || FLAGS_height > 8192) {
     return Fail("--height=" + std::to_string(FLAGS_height) + ": expected 240..8192 pixels");
   }
-  return FLAGS_script.empty() ? RunFilesMode(options) : RunScriptMode(options);
+  return FLAGS_script.empty() ? RunFilesMode(options, method) : RunScriptMode(options, method);
 }
 
 }  // namespace

@@ -26,8 +26,11 @@ import posixpath
 import msdeform
 
 # Methods a task can run: the Deformer's three and CGAL's ARAP (experiments/runner.h).
+# Every registered method (methods/registry.h); the graph methods take the Deformer option
+# grid, the others (CGAL's ARAP and SR-ARAP, FastLSM) run once per scenario with their
+# defaults (cgal_iterations for CGAL's).
+METHODS = tuple(msdeform.METHODS)
 DEFORMER_METHODS = ("multiscale", "static", "static_dense")
-METHODS = DEFORMER_METHODS + ("cgal_arap",)
 
 # Which option the seeds axis sets: the --seed flag (graph and rigidity seeds, as the command
 # line), or one of the two seeds alone (no flag has them; set as DeformerOptions fields).
@@ -355,14 +358,15 @@ class Sweep:
 
     def _expand(self):
         """The task grid: scenarios x methods x variants x option axes x seeds, in that order
-        (seeds innermost); cgal_arap, which has no Deformer options, once per scenario."""
+        (seeds innermost); a method without Deformer options (cgal_arap, cgal_sr_arap,
+        fastlsm) once per scenario."""
         axes = [[(name, value) for value in values] for name, values in self.options.items()]
         points = [dict(point) for point in itertools.product(*axes)]
         defaults = {name: option_default(name) for name in self.option_names}
         tasks, seen = [], {}
         for written, absolute in self.scenarios:
             for method in self.methods:
-                if method == "cgal_arap":
+                if method not in DEFORMER_METHODS:
                     grid = [(None, None, None)]
                 else:
                     grid = [(variant, point, seed) for variant in self.variants
@@ -377,7 +381,7 @@ class Sweep:
                     seen[task["id"]] = task["index"]
                     tasks.append(task)
         for task in tasks:
-            if task["method"] != "cgal_arap":
+            if task["method"] in DEFORMER_METHODS:
                 try:
                     build_options(task["method"], task["params"]["options"], task["params"]["seed"],
                                   self.seed_field, self._flags)
@@ -389,7 +393,7 @@ class Sweep:
         """One task: its params (hashed into the id), paths and parameter columns."""
         frames = self.settings["frames"]
         cgal_iterations = self.settings["cgal_iterations"]
-        if method == "cgal_arap":
+        if method not in DEFORMER_METHODS:
             params = {"scenario": written, "method": method, "frames": frames,
                       "cgal_iterations": cgal_iterations}
             values = {}
@@ -407,7 +411,7 @@ class Sweep:
         for name in self.option_names:
             columns[OPTION_COLUMN_PREFIX + name] = values.get(name)
         label = [posixpath.splitext(posixpath.basename(written))[0], method]
-        if method != "cgal_arap":
+        if method in DEFORMER_METHODS:
             label.append(variant)
             label += [f"{name}={json.dumps(value)}" for name, value in point.items()]
             label.append(f"seed {seed}")

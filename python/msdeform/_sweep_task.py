@@ -13,7 +13,7 @@ import sys
 import time
 
 import msdeform
-from msdeform._sweep_grid import build_options
+from msdeform._sweep_grid import DEFORMER_METHODS, build_options
 
 # The row of a task, in column order: the parameters come first (the sweep's columns: index,
 # task_id, scenario, scenario_file, model, method, variant, seed, frames, opt_<option>...).
@@ -161,6 +161,24 @@ def _run_deformer_task(task, row, reference):
     return row
 
 
+def _run_method_task(task, row, reference):
+    """A task of a method without Deformer options (cgal_sr_arap, fastlsm): run_method with
+    the sweep's CGAL iterations, against the scenario's reference when there is one."""
+    params = task["params"]
+    if reference is not None and "error" in reference:
+        return _failed_reference(row, reference)
+    scenario, row["load_ms"] = _load(task)
+    keywords = {}
+    if params.get("cgal_iterations") is not None:
+        keywords["cgal_iterations"] = params["cgal_iterations"]
+    result, _ = msdeform.run_method(scenario, params["method"],
+                                    reference=reference["V2"] if reference is not None else None,
+                                    **keywords)
+    _fill(row, result, scenario)
+    row["other_backend_frame_ms"] = None
+    return row
+
+
 def run_task(task, reference=None):
     """Runs one task and returns its row (a dict of the result columns).
 
@@ -174,8 +192,10 @@ def run_task(task, reference=None):
     try:
         if task["method"] == "cgal_arap":
             _run_cgal_task(task, row, reference)
-        else:
+        elif task["method"] in DEFORMER_METHODS:
             _run_deformer_task(task, row, reference)
+        else:
+            _run_method_task(task, row, reference)
     except Exception as error:  # noqa: BLE001 -- a task's failure is a row, not a stop
         _failed(row, error)
     if row["status"] != OK:

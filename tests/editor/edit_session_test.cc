@@ -14,6 +14,7 @@
 #include "apps/editor/inline_scenario.h"
 #include "apps/editor/saved_edit.h"
 #include "msdeform/core/scenario.h"
+#include "msdeform/methods/registry.h"
 
 namespace msdeform {
 namespace editor {
@@ -54,6 +55,42 @@ TEST(EditSessionTest, OpensASelDefPairAsMsdeformDoes) {
   EXPECT_TRUE(session.transform().matrix() == inputs.path.back().matrix());
   EXPECT_EQ(session.layout_timings().size(), 1u);
   EXPECT_TRUE(session.layout_timings()[0].init);
+}
+
+// A method by name (issue 28): the session runs any registered method as
+// msdeform --method=<name> does, and refuses an unknown name.
+TEST(EditSessionTest, RunsAnyRegisteredMethodByName) {
+  EditInputs inputs;
+  std::string error;
+  ASSERT_TRUE(LoadEditInputs(CactusSelDef(), &inputs, &error)) << error;
+  for (const std::string name : {"cgal_sr_arap", "fastlsm", "static"}) {
+    SCOPED_TRACE(name);
+    std::unique_ptr<EditingMethod> reference = CreateMethod(name, &error);
+    ASSERT_NE(reference, nullptr) << error;
+    ASSERT_TRUE(reference->Precompute(inputs.mesh, MethodOptions(), &error)) << error;
+    ASSERT_TRUE(reference->SetHandles(inputs.layout, &error)) << error;
+    DragAlongOptions drag;
+    drag.continue_after_failure = true;
+    DragLog log;
+    ASSERT_TRUE(DragAlong(reference.get(), inputs.path, drag, &log, &error)) << error;
+
+    EditSession session;
+    session.Open(inputs, DeformerOptions());
+    session.Wait();
+    // Then the method, as a menu choice: Precompute, SetHandles, the pose again.
+    ASSERT_TRUE(session.SetMethod(name, &error)) << error;
+    session.Wait();
+    ASSERT_TRUE(session.ready()) << session.error();
+    EXPECT_EQ(session.method_name(), name);
+    EXPECT_EQ(session.positions(), reference->deformed_vertices());  // bit for bit
+    EXPECT_EQ(session.normals().cols(), inputs.mesh.num_vertices());
+    EXPECT_NE(session.Status().find(name), std::string::npos) << session.Status();
+    EXPECT_EQ(session.deformer() != nullptr, name == std::string("static"));
+  }
+  EditSession session;
+  EXPECT_FALSE(session.SetMethod("arap", &error));
+  EXPECT_EQ(error, "--method=arap: expected " + MethodNameList());
+  EXPECT_EQ(session.method_name(), "multiscale");
 }
 
 TEST(EditSessionTest, LabelsBecomeALayoutAtCommit) {

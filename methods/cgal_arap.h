@@ -1,8 +1,10 @@
 // The reference as-rigid-as-possible deformation: CGAL's
-// Surface_mesh_deformation (Sorkine & Alexa 2007, ORIGINAL_ARAP, cotangent
-// weights) on a CGAL::Surface_mesh copy of our mesh.
+// Surface_mesh_deformation (cotangent weights) on a CGAL::Surface_mesh copy of
+// our mesh, with CGAL's ORIGINAL_ARAP (Sorkine & Alexa 2007; the method
+// "cgal_arap") or SRE_ARAP (smoothed rotation enhanced ARAP, Levi & Gotsman
+// 2015: the rotations of neighbouring cells are also kept close; "cgal_sr_arap").
 //
-//   CgalArap arap;
+//   CgalArap arap(ArapVariant::kOriginal);
 //   arap.Init(mesh, layout, roi, options, &error);  // factorises the system
 //   arap.Drag(deformed_from_rest, &stats);          // one frame, warm-started
 //   arap.deformed_vertices();
@@ -12,8 +14,8 @@
 // the set of control vertices. The ROI is every other vertex unless `roi` names
 // it (a .sel's status 1 and 2). CGAL itself is compiled only in cgal_arap.cc.
 
-#ifndef MSDEFORM_EXPERIMENTS_CGAL_ARAP_H_
-#define MSDEFORM_EXPERIMENTS_CGAL_ARAP_H_
+#ifndef MSDEFORM_METHODS_CGAL_ARAP_H_
+#define MSDEFORM_METHODS_CGAL_ARAP_H_
 
 #include <memory>
 #include <string>
@@ -24,6 +26,7 @@
 
 #include "msdeform/core/handles.h"
 #include "msdeform/core/mesh.h"
+#include "msdeform/methods/method.h"
 
 namespace msdeform {
 
@@ -33,8 +36,14 @@ struct CgalArapOptions {
   // CGAL's relative energy tolerance; 0 runs all iterations.
   double tolerance = 0.0;
 
+  // SR-ARAP's rotation smoothing weight (CGAL's set_sre_arap_alpha; its
+  // default 0.02, used for meshes scaled to a unit bounding box).
+  double sre_alpha = 0.02;
+
   bool Check(std::string* error) const;
 };
+
+enum class ArapVariant { kOriginal, kSpokesAndRims };
 
 struct CgalArapStats {
   double solve_ms = 0.0;  // set targets + deform()
@@ -43,7 +52,7 @@ struct CgalArapStats {
 
 class CgalArap {
  public:
-  CgalArap();
+  explicit CgalArap(ArapVariant variant = ArapVariant::kOriginal);
   ~CgalArap();
 
   // `roi`: the free vertices plus the handle (sorted, unique); empty means
@@ -65,6 +74,7 @@ class CgalArap {
 
  private:
   struct Impl;
+  ArapVariant variant_;
   std::unique_ptr<Impl> impl_;
   Eigen::Matrix3Xd deformed_vertices_;
   int roi_size_ = 0;
@@ -72,6 +82,34 @@ class CgalArap {
   double preprocess_ms_ = 0.0;
 };
 
+// CgalArap through the one interface (methods/method.h): Precompute keeps the
+// mesh, SetHandles converts it and factorises (ROI = every non-fixed vertex),
+// each Drag runs options.cgal.iterations iterations. nodes_optimized = ROI
+// vertices, variables = 3 per ROI vertex, setup_ms = conversion +
+// factorisation; no energy (final_cost NaN).
+class CgalArapMethod : public EditingMethod {
+ public:
+  CgalArapMethod(const std::string& name, ArapVariant variant)
+      : EditingMethod(name), arap_(variant) {}
+
+  const Eigen::Matrix3Xd& deformed_vertices() const override;
+  int nodes_optimized() const override { return arap_.roi_size(); }
+  int variables() const override { return 3 * arap_.roi_size(); }
+  double precompute_ms() const override { return 0.0; }
+  double setup_ms() const override { return arap_.convert_ms() + arap_.preprocess_ms(); }
+
+ protected:
+  bool DoPrecompute(const Mesh& mesh, const MethodOptions& options, std::string* error) override;
+  bool DoSetHandles(const HandleLayout& layout, std::string* error) override;
+  bool DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* stats,
+              std::string* error) override;
+
+ private:
+  CgalArap arap_;
+  Mesh mesh_;
+  CgalArapOptions options_;
+};
+
 }  // namespace msdeform
 
-#endif  // MSDEFORM_EXPERIMENTS_CGAL_ARAP_H_
+#endif  // MSDEFORM_METHODS_CGAL_ARAP_H_

@@ -1,0 +1,104 @@
+// One interface for every editing method: the multi-scale method, the static
+// graph baselines, CGAL's ARAP and SR-ARAP, and fast lattice shape matching.
+// The command line, the Python module, the experiment runner, the sweeps and
+// the editor choose a method by name (methods/registry.h) and use only this.
+//
+//   std::unique_ptr<EditingMethod> method = CreateMethod("fastlsm", &error);
+//   method->Precompute(mesh, options, &error);     // what depends on the mesh only
+//   method->SetHandles(layout, &error);            // a handle layout
+//   method->Drag(deformed_from_rest, &stats, &error);  // one frame, warm-started
+//   method->deformed_vertices();
+//
+// The calls go Precompute, SetHandles, then any number of Drags; a new
+// SetHandles or Precompute starts over from that stage. A call out of order
+// returns false with a message (the base class enforces it, so a method
+// cannot forget to).
+
+#ifndef MSDEFORM_METHODS_METHOD_H_
+#define MSDEFORM_METHODS_METHOD_H_
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "msdeform/core/handles.h"
+#include "msdeform/core/lattice.h"
+#include "msdeform/core/mesh.h"
+#include "msdeform/scales/deformer.h"
+
+namespace msdeform {
+
+// Per-frame numbers (scales/deformer.h's DragStats): frame_ms (the whole
+// Drag), solve_ms, skin_ms, iterations, final_cost (NaN for a method without
+// an energy it minimises), converged.
+using MethodStats = DragStats;
+
+struct MethodOptions;  // methods/method_options.h
+
+class EditingMethod {
+ public:
+  explicit EditingMethod(std::string name) : name_(std::move(name)) {}
+  virtual ~EditingMethod();
+  EditingMethod(const EditingMethod&) = delete;
+  EditingMethod& operator=(const EditingMethod&) = delete;
+
+  // The registered name ("multiscale", "cgal_arap", ...).
+  const std::string& name() const { return name_; }
+
+  // Everything that depends only on the mesh. False with a message on invalid
+  // options or a mesh the method cannot take; the method is then empty.
+  bool Precompute(const Mesh& mesh, const MethodOptions& options, std::string* error);
+  // A new handle layout; the deformation restarts from the rest pose. False
+  // with a message on an invalid layout (then only SetHandles or Precompute
+  // are accepted).
+  bool SetHandles(const HandleLayout& layout, std::string* error);
+  // Moves the moveable handle to deformed_from_rest * (its rest position) and
+  // deforms the mesh, starting from the previous frame. `stats` may be null.
+  bool Drag(const Eigen::Affine3d& deformed_from_rest, MethodStats* stats, std::string* error);
+
+  // #V by 3 (as 3 by #V): the rest vertices until the first Drag.
+  virtual const Eigen::Matrix3Xd& deformed_vertices() const = 0;
+
+  // What the runner reports for any method, valid after SetHandles.
+  // Unknowns of the per-frame problem and the elements that carry them (graph
+  // nodes optimised, ROI vertices, free lattice particles).
+  virtual int nodes_optimized() const = 0;
+  virtual int variables() const = 0;
+  // Milliseconds of Precompute, of the rigidity estimate (0 without one) and
+  // of the rest of SetHandles.
+  virtual double precompute_ms() const = 0;
+  virtual double rigidity_ms() const { return 0.0; }
+  virtual double setup_ms() const = 0;
+  // The lattice the method runs on, or null (CGAL's methods have none).
+  virtual const Lattice* lattice() const { return nullptr; }
+  // The deformation-graph methods' Deformer (graphs, scale, node classes,
+  // transforms), or null for a method that is not a graph.
+  virtual const Deformer* deformer() const { return nullptr; }
+
+  bool precomputed() const { return stage_ != Stage::kEmpty; }
+  bool handles_set() const { return stage_ == Stage::kHandlesSet; }
+
+ protected:
+  // The stages, called by the public ones in order only.
+  virtual bool DoPrecompute(const Mesh& mesh, const MethodOptions& options,
+                            std::string* error) = 0;
+  virtual bool DoSetHandles(const HandleLayout& layout, std::string* error) = 0;
+  virtual bool DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* stats,
+                      std::string* error) = 0;
+
+ private:
+  enum class Stage { kEmpty, kPrecomputed, kHandlesSet };
+  std::string name_;
+  Stage stage_ = Stage::kEmpty;
+};
+
+// Drags `method` (SetHandles done) through `path`, as scales/deformer.h's
+// DragAlong does for a Deformer: false with "frame F of N: <what failed>".
+bool DragAlong(EditingMethod* method, const std::vector<Eigen::Affine3d>& path,
+               const DragAlongOptions& options, DragLog* log, std::string* error);
+
+}  // namespace msdeform
+
+#endif  // MSDEFORM_METHODS_METHOD_H_

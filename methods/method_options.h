@@ -1,0 +1,29 @@
+// The options of every editing method (methods/method.h), one struct per
+// method with its documented defaults. A method reads its own part: the graph
+// methods `deformer` (whose `method` field the registry sets from the name),
+// CGAL's `cgal`, FastLSM `fastlsm`.
+
+#ifndef MSDEFORM_METHODS_METHOD_OPTIONS_H_
+#define MSDEFORM_METHODS_METHOD_OPTIONS_H_
+
+#include <string>
+
+#include "msdeform/methods/cgal_arap.h"
+#include "msdeform/methods/fastlsm.h"
+#include "msdeform/scales/deformer_options.h"
+
+namespace msdeform {
+
+struct MethodOptions {
+  // multiscale, static, static_dense; also the lattice options of fastlsm
+  // (deformer.lattice) and the threads of every method (deformer.num_threads).
+  DeformerOptions deformer;
+  // cgal_arap, cgal_sr_arap.
+  CgalArapOptions cgal;
+  // fastlsm.
+  FastLsmOptions fastlsm;
+};
+
+}  // namespace msdeform
+
+#endif  // MSDEFORM_METHODS_METHOD_OPTIONS_H_

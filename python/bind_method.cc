@@ -1,0 +1,159 @@
+// Any registered editing method (methods/registry.h) as the Python class
+// Method: the one interface (methods/method.h) by name, for the methods the
+// Deformer class does not run (cgal_arap, cgal_sr_arap, fastlsm) as well as
+// the graph methods. The Deformer class stays the way to the graph methods'
+// intermediate results (e', node classes, scales).
+//
+// The GIL is released around Precompute, SetHandles and Drag; a mutex makes
+// calls on one Method from several threads take turns.
+
+#include <memory>
+#include <mutex>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <pybind11/stl.h>
+
+#include "msdeform/methods/method_options.h"
+#include "msdeform/methods/registry.h"
+#include "python/bindings.h"
+
+namespace msdeform {
+namespace python {
+namespace {
+
+struct PyMethod {
+  std::unique_ptr<EditingMethod> method;
+  std::mutex mutex;
+  int num_vertices = 0;
+  std::vector<MethodStats> frames;
+};
+
+py::dict FrameToDict(const MethodStats& stats) {
+  py::dict dict;
+  dict["frame_ms"] = stats.frame_ms;
+  dict["solve_ms"] = stats.solve_ms;
+  dict["skin_ms"] = stats.skin_ms;
+  dict["iterations"] = stats.iterations;
+  dict["final_cost"] = stats.final_cost;
+  dict["converged"] = stats.converged;
+  return dict;
+}
+
+std::unique_ptr<PyMethod> MakeMethod(const py::object& vertices, const py::object& faces,
+                                     const std::string& name, const py::object& options,
+                                     int cgal_iterations, int fastlsm_steps,
+                                     double fastlsm_damping, const py::kwargs& kwargs) {
+  const Mesh mesh = MeshFromArrays(vertices, faces);
+  MethodOptions method_options;
+  method_options.deformer = DeformerOptionsFrom(options, kwargs);
+  method_options.cgal.iterations = cgal_iterations;
+  method_options.fastlsm.steps_per_frame = fastlsm_steps;
+  method_options.fastlsm.damping = fastlsm_damping;
+  auto self = std::make_unique<PyMethod>();
+  std::string error;
+  self->method = CreateMethod(name, &error);
+  if (self->method == nullptr) ThrowValueError("method: " + error);
+  self->num_vertices = mesh.num_vertices();
+  bool ok;
+  {
+    py::gil_scoped_release release;
+    ok = self->method->Precompute(mesh, method_options, &error);
+  }
+  if (!ok) ThrowValueError(error);
+  return self;
+}
+
+void SetHandles(PyMethod& self, const py::object& status) {
+  HandleLayout layout;
+  if (IsPathLike(status)) {
+    const std::string path = PathFromObject(status, "status");
+    std::string error;
+    if (!ReadSel(path, self.num_vertices, &layout, &error)) ThrowOSError(error);
+  } else {
+    layout = LayoutFromStatus(status, self.num_vertices, "status");
+  }
+  std::string error;
+  bool ok;
+  {
+    py::gil_scoped_release release;
+    std::lock_guard<std::mutex> lock(self.mutex);
+    self.frames.clear();
+    ok = self.method->SetHandles(layout, &error);
+  }
+  if (!ok) ThrowValueError(error);
+}
+
+py::array_t<double> Drag(const py::object& self_object, const py::object& matrix) {
+  PyMethod& self = self_object.cast<PyMethod&>();
+  std::vector<Eigen::Affine3d> path;
+  const py::array array = py::array::ensure(matrix);
+  if (array && array.ndim() == 3) {
+    for (py::ssize_t f = 0; f < array.shape(0); ++f) {
+      const std::string name = "M[" + std::to_string(f) + "]";
+      path.push_back(TransformFromArray(array[py::int_(f)], name.c_str()));
+    }
+  } else {
+    path.push_back(TransformFromArray(matrix, "M"));
+  }
+  std::string error;
+  bool ok = true;
+  {
+    py::gil_scoped_release release;
+    std::lock_guard<std::mutex> lock(self.mutex);
+    for (const Eigen::Affine3d& transform : path) {
+      MethodStats stats;
+      ok = self.method->Drag(transform, &stats, &error);
+      if (!ok) break;
+      self.frames.push_back(stats);
+    }
+  }
+  if (!ok) ThrowRuntimeError(error);
+  return ReadOnlyView(self.method->deformed_vertices(), self_object);
+}
+
+}  // namespace
+
+void BindMethod(py::module_& m) {
+  m.attr("METHODS") = py::tuple(py::cast(MethodNames()));
+  py::class_<PyMethod> c(
+      m, "Method",
+      "Any registered editing method by name (msdeform.METHODS; methods/method.h):\n\n"
+      "    e = msdeform.Method(V, F, 'fastlsm')  # what depends on the mesh only\n"
+      "    e.set_handles(status)                # a handle layout\n"
+      "    V2 = e.drag(M)                       # one frame (or a (frames, 4, 4) path)\n\n"
+      "Not copyable. Calls from several threads take turns; the GIL is released while it works.");
+  c.def(py::init(&MakeMethod), py::arg("V"), py::arg("F"), py::arg("method") = "multiscale",
+        py::arg("options") = py::none(),
+        py::arg("cgal_iterations") = CgalArapOptions().iterations,
+        py::arg("fastlsm_steps") = FastLsmOptions().steps_per_frame,
+        py::arg("fastlsm_damping") = FastLsmOptions().damping,
+        "Method(V, F, method='multiscale', options=None, cgal_iterations=20, fastlsm_steps=20, "
+        "fastlsm_damping=0.1, **kwargs)\n\n"
+        "V float64 (#V, 3), F (#F, 3). `options` and keyword arguments are DeformerOptions, as "
+        "for Deformer (the graph methods use them, FastLSM its lattice options). Raises "
+        "ValueError naming the registered methods for an unknown name, and for invalid "
+        "options.");
+  c.def("set_handles", &SetHandles, py::arg("status"),
+        "A handle layout: a status array (#V,) with 0 fixed, 1 free, 2 moveable, or a .sel "
+        "path. Raises ValueError for an invalid layout.");
+  c.def("drag", &Drag, py::arg("M"),
+        "Moves the handle by the 4x4 transform M (or each of a (frames, 4, 4) path in turn) "
+        "and returns a read-only view (#V, 3) of the deformed vertices.");
+  c.def_property_readonly("name", [](const PyMethod& s) { return s.method->name(); });
+  c.def_property_readonly("deformed_vertices", [](const py::object& self_object) {
+    return ReadOnlyView(self_object.cast<PyMethod&>().method->deformed_vertices(), self_object);
+  });
+  c.def_property_readonly("nodes_optimized",
+                          [](const PyMethod& s) { return s.method->nodes_optimized(); });
+  c.def_property_readonly("variables", [](const PyMethod& s) { return s.method->variables(); });
+  c.def_property_readonly("frame_stats", [](const PyMethod& s) {
+    py::list frames;
+    for (const MethodStats& stats : s.frames) frames.append(FrameToDict(stats));
+    return frames;
+  });
+}
+
+}  // namespace python
+}  // namespace msdeform

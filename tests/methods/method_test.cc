@@ -1,0 +1,153 @@
+// Every registered method through the one interface (methods/method.h):
+// stage order, and small edits of a procedural bar with known answers.
+
+#include "msdeform/methods/method.h"
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "msdeform/core/procedural_meshes.h"
+#include "msdeform/methods/method_options.h"
+#include "msdeform/methods/registry.h"
+
+namespace msdeform {
+namespace {
+
+// A bar along x (8 x 1 x 1), its first voxel fixed and its last the handle.
+struct Bar {
+  Mesh mesh = MakeBar(8, 1.0, 2);
+  HandleLayout layout;
+  Bar() {
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      if (mesh.vertices(0, v) <= 1.0) layout.fixed.push_back(v);
+      if (mesh.vertices(0, v) >= 7.0) layout.moveable.push_back(v);
+    }
+  }
+};
+
+Eigen::Affine3d RigidMotion() {
+  Eigen::Affine3d motion = Eigen::Affine3d::Identity();
+  motion.rotate(Eigen::AngleAxisd(0.5, Eigen::Vector3d(1.0, 2.0, 0.5).normalized()));
+  motion.pretranslate(Eigen::Vector3d(0.3, -1.2, 2.0));
+  return motion;
+}
+
+Eigen::Affine3d Lift(double z) {
+  Eigen::Affine3d lift = Eigen::Affine3d::Identity();
+  lift.translation() << 0.0, 0.0, z;
+  return lift;
+}
+
+class MethodTest : public testing::TestWithParam<std::string> {
+ protected:
+  std::unique_ptr<EditingMethod> Create() {
+    std::string error;
+    std::unique_ptr<EditingMethod> method = CreateMethod(GetParam(), &error);
+    EXPECT_NE(method, nullptr) << error;
+    return method;
+  }
+  MethodOptions options_;
+  std::string error_;
+};
+
+TEST_P(MethodTest, CallsOutOfOrderAreRefused) {
+  const Bar bar;
+  std::unique_ptr<EditingMethod> method = Create();
+  EXPECT_FALSE(method->SetHandles(bar.layout, &error_));
+  EXPECT_EQ(error_, GetParam() + ": SetHandles before a successful Precompute");
+  EXPECT_FALSE(method->Drag(Lift(1.0), nullptr, &error_));
+  EXPECT_EQ(error_, GetParam() + ": Drag before a successful SetHandles");
+  ASSERT_TRUE(method->Precompute(bar.mesh, options_, &error_)) << error_;
+  EXPECT_FALSE(method->Drag(Lift(1.0), nullptr, &error_));
+  EXPECT_EQ(error_, GetParam() + ": Drag before a successful SetHandles");
+  // An invalid layout (a vertex both fixed and moveable) leaves no layout.
+  HandleLayout overlapping = bar.layout;
+  overlapping.fixed.push_back(bar.layout.moveable[0]);
+  std::sort(overlapping.fixed.begin(), overlapping.fixed.end());
+  ASSERT_TRUE(method->SetHandles(bar.layout, &error_)) << error_;
+  EXPECT_FALSE(method->SetHandles(overlapping, &error_));
+  EXPECT_FALSE(method->handles_set());
+  EXPECT_FALSE(method->Drag(Lift(1.0), nullptr, &error_));
+  // A failed Precompute (a mesh with no faces) leaves the method empty.
+  Mesh empty;
+  EXPECT_FALSE(method->Precompute(empty, options_, &error_));
+  EXPECT_FALSE(method->precomputed());
+  EXPECT_FALSE(method->SetHandles(bar.layout, &error_));
+}
+
+TEST_P(MethodTest, WholeMeshAsHandleMovesRigidly) {
+  const Bar bar;
+  HandleLayout all;
+  for (int v = 0; v < bar.mesh.num_vertices(); ++v) all.moveable.push_back(v);
+  std::unique_ptr<EditingMethod> method = Create();
+  ASSERT_TRUE(method->Precompute(bar.mesh, options_, &error_)) << error_;
+  ASSERT_TRUE(method->SetHandles(all, &error_)) << error_;
+  MethodStats stats;
+  ASSERT_TRUE(method->Drag(RigidMotion(), &stats, &error_)) << error_;
+  const Eigen::Matrix3Xd expected = RigidMotion() * bar.mesh.vertices;
+  // The bar's diagonal is about 8.1; 1e-6 of it.
+  EXPECT_LT((method->deformed_vertices() - expected).cwiseAbs().maxCoeff(), 1e-5);
+  EXPECT_GT(stats.iterations, 0);
+  EXPECT_GE(stats.frame_ms, stats.solve_ms);
+}
+
+TEST_P(MethodTest, IdentityDragLeavesTheMeshAtRest) {
+  const Bar bar;
+  std::unique_ptr<EditingMethod> method = Create();
+  ASSERT_TRUE(method->Precompute(bar.mesh, options_, &error_)) << error_;
+  ASSERT_TRUE(method->SetHandles(bar.layout, &error_)) << error_;
+  ASSERT_TRUE(method->Drag(Eigen::Affine3d::Identity(), nullptr, &error_)) << error_;
+  EXPECT_LT((method->deformed_vertices() - bar.mesh.vertices).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+TEST_P(MethodTest, LiftKeepsTheFixedVerticesAndMovesTheHandle) {
+  const Bar bar;
+  std::unique_ptr<EditingMethod> method = Create();
+  ASSERT_TRUE(method->Precompute(bar.mesh, options_, &error_)) << error_;
+  ASSERT_TRUE(method->SetHandles(bar.layout, &error_)) << error_;
+  EXPECT_GT(method->nodes_optimized(), 0);
+  EXPECT_GT(method->variables(), 0);
+  for (int frame = 1; frame <= 3; ++frame) {
+    ASSERT_TRUE(method->Drag(Lift(0.5 * frame), nullptr, &error_)) << error_;
+  }
+  const Eigen::Matrix3Xd& deformed = method->deformed_vertices();
+  // The fixed vertices: exactly at rest, but for the static baselines, whose
+  // fixed handle is held by position terms (Deformer::fixed_region_exact).
+  const Deformer* deformer = method->deformer();
+  const bool exact = deformer == nullptr || deformer->fixed_region_exact();
+  double fixed_moved = 0.0;
+  for (int v : bar.layout.fixed) {
+    fixed_moved = std::max(fixed_moved, (deformed.col(v) - bar.mesh.vertices.col(v)).norm());
+  }
+  if (exact) {
+    EXPECT_EQ(fixed_moved, 0.0);
+  } else {
+    EXPECT_LT(fixed_moved, 0.1 * 1.5);  // held by w_con = 100 against a 1.5 lift
+  }
+  // The handle follows the lift: exactly for CGAL and FastLSM (driven), by
+  // position terms for the graph methods.
+  double handle_error = 0.0;
+  for (int v : bar.layout.moveable) {
+    handle_error = std::max(
+        handle_error, (deformed.col(v) - Lift(1.5) * bar.mesh.vertices.col(v)).norm());
+  }
+  EXPECT_LT(handle_error, deformer == nullptr ? 1e-12 : 0.1 * 1.5);
+  // The free middle moves up but less than the handle.
+  for (int v = 0; v < bar.mesh.num_vertices(); ++v) {
+    if (std::abs(bar.mesh.vertices(0, v) - 4.0) > 0.01) continue;
+    const double rise = deformed(2, v) - bar.mesh.vertices(2, v);
+    EXPECT_GT(rise, 0.0) << "vertex " << v;
+    EXPECT_LT(rise, 1.5) << "vertex " << v;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryMethod, MethodTest, testing::ValuesIn(MethodNames()),
+                         [](const testing::TestParamInfo<std::string>& info) {
+                           return info.param;
+                         });
+
+}  // namespace
+}  // namespace msdeform

@@ -1,0 +1,74 @@
+"""Every registered method by name from Python (msdeform.Method, msdeform.run_method): the
+command line's results, known answers, and one-line errors."""
+
+import subprocess
+
+import numpy as np
+import pytest
+
+import msdeform
+from conftest import read_off_exact
+
+
+def test_methods_lists_the_registry():
+    assert msdeform.METHODS == ("multiscale", "static", "static_dense", "cgal_arap",
+                                "cgal_sr_arap", "fastlsm")
+
+
+@pytest.mark.parametrize("method", ["multiscale", "static", "cgal_arap", "cgal_sr_arap",
+                                    "fastlsm"])
+def test_method_equals_the_command_line(cli, scenarios, tmp_path, method):
+    scenario_file = scenarios / "cactus.json"
+    out = tmp_path / "cli.off"
+    subprocess.run([str(cli), f"--scenario={scenario_file}", "--frames=3", f"--method={method}",
+                    f"--out={out}", "--quiet"], check=True)
+    V_cli, _ = read_off_exact(out)
+    scenario = msdeform.load_scenario(scenario_file, frames=3)
+    e = msdeform.Method(scenario.V, scenario.F, method)
+    assert e.name == method
+    e.set_handles(scenario.status)
+    V2 = e.drag(np.stack(scenario.path))
+    assert np.array_equal(V2, V_cli)
+    assert len(e.frame_stats) == 3
+    assert e.variables > 0
+
+
+@pytest.mark.parametrize("method", msdeform.METHODS)
+def test_a_whole_mesh_handle_moves_rigidly(meshes, method):
+    V, F = msdeform.read_mesh(meshes / "cactus.off")
+    e = msdeform.Method(V, F, method)
+    e.set_handles(np.full(len(V), 2, dtype=np.int32))
+    M = np.eye(4)
+    M[:3, :3] = [[np.cos(0.7), -np.sin(0.7), 0.0], [np.sin(0.7), np.cos(0.7), 0.0],
+                 [0.0, 0.0, 1.0]]
+    M[:3, 3] = [0.3, -0.2, 0.5]
+    V2 = e.drag(M)
+    diagonal = msdeform.bounding_box_diagonal(V)
+    assert np.abs(V2 - (V @ M[:3, :3].T + M[:3, 3])).max() <= 1e-6 * diagonal
+
+
+def test_unknown_method_and_drag_before_handles_are_errors(meshes):
+    V, F = msdeform.read_mesh(meshes / "cactus.off")
+    with pytest.raises(ValueError, match=r"^method: unknown method 'arap' \(expected multiscale, "
+                                         r"static, static_dense, cgal_arap, cgal_sr_arap, "
+                                         r"fastlsm\)$"):
+        msdeform.Method(V, F, "arap")
+    e = msdeform.Method(V, F, "fastlsm")
+    with pytest.raises(RuntimeError, match="fastlsm: Drag before a successful SetHandles"):
+        e.drag(np.eye(4))
+
+
+def test_run_method_gives_the_runner_rows(scenarios):
+    cactus = msdeform.load_scenario(scenarios / "cactus.json", frames=3)
+    reference_row, reference = msdeform.run_method(cactus, "cgal_arap")
+    cgal_row, _ = msdeform.run_cgal_arap(cactus)
+    for column in ("handle_rms_rel", "arap_energy", "nodes_optimized", "variables"):
+        assert reference_row[column] == cgal_row[column]
+    row, _ = msdeform.run_method(cactus, "fastlsm", reference=reference)
+    assert row["method"] == "fastlsm"
+    assert row["handle_rms_rel"] == 0.0 and row["fixed_max_rel"] == 0.0
+    assert row["arap_distance_rel"] > 0.0
+    deformer_row = msdeform.run_deformer(cactus, method="static", arap_result=reference)
+    method_row, _ = msdeform.run_method(cactus, "static", reference=reference)
+    for column in ("handle_rms_rel", "arap_energy", "arap_distance_rel", "orthogonality"):
+        assert method_row[column] == deformer_row[column]
