@@ -104,6 +104,8 @@ struct OptionRow {
   std::vector<std::string> aliases;
   std::string topic;
   std::vector<std::string> choices;
+  // Words before the enum's names in an error ("one this Ceres has: ").
+  std::string choice_words;
   // Range of a number: lo <(=) value <(=) hi and finite; `expected` words it.
   bool has_range = false;
   double lo = -std::numeric_limits<double>::infinity();
@@ -131,6 +133,10 @@ struct OptionRow {
     aliases.push_back(spelling);
     return *this;
   }
+  OptionRow& ChoiceWords(const std::string& words) {
+    choice_words = words;
+    return *this;
+  }
   OptionRow& Flag(const std::string& flag_topic) {
     topic = flag_topic;
     return *this;
@@ -139,11 +145,7 @@ struct OptionRow {
     if (!has_range) return true;
     if (!(value == value) || value < lo || value > hi) return false;
     if (lo_open && value == lo) return false;
-    if (hi_open && value == hi) return false;
-    if (hi_open && hi == std::numeric_limits<double>::infinity() &&
-        value == std::numeric_limits<double>::infinity()) {
-      return false;
-    }
+    if (hi_open && value == hi) return false;  // also: an open infinite bound means finite
     return true;
   }
 };
@@ -229,7 +231,7 @@ class OptionTable {
       Row row;
       row.name = prefix.empty() ? s.name : prefix + "." + s.name;
       row.type = s.type, row.help = s.help, row.aliases = s.aliases, row.topic = s.topic;
-      row.choices = s.choices, row.has_range = s.has_range, row.lo = s.lo, row.hi = s.hi;
+      row.choices = s.choices, row.choice_words = s.choice_words, row.has_range = s.has_range, row.lo = s.lo, row.hi = s.hi;
       row.lo_open = s.lo_open, row.hi_open = s.hi_open, row.expected = s.expected;
       auto get = s.get;
       auto parse = s.parse;
@@ -285,7 +287,14 @@ class OptionTable {
     }
     T candidate = *options;
     std::string what;
-    if (!row->parse(text, &candidate, &what) || !InRange(*row, candidate, &what)) {
+    if (!row->parse(text, &candidate, &what)) {
+      if (row->type == OptionType::kEnum) {
+        what = "expected " + row->choice_words + JoinChoices(row->choices);
+      }
+      *error = label + "=" + text + ": " + what;
+      return false;
+    }
+    if (!InRange(*row, candidate, &what)) {
       *error = label + "=" + text + ": " + what;
       return false;
     }

@@ -195,7 +195,8 @@ const OptionTable<CeresOptions>& CeresOptionTable() {
            EnumNames<ceres::SparseLinearAlgebraLibraryType>::FromFunction(
                CeresSparseLibraries(), SparseLibraryName),
            "Ceres's sparse Cholesky library: eigen_sparse, suite_sparse or cx_sparse (those "
-           "this Ceres has).");
+           "this Ceres has).")
+        .ChoiceWords("one this Ceres has: ");
     t.Bool("group_position_terms", &C::group_position_terms,
            "One exact least-squares block per group of handle vertices sharing nodes.");
   });
