@@ -59,10 +59,7 @@ std::vector<TableFlag> RegisterTableFlags() {
   std::vector<TableFlag> flags;
   const DeformerOptions defaults;
   for (const Row& row : DeformerOptionTable().rows()) {
-    if (row.topic.empty()) continue;
-    std::vector<std::string> spellings;
-    if (row.name.find('.') == std::string::npos) spellings.push_back(row.name);
-    spellings.insert(spellings.end(), row.aliases.begin(), row.aliases.end());
+    const std::vector<std::string> spellings = FlagSpellings(row);
     const std::string value = row.get(defaults);
     for (const std::string& spelling : spellings) {
       const std::string help = RowDescription(row, spelling);
@@ -117,6 +114,14 @@ bool IsDefault(const std::string& spelling) {
 }
 
 }  // namespace
+
+std::vector<std::string> FlagSpellings(const OptionRow<DeformerOptions>& row) {
+  std::vector<std::string> spellings;
+  if (row.topic.empty()) return spellings;
+  if (row.name.find('.') == std::string::npos) spellings.push_back(row.name);
+  spellings.insert(spellings.end(), row.aliases.begin(), row.aliases.end());
+  return spellings;
+}
 
 bool DeformerOptionsFromFlags(DeformerOptions* options, std::string* error) {
   (void)kRegistered;
