@@ -234,9 +234,24 @@ bool CheckFlagNames(int argc, char** argv, std::string* error) {
 }
 
 std::vector<std::pair<std::string, std::string>> ProgramFlagValues() {
+  // The spellings of one option record the value it took (that of the
+  // spelling given), so that --rerun sets them all alike.
+  std::map<std::string, std::string> effective;
+  const std::vector<TableFlag>& flags = TableFlags();
+  for (size_t i = 0; i < flags.size();) {
+    size_t end = i;
+    std::string chosen = flags[i].spelling;
+    for (; end < flags.size() && flags[end].row == flags[i].row; ++end) {
+      if (!IsDefault(flags[end].spelling)) chosen = flags[end].spelling;
+    }
+    const std::string value = gflags::GetCommandLineFlagInfoOrDie(chosen.c_str()).current_value;
+    for (; i < end; ++i) effective[flags[i].spelling] = value;
+  }
   std::vector<std::pair<std::string, std::string>> values;
-  for (const gflags::CommandLineFlagInfo& flag : ProgramFlags())
-    values.emplace_back(flag.name, flag.current_value);
+  for (const gflags::CommandLineFlagInfo& flag : ProgramFlags()) {
+    const auto it = effective.find(flag.name);
+    values.emplace_back(flag.name, it == effective.end() ? flag.current_value : it->second);
+  }
   std::sort(values.begin(), values.end());
   return values;
 }

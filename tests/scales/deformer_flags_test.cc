@@ -2,6 +2,7 @@
 
 #include "msdeform/scales/deformer_flags.h"
 
+#include <map>
 #include <set>
 #include <string>
 #include <utility>
@@ -269,6 +270,32 @@ TEST(DeformerFlagsTest, SolverAndBackendAreOneOption) {
   std::string error;
   EXPECT_FALSE(DeformerOptionsFromFlags(&options, &error));
   EXPECT_EQ(error, "--backend=gauss_newton and --solver=ceres: one option (backend), given twice");
+}
+
+// A report records every flag and --rerun sets them all: the spellings of
+// one option record the value it took, so the rerun builds the same options.
+TEST(DeformerFlagsTest, RecordedFlagsRebuildTheOptions) {
+  DeformerOptions first;
+  std::vector<std::pair<std::string, std::string>> recorded;
+  {
+    gflags::FlagSaver saver;
+    ASSERT_FALSE(gflags::SetCommandLineOption("threads", "1").empty());
+    ASSERT_FALSE(gflags::SetCommandLineOption("solver", "ceres").empty());
+    std::string error;
+    ASSERT_TRUE(DeformerOptionsFromFlags(&first, &error)) << error;
+    recorded = ProgramFlagValues();
+  }
+  std::map<std::string, std::string> by_name(recorded.begin(), recorded.end());
+  EXPECT_EQ(by_name["num_threads"], "1");
+  EXPECT_EQ(by_name["backend"], "ceres");
+  gflags::FlagSaver saver;
+  for (const auto& [name, value] : recorded) {
+    ASSERT_FALSE(gflags::SetCommandLineOption(name.c_str(), value.c_str()).empty()) << name;
+  }
+  DeformerOptions rerun;
+  std::string error;
+  ASSERT_TRUE(DeformerOptionsFromFlags(&rerun, &error)) << error;
+  EXPECT_EQ(DescribeOptions(rerun), DescribeOptions(first));
 }
 
 }  // namespace
