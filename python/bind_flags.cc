@@ -1,6 +1,7 @@
 // DeformerOptions from msdeform's command-line flag names (the gflags of
-// scales/deformer_flags.h): what a sweep file or a script that mirrors a
-// command line writes, {"w_con": 1000, "solver": "ceres"}, turned into the
+// scales/deformer_flags.h) or any name of the options table: what a sweep
+// file or a script that mirrors a command line writes, {"w_con": 1000,
+// "backend": "ceres", "selection.member_extent": "mean"}, turned into the
 // options the command line would build, by the command line's own code.
 
 #include <cmath>
@@ -8,9 +9,11 @@
 #include <mutex>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gflags/gflags.h>
+#include <pybind11/stl.h>
 
 #include "msdeform/scales/deformer_flags.h"
 #include "python/bindings.h"
@@ -46,11 +49,16 @@ DeformerOptions OptionsFromFlags(const py::dict& flags) {
   std::lock_guard<std::mutex> lock(mutex);
   gflags::FlagSaver saver;
   const std::set<std::string> known = OptionFlagNames();
+  std::vector<std::pair<std::string, std::string>> rows;  // table names that are not flags
   for (const auto& [key, value] : flags) {
     if (!py::isinstance<py::str>(key)) {
       ThrowTypeError("flags: expected flag names as str, got " + std::string(py::repr(key)));
     }
     const std::string name = key.cast<std::string>();
+    if (known.count(name) == 0 && DeformerOptionTable().Find(name) != nullptr) {
+      rows.emplace_back(name, FlagText(name, value));
+      continue;
+    }
     if (known.count(name) == 0) {
       std::string argument = "--" + name;
       char program[] = "msdeform";
@@ -69,7 +77,30 @@ DeformerOptions OptionsFromFlags(const py::dict& flags) {
   DeformerOptions options;
   std::string error;
   if (!DeformerOptionsFromFlags(&options, &error)) ThrowValueError(error);
+  for (const auto& [name, text] : rows) {
+    if (!DeformerOptionTable().Set(name, text, &options, &error)) ThrowValueError(error);
+  }
+  if (!rows.empty() && !options.Check(&error)) ThrowValueError("invalid options: " + error);
   return options;
+}
+
+// The options table's rows, for front ends that build widgets or docs.
+py::list OptionRows() {
+  const DeformerOptions defaults;
+  py::list rows;
+  for (const OptionRow<DeformerOptions>& row : DeformerOptionTable().rows()) {
+    py::dict entry;
+    entry["name"] = row.name;
+    entry["type"] = OptionTypeName(row.type);
+    entry["default"] = row.get(defaults);
+    entry["help"] = row.help;
+    entry["choices"] = row.choices;
+    entry["range"] = row.has_range ? py::object(py::str(row.expected)) : py::object(py::none());
+    entry["aliases"] = row.aliases;
+    entry["flag_topic"] = row.topic;
+    rows.append(entry);
+  }
+  return rows;
 }
 
 py::list OptionFlags() {
@@ -94,11 +125,18 @@ py::list OptionFlags() {
 void BindFlags(py::module_& m) {
   m.def("options_from_flags", &OptionsFromFlags, py::arg("flags"),
         "The DeformerOptions the msdeform command line builds from these flags: a dict of "
-        "flag name (without '--') to value, e.g. {'w_con': 1000, 'solver': 'ceres', "
-        "'method': 'static'}; flags not given keep their defaults. Parsed and checked by the "
+        "flag name (without '--') or option name to value, e.g. {'w_con': 1000, 'backend': "
+        "'ceres', 'method': 'static', 'selection.member_extent': 'mean'}; flags not given keep "
+        "their defaults. Parsed and checked by the "
         "command line's own code (scales/deformer_flags.h). Raises ValueError naming the flag "
         "for an unknown name (with the nearest flag) or a bad value, TypeError for a value "
         "that is not a bool, int, float or str.");
+  m.def("option_rows", &OptionRows,
+        "The Deformer's options table (scales/deformer_options.h), in declaration order: a list "
+        "of dicts with name ('lattice.cell_width'), type (bool, int, double, enum), default (as "
+        "DescribeOptions prints it), help, choices (of an enum), range (its words, or None), "
+        "aliases (other spellings every front end accepts, e.g. 'solver' for 'backend') and "
+        "flag_topic ('' when it is not a command-line flag).");
   m.def("option_flags", &OptionFlags,
         "The command-line flags of the Deformer's options, in name order: a list of dicts with "
         "name, type, default (as text) and description (its '[topic] ' first).");

@@ -31,6 +31,11 @@ bool DeformerOptionsFromFlags(DeformerOptions* options, std::string* error);
 // and returns true; the caller exits 0. Call before gflags parses argv.
 bool HandleHelpRequest(int argc, char** argv, const std::string& usage, std::ostream& out);
 
+// The command-line spellings of a row of DeformerOptionTable(): its name
+// where it has no dot, then its aliases; none when the row has no topic
+// (not a flag). The first is the one --help lists first.
+std::vector<std::string> FlagSpellings(const OptionRow<DeformerOptions>& row);
+
 // Before gflags parses argv: false with "unknown flag --x (did you mean
 // --y?)" naming the nearest of the program's flags when argv has a flag
 // gflags does not know (gflags itself would only say it is unknown).

@@ -11,6 +11,7 @@
 
 #include "msdeform/core/deformation_graph.h"
 #include "msdeform/core/lattice.h"
+#include "msdeform/core/option_table.h"
 #include "msdeform/scales/ceres_solver.h"
 #include "msdeform/scales/frame_solver.h"
 #include "msdeform/scales/gauss_newton_solver.h"
@@ -33,12 +34,15 @@ enum class Solver { kCeres, kGaussNewton };
 enum class InitialGuess { kRest, kPrevious, kExtrapolated };
 
 // "multiscale", "static", "static_dense".
+const EnumNames<Method>& MethodNames();
 const char* MethodName(Method method);
 bool ParseMethod(const std::string& name, Method* method);
-// "ceres", "gauss_newton".
+// "gauss_newton", "ceres".
+const EnumNames<Solver>& SolverNames();
 const char* SolverName(Solver solver);
 bool ParseSolver(const std::string& name, Solver* solver);
-// "rest", "previous", "extrapolated".
+// "previous", "extrapolated", "rest".
+const EnumNames<InitialGuess>& InitialGuessNames();
 const char* InitialGuessName(InitialGuess guess);
 bool ParseInitialGuess(const std::string& name, InitialGuess* guess);
 
@@ -106,10 +110,28 @@ struct DeformerOptions {
   bool Check(std::string* error) const;
 };
 
+// Every option of the Deformer, declared once (core/option_table.h): name as
+// the struct spells it ("stopping.max_iterations"), type, help, range, enum
+// names, the command-line topic and the legacy flag spellings ("solver" for
+// backend, "cell_width" for lattice.cell_width), which every front end
+// accepts as aliases. DescribeOptions, the flags (scales/deformer_flags.h),
+// the Python keywords and the editor's panels are derived from it; a new
+// option is a struct field plus one row here (docs/extending_options.md).
+const OptionTable<DeformerOptions>& DeformerOptionTable();
+// The tables of the embedded structs, for a front end that binds them apart
+// (Python's LatticeOptions, ...) or a larger options struct that embeds them.
+const OptionTable<LatticeOptions>& LatticeOptionTable();
+const OptionTable<GraphOptions>& GraphOptionTable();
+const OptionTable<RigidityOptions>& RigidityOptionTable();
+const OptionTable<ScaleSelectionOptions>& ScaleSelectionOptionTable();
+const OptionTable<StoppingRule>& StoppingRuleTable();
+const OptionTable<GaussNewtonOptions>& GaussNewtonOptionTable();
+const OptionTable<CeresOptions>& CeresOptionTable();
+
 // Every field of `options` as (name, value) pairs, in declaration order, with
 // names as in the struct ("stopping.max_iterations") and numbers printed
 // exactly (%.17g): what reports and table headers record so a run can be
-// repeated.
+// repeated. DeformerOptionTable().Describe(options).
 std::vector<std::pair<std::string, std::string>> DescribeOptions(const DeformerOptions& options);
 
 // `options` with the multi-scale method as the paper writes it: lattice

@@ -74,24 +74,22 @@ bool ValidParticles(const std::vector<int>& particles, int num_particles, const 
 
 }  // namespace
 
-const char* RigidityModelName(RigidityModel model) {
-  switch (model) {
-    case RigidityModel::kShapeMatching:
-      return "paper";
-    case RigidityModel::kHarmonic:
-      return "harmonic";
-  }
-  return "unknown";
+const EnumNames<RigidityModel>& RigidityModelNames() {
+  static const EnumNames<RigidityModel> names = {{RigidityModel::kHarmonic, "harmonic"},
+                                                 {RigidityModel::kShapeMatching, "paper"}};
+  return names;
 }
 
+const char* RigidityModelName(RigidityModel model) { return RigidityModelNames().Name(model); }
+
 bool ParseRigidityModel(const std::string& name, RigidityModel* model) {
-  for (RigidityModel m : {RigidityModel::kShapeMatching, RigidityModel::kHarmonic}) {
-    if (name == RigidityModelName(m)) {
-      *model = m;
-      return true;
-    }
-  }
-  return false;
+  return RigidityModelNames().Parse(name, model);
+}
+
+const EnumNames<RegionSummation>& RegionSummationNames() {
+  static const EnumNames<RegionSummation> names = {{RegionSummation::kBox, "box"},
+                                                   {RegionSummation::kPerRegion, "per_region"}};
+  return names;
 }
 
 bool RigidityOptions::Check(std::string* error) const {

@@ -49,6 +49,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "msdeform/core/option_table.h"
 #include "msdeform/core/lattice.h"
 
 namespace msdeform {
@@ -63,12 +64,16 @@ enum class RegionSummation {
   kBox,
 };
 
+// "box", "per_region".
+const EnumNames<RegionSummation>& RegionSummationNames();
+
 // How e' is estimated (see the top of this file).
 enum class RigidityModel {
   kShapeMatching,  // the paper: S steps of lattice shape matching after a kick
   kHarmonic,       // the driven lattice's rest state: a harmonic field
 };
-// "paper", "harmonic".
+// "harmonic", "paper".
+const EnumNames<RigidityModel>& RigidityModelNames();
 const char* RigidityModelName(RigidityModel model);
 bool ParseRigidityModel(const std::string& name, RigidityModel* model);
 

@@ -26,49 +26,39 @@ const char* NodeClassName(NodeClass node_class) {
   return "unknown";
 }
 
-const char* HalfFreeRuleName(HalfFreeRule rule) {
-  switch (rule) {
-    case HalfFreeRule::kNextToTotallyFree:
-      return "next_to_totally_free";
-    case HalfFreeRule::kEveryFixedHandleNode:
-      return "every_fixed_handle_node";
-    case HalfFreeRule::kNone:
-      return "none";
-  }
-  return "unknown";
+const EnumNames<HalfFreeRule>& HalfFreeRuleNames() {
+  static const EnumNames<HalfFreeRule> names = {
+      {HalfFreeRule::kNextToTotallyFree, "next_to_totally_free"},
+      {HalfFreeRule::kEveryFixedHandleNode, "every_fixed_handle_node"},
+      {HalfFreeRule::kNone, "none"}};
+  return names;
 }
+
+const char* HalfFreeRuleName(HalfFreeRule rule) { return HalfFreeRuleNames().Name(rule); }
 
 bool ParseHalfFreeRule(const std::string& name, HalfFreeRule* rule) {
-  for (HalfFreeRule r : {HalfFreeRule::kNextToTotallyFree, HalfFreeRule::kEveryFixedHandleNode,
-                         HalfFreeRule::kNone}) {
-    if (name == HalfFreeRuleName(r)) {
-      *rule = r;
-      return true;
-    }
-  }
-  return false;
+  return HalfFreeRuleNames().Parse(name, rule);
 }
 
-const char* BorderRuleName(BorderRule rule) {
-  switch (rule) {
-    case BorderRule::kFixed:
-      return NodeClassName(NodeClass::kFixed);
-    case BorderRule::kHalfFree:
-      return NodeClassName(NodeClass::kHalfFree);
-    case BorderRule::kTotallyFree:
-      return NodeClassName(NodeClass::kTotallyFree);
-  }
-  return "unknown";
+// A border rule is named by the class the node becomes.
+const EnumNames<BorderRule>& BorderRuleNames() {
+  static const EnumNames<BorderRule> names = {
+      {BorderRule::kFixed, NodeClassName(NodeClass::kFixed)},
+      {BorderRule::kHalfFree, NodeClassName(NodeClass::kHalfFree)},
+      {BorderRule::kTotallyFree, NodeClassName(NodeClass::kTotallyFree)}};
+  return names;
 }
+
+const char* BorderRuleName(BorderRule rule) { return BorderRuleNames().Name(rule); }
 
 bool ParseBorderRule(const std::string& name, BorderRule* rule) {
-  for (BorderRule r : {BorderRule::kFixed, BorderRule::kHalfFree, BorderRule::kTotallyFree}) {
-    if (name == BorderRuleName(r)) {
-      *rule = r;
-      return true;
-    }
-  }
-  return false;
+  return BorderRuleNames().Parse(name, rule);
+}
+
+const EnumNames<MemberExtent>& MemberExtentNames() {
+  static const EnumNames<MemberExtent> names = {{MemberExtent::kMax, "max"},
+                                                {MemberExtent::kMean, "mean"}};
+  return names;
 }
 
 bool ScaleSelectionOptions::Check(std::string* error) const {

@@ -38,6 +38,7 @@
 #include <string>
 #include <vector>
 
+#include "msdeform/core/option_table.h"
 #include "msdeform/core/deformation_graph.h"
 
 namespace msdeform {
@@ -49,6 +50,8 @@ const char* NodeClassName(NodeClass node_class);
 
 // How a coarse node's e' is made from its DG1 members' e'.
 enum class MemberExtent { kMax, kMean };
+// "max", "mean".
+const EnumNames<MemberExtent>& MemberExtentNames();
 
 // Which nodes holding fixed-handle vertices are Half Free (the rest are Fixed).
 enum class HalfFreeRule {
@@ -71,9 +74,11 @@ enum class BorderRule {
 };
 
 // "next_to_totally_free", "every_fixed_handle_node", "none".
+const EnumNames<HalfFreeRule>& HalfFreeRuleNames();
 const char* HalfFreeRuleName(HalfFreeRule rule);
 bool ParseHalfFreeRule(const std::string& name, HalfFreeRule* rule);
 // "fixed", "half_free", "totally_free".
+const EnumNames<BorderRule>& BorderRuleNames();
 const char* BorderRuleName(BorderRule rule);
 bool ParseBorderRule(const std::string& name, BorderRule* rule);
 

@@ -18,6 +18,7 @@
 #include "apps/editor/overlays.h"
 #include "apps/editor/timing_report.h"
 #include "apps/outputs.h"
+#include "msdeform/scales/deformer_flags.h"
 
 namespace msdeform {
 namespace editor {
@@ -223,70 +224,70 @@ void EditorApp::SetFlagFromPanel(const std::string& name, const std::string& val
 
 void EditorApp::DrawMethodPanel() {
   if (!ImGui::CollapsingHeader("Method", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  struct Choice {
-    const char* flag;
-    std::vector<const char*> values;
-    const char* help;
-  };
-  static const Choice kChoices[] = {
-      {"method",
-       {"multiscale", "static", "static_dense"},
-       "multiscale: the paper. static: one graph of --static_nodes nodes, all free. "
-       "static_dense: every DG1 node."},
-      {"solver", {"gauss_newton", "ceres"}, "The backend minimising Eq. 17 each frame."},
-      {"rigidity",
-       {"harmonic", "paper"},
-       "e' from the harmonic field (default) or the paper's lattice shape matching."},
-      {"half_free",
-       {"next_to_totally_free", "every_fixed_handle_node", "none"},
-       "Which fixed-handle nodes are Half Free (the paper: every_fixed_handle_node)."},
-      {"border",
-       {"totally_free", "fixed", "half_free"},
-       "What a Fixed node next to a Totally Free one becomes (the paper: fixed)."},
-  };
-  for (const Choice& choice : kChoices) {
-    const std::string current = DeformerFlagValue(choice.flag);
-    ImGui::SetNextItemWidth(200);
-    if (ImGui::BeginCombo(choice.flag, current.c_str())) {
-      for (const char* value : choice.values) {
-        if (ImGui::Selectable(value, current == value) && current != value) {
-          SetFlagFromPanel(choice.flag, value);
+  // The widgets are DeformerOptionTable()'s command-line rows: a combo per
+  // enum, a checkbox per switch; the solver's details and the numbers under
+  // "More". Each change goes through the flag, as `msdeform --name=value`.
+  const auto draw_row = [this](const OptionRow<DeformerOptions>& row) {
+    const std::string flag = FlagSpellings(row).front();
+    const std::string current = DeformerFlagValue(flag);
+    const char* label = row.name.c_str();
+    if (row.type == OptionType::kEnum) {
+      ImGui::SetNextItemWidth(200);
+      if (ImGui::BeginCombo(label, current.c_str())) {
+        for (const std::string& value : row.choices) {
+          if (ImGui::Selectable(value.c_str(), current == value) && current != value) {
+            SetFlagFromPanel(flag, value);
+          }
         }
+        ImGui::EndCombo();
       }
-      ImGui::EndCombo();
+    } else if (row.type == OptionType::kBool) {
+      bool on = current == "true";
+      if (ImGui::Checkbox(label, &on)) SetFlagFromPanel(flag, on ? "true" : "false");
+    } else {
+      std::string text = current;
+      ImGui::SetNextItemWidth(120);
+      if (ImGui::InputText(label, &text, ImGuiInputTextFlags_EnterReturnsTrue)) {
+        SetFlagFromPanel(flag, text);
+      }
     }
-    Help(choice.help);
-  }
-  static const std::pair<const char*, const char*> kSwitches[] = {
-      {"pin_fixed_region", "Nodes skinning a fixed vertex are Fixed: it stays put (paper: off)."},
-      {"split_cells", "One lattice particle per piece of surface in a cell (paper: off)."},
-      {"hold_fixed_vertices", "Position terms on fixed vertices a free node skins (paper: off)."},
-      {"keep_left_out_terms", "Ablation Deformed 2: keep E(j,k) for Half Free j (Fig. 5)."},
-      {"fix_fixed_handle_nodes", "Ablation Deformed 3: fixed-handle nodes get no rotation."},
-      {"alpha_all_one", "Ablation: every coherence weight alpha = 1."},
+    Help(row.help.c_str());
   };
-  for (const auto& [flag, help] : kSwitches) {
-    bool on = DeformerFlagValue(flag) == "true";
-    if (ImGui::Checkbox(flag, &on)) SetFlagFromPanel(flag, on ? "true" : "false");
-    Help(help);
+  const auto main_row = [](const OptionRow<DeformerOptions>& row) {
+    return (row.type == OptionType::kEnum || row.type == OptionType::kBool) &&
+           (row.topic != "solver" || row.name == "backend");
+  };
+  for (const auto& row : DeformerOptionTable().rows()) {
+    if (!row.topic.empty() && main_row(row)) draw_row(row);
+  }
+  if (ImGui::TreeNode("More")) {
+    for (const auto& row : DeformerOptionTable().rows()) {
+      if (!row.topic.empty() && !main_row(row)) draw_row(row);
+    }
+    ImGui::TreePop();
+  }
+  // The paper's procedure: every option PaperProcedure() changes.
+  const DeformerOptions paper = PaperProcedure(DeformerOptions());
+  std::string paper_flags;
+  for (const auto& row : DeformerOptionTable().rows()) {
+    if (row.get(paper) == row.get(DeformerOptions())) continue;
+    const std::vector<std::string> spellings = FlagSpellings(row);
+    paper_flags += (paper_flags.empty() ? "--" : " --") +
+                   (spellings.empty() ? row.name : spellings.front()) + "=" + row.get(paper);
   }
   if (ImGui::Button("Paper procedure")) {
     DeformerOptions options = session_->options();
+    const DeformerOptions target = PaperProcedure(options);
     std::string error;
-    const std::pair<const char*, const char*> kPaper[] = {{"rigidity", "paper"},
-                                                          {"half_free", "every_fixed_handle_node"},
-                                                          {"border", "fixed"},
-                                                          {"hold_fixed_vertices", "false"},
-                                                          {"pin_fixed_region", "false"},
-                                                          {"split_cells", "false"}};
-    for (const auto& [flag, value] : kPaper) {
-      if (!SetDeformerFlag(flag, value, &options, &error)) status_.Show(error);
+    for (const auto& row : DeformerOptionTable().rows()) {
+      if (row.get(target) == row.get(options)) continue;
+      const std::vector<std::string> spellings = FlagSpellings(row);
+      const std::string name = spellings.empty() ? row.name : spellings.front();
+      if (!SetDeformerFlag(name, row.get(target), &options, &error)) status_.Show(error);
     }
     ApplyOptions(options);
   }
-  Help(
-      "--rigidity=paper --half_free=every_fixed_handle_node --border=fixed "
-      "--hold_fixed_vertices=false --pin_fixed_region=false --split_cells=false");
+  Help(paper_flags.c_str());
 }
 
 void EditorApp::DrawViewPanel() {

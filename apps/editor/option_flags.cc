@@ -1,5 +1,7 @@
 #include "apps/editor/option_flags.h"
 
+#include <vector>
+
 #include <gflags/gflags.h>
 
 #include "msdeform/scales/deformer_flags.h"
@@ -8,32 +10,44 @@ namespace msdeform {
 namespace editor {
 namespace {
 
-// DeformerOptions's flags are the ones scales/deformer_flags.cc defines.
-bool IsDeformerFlag(const std::string& name, gflags::CommandLineFlagInfo* info) {
-  if (!gflags::GetCommandLineFlagInfo(name.c_str(), info)) return false;
-  const std::string& file = info->filename;
-  const std::string suffix = "deformer_flags.cc";
-  return file.size() >= suffix.size() &&
-         file.compare(file.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
+using Row = OptionRow<DeformerOptions>;
 
 }  // namespace
 
 bool SetDeformerFlag(const std::string& name, const std::string& value, DeformerOptions* options,
                      std::string* error) {
-  gflags::CommandLineFlagInfo info;
-  if (!IsDeformerFlag(name, &info)) {
-    *error = "--" + name + ": not a method, solver, weight, rigidity or ablation flag of msdeform";
+  const Row* row = DeformerOptionTable().Find(name);
+  if (row == nullptr) {
+    *error = "--" + name + ": not an option of msdeform's method, solver, weights, rigidity or "
+             "ablations";
     return false;
   }
-  const std::string old_value = info.current_value;
-  if (gflags::SetCommandLineOption(name.c_str(), value.c_str()).empty()) {
-    *error = "--" + name + "=" + value + ": expected a " + info.type;
-    return false;
+  const std::vector<std::string> spellings = FlagSpellings(*row);
+  if (spellings.empty()) {
+    // Not a command-line flag: set on the options alone.
+    return DeformerOptionTable().Set(row->name, value, options, error, "--" + name);
+  }
+  // Every spelling of the row (--solver and --backend) gets the value, so
+  // that the flags never disagree; on failure all keep their old values.
+  std::vector<gflags::CommandLineFlagInfo> old(spellings.size());
+  for (size_t i = 0; i < spellings.size(); ++i) {
+    gflags::GetCommandLineFlagInfo(spellings[i].c_str(), &old[i]);
+  }
+  auto restore = [&] {
+    for (size_t i = 0; i < spellings.size(); ++i) {
+      gflags::SetCommandLineOption(spellings[i].c_str(), old[i].current_value.c_str());
+    }
+  };
+  for (const std::string& spelling : spellings) {
+    if (gflags::SetCommandLineOption(spelling.c_str(), value.c_str()).empty()) {
+      restore();
+      *error = "--" + name + "=" + value + ": expected a " + old[0].type;
+      return false;
+    }
   }
   DeformerOptions candidate = *options;
   if (!DeformerOptionsFromFlags(&candidate, error)) {
-    gflags::SetCommandLineOption(name.c_str(), old_value.c_str());
+    restore();
     return false;
   }
   *options = candidate;
@@ -41,8 +55,17 @@ bool SetDeformerFlag(const std::string& name, const std::string& value, Deformer
 }
 
 std::string DeformerFlagValue(const std::string& name) {
-  gflags::CommandLineFlagInfo info;
-  return IsDeformerFlag(name, &info) ? info.current_value : "";
+  const Row* row = DeformerOptionTable().Find(name);
+  if (row == nullptr) return "";
+  // The spelling that was given, if any.
+  std::string value;
+  for (const std::string& spelling : FlagSpellings(*row)) {
+    gflags::CommandLineFlagInfo info;
+    if (!gflags::GetCommandLineFlagInfo(spelling.c_str(), &info)) continue;
+    if (value.empty() || !info.is_default) value = info.current_value;
+    if (!info.is_default) break;
+  }
+  return value;
 }
 
 }  // namespace editor

@@ -13,14 +13,16 @@
 namespace msdeform {
 namespace editor {
 
-// Sets flag `name` (one of DeformerOptions's flags) to `value` and fills
-// *options from every flag. On failure the flag keeps its old value and
-// *error says why ("--method=foo: expected ...", "--foo: not a method,
-// solver, weight, rigidity or ablation flag").
+// Sets option `name` (a flag or any name of DeformerOptionTable()) to
+// `value`: a flag, under every spelling of its row, and *options from every
+// flag; an option without a flag, on *options alone. On failure the flags
+// keep their old values and *error says why ("--method=foo: expected ...",
+// "--foo: not an option ...").
 bool SetDeformerFlag(const std::string& name, const std::string& value, DeformerOptions* options,
                      std::string* error);
 
-// The flag's current value as text ("" for an unknown flag).
+// The flag's current value as text, of the spelling that was given ("" for
+// an unknown flag or an option without one).
 std::string DeformerFlagValue(const std::string& name);
 
 }  // namespace editor

@@ -2,7 +2,11 @@
 
 #include "msdeform/scales/deformer_flags.h"
 
+#include <map>
+#include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gflags/gflags.h>
 #include <gtest/gtest.h>
@@ -71,6 +75,227 @@ TEST(DeformerFlagsTest, BadPieceMarginNamesTheFlag) {
   std::string error;
   EXPECT_FALSE(DeformerOptionsFromFlags(&options, &error));
   EXPECT_EQ(error, "--piece_margin=3: expected a number of cell widths in [0, 2]");
+}
+
+// DescribeOptions(DeformerOptions()) as the hand-written DescribeOptions of
+// 3cb6faf printed it: the report's "options" and the tables' headers.
+TEST(DeformerOptionTableTest, DescribeOfTheDefaultsIsUnchanged) {
+  const std::vector<std::pair<std::string, std::string>> expected = {
+      {"method", "multiscale"},
+      {"lattice.cell_width", "0"},
+      {"lattice.cells_per_diagonal", "48"},
+      {"lattice.max_grid_cells", "268435456"},
+      {"lattice.split_cells", "true"},
+      {"lattice.piece_margin", "0.5"},
+      {"graph.k", "4"},
+      {"graph.nodes_per_scale", "100"},
+      {"graph.seed", "1"},
+      {"graph.extra_rings", "1"},
+      {"graph.num_threads", "0"},
+      {"rigidity.model", "harmonic"},
+      {"rigidity.num_steps", "20"},
+      {"rigidity.time_step", "1"},
+      {"rigidity.external_stiffness", "0.01"},
+      {"rigidity.initial_speed", "0.5"},
+      {"rigidity.damping", "0"},
+      {"rigidity.region_half_width", "2"},
+      {"rigidity.seed", "1"},
+      {"rigidity.region_summation", "box"},
+      {"rigidity.max_rotation_iterations", "20"},
+      {"rigidity.rotation_tolerance", "9.9999999999999995e-07"},
+      {"selection.threshold_floor", "0.10000000000000001"},
+      {"selection.fixed_extent_cutoff", "0.5"},
+      {"selection.member_extent", "max"},
+      {"selection.local_detail_distance", "0.10000000000000001"},
+      {"selection.omega_max", "4"},
+      {"selection.alpha_all_one", "false"},
+      {"selection.half_free", "next_to_totally_free"},
+      {"selection.border", "totally_free"},
+      {"selection.pin_fixed_region", "true"},
+      {"static_nodes", "220"},
+      {"w_rot", "1"},
+      {"w_coh", "10"},
+      {"w_con", "100"},
+      {"length_unit", "0"},
+      {"hold_fixed_vertices", "true"},
+      {"keep_left_out_terms", "false"},
+      {"fix_fixed_handle_nodes", "false"},
+      {"num_threads", "2"},
+      {"cached_scales", "4"},
+      {"backend", "gauss_newton"},
+      {"stopping.max_iterations", "20"},
+      {"stopping.function_tolerance", "1e-08"},
+      {"stopping.gradient_tolerance", "1e-10"},
+      {"stopping.parameter_tolerance", "1e-10"},
+      {"initial_guess", "previous"},
+      {"gauss_newton.linear_solver", "cholesky"},
+      {"gauss_newton.cholesky", "eigen_llt"},
+      {"gauss_newton.factorization", "lagged"},
+      {"gauss_newton.refactor_ratio", "0.80000000000000004"},
+      {"gauss_newton.damping", "gauss_newton"},
+      {"gauss_newton.min_damping", "1.0000000000000001e-09"},
+      {"gauss_newton.initial_damping", "0.0001"},
+      {"gauss_newton.forcing_term", "0.10000000000000001"},
+      {"gauss_newton.max_cg_iterations", "200"},
+      {"ceres.trust_region", "levenberg_marquardt"},
+      {"ceres.linear_solver", "sparse_normal_cholesky"},
+      {"ceres.sparse_library", "eigen_sparse"},
+      {"ceres.group_position_terms", "true"},
+  };
+  EXPECT_EQ(DescribeOptions(DeformerOptions()), expected);
+}
+
+// A value of `row` other than its value in `options`, within its range.
+std::string OtherValue(const OptionRow<DeformerOptions>& row, const DeformerOptions& options) {
+  const std::string current = row.get(options);
+  switch (row.type) {
+    case OptionType::kBool:
+      return current == "true" ? "false" : "true";
+    case OptionType::kEnum:
+      for (const std::string& choice : row.choices) {
+        if (choice != current) return choice;
+      }
+      return current;  // a one-value enum (a Ceres with one sparse library)
+    case OptionType::kInt: {
+      const long long value = std::stoll(current);
+      return std::to_string(row.InRange(double(value + 1)) ? value + 1 : value - 1);
+    }
+    default: {
+      const double value = std::stod(current);
+      return OptionNumberText(row.InRange(value + 0.25) ? value + 0.25 : value / 2);
+    }
+  }
+}
+
+// Every row sets its own field: changing one row's value changes that entry
+// of the description and no other, and the struct is not the default.
+TEST(DeformerOptionTableTest, EveryRowIsItsOwnField) {
+  const OptionTable<DeformerOptions>& table = DeformerOptionTable();
+  const auto defaults = DescribeOptions(DeformerOptions());
+  ASSERT_EQ(table.rows().size(), defaults.size());
+  std::set<std::string> names;
+  int changed_rows = 0;
+  for (size_t i = 0; i < table.rows().size(); ++i) {
+    const auto& row = table.rows()[i];
+    EXPECT_TRUE(names.insert(row.name).second) << row.name << " declared twice";
+    const std::string value = OtherValue(row, DeformerOptions());
+    if (value == defaults[i].second) continue;
+    DeformerOptions options;
+    std::string error;
+    ASSERT_TRUE(table.Set(row.name, value, &options, &error)) << error;
+    const auto described = DescribeOptions(options);
+    for (size_t j = 0; j < described.size(); ++j) {
+      if (j == i) {
+        EXPECT_EQ(described[j].second, value) << row.name;
+      } else {
+        EXPECT_EQ(described[j], defaults[j]) << "setting " << row.name;
+      }
+    }
+    ++changed_rows;
+  }
+  EXPECT_GE(changed_rows, static_cast<int>(defaults.size()) - 1);
+}
+
+// Describe, then set every row from the description: the same options.
+TEST(DeformerOptionTableTest, DescribeThenSetRoundTrips) {
+  const OptionTable<DeformerOptions>& table = DeformerOptionTable();
+  DeformerOptions changed;
+  std::string error;
+  for (const auto& row : table.rows()) {
+    ASSERT_TRUE(table.Set(row.name, OtherValue(row, changed), &changed, &error)) << error;
+  }
+  changed.w_rot = 0.1;  // a number that %.17g must carry exactly
+  DeformerOptions rebuilt;
+  for (const auto& [name, value] : DescribeOptions(changed)) {
+    ASSERT_TRUE(table.Set(name, value, &rebuilt, &error)) << error;
+  }
+  EXPECT_EQ(DescribeOptions(rebuilt), DescribeOptions(changed));
+  EXPECT_EQ(rebuilt.w_rot, 0.1);
+}
+
+TEST(DeformerOptionTableTest, RangeErrorsAreOneLineNamingTheOption) {
+  DeformerOptions options;
+  std::string error;
+  EXPECT_FALSE(DeformerOptionTable().Set("w_con", "0", &options, &error));
+  EXPECT_EQ(error, "w_con=0: expected a finite weight > 0 (at 0 the handle would not follow its "
+                   "target)");
+  EXPECT_FALSE(DeformerOptionTable().Set("rigidity.damping", "1", &options, &error));
+  EXPECT_EQ(error, "rigidity.damping=1: expected a number in [0, 1)");
+  EXPECT_FALSE(DeformerOptionTable().Set("backend", "newton", &options, &error));
+  EXPECT_EQ(error, "backend=newton: expected gauss_newton or ceres");
+  EXPECT_EQ(error.find('\n'), std::string::npos);
+  gflags::FlagSaver saver;
+  ASSERT_FALSE(gflags::SetCommandLineOption("w_con", "-0.1").empty());
+  EXPECT_FALSE(DeformerOptionsFromFlags(&options, &error));
+  EXPECT_EQ(error, "--w_con=-0.1: expected a finite weight > 0 (at 0 the handle would not "
+                   "follow its target)");
+}
+
+// The command line's spellings before the table keep working, each setting
+// the row it is an alias of; the one spelling (the struct's) works too.
+TEST(DeformerFlagsTest, OldAndNewSpellingsParse) {
+  const OptionTable<DeformerOptions>& table = DeformerOptionTable();
+  for (const auto& row : table.rows()) {
+    std::vector<std::string> spellings = row.aliases;
+    if (!row.topic.empty() && row.name.find('.') == std::string::npos) {
+      spellings.push_back(row.name);
+    }
+    for (const std::string& spelling : spellings) {
+      gflags::FlagSaver saver;
+      const std::string value = OtherValue(row, DeformerOptions());
+      if (value == row.get(DeformerOptions())) continue;
+      ASSERT_FALSE(gflags::SetCommandLineOption(spelling.c_str(), value.c_str()).empty())
+          << "--" << spelling;
+      DeformerOptions options;
+      std::string error;
+      ASSERT_TRUE(DeformerOptionsFromFlags(&options, &error)) << error;
+      EXPECT_EQ(row.get(options), value) << "--" << spelling;
+    }
+  }
+}
+
+TEST(DeformerFlagsTest, SolverAndBackendAreOneOption) {
+  for (const char* spelling : {"solver", "backend"}) {
+    gflags::FlagSaver saver;
+    ASSERT_FALSE(gflags::SetCommandLineOption(spelling, "ceres").empty()) << spelling;
+    DeformerOptions options;
+    std::string error;
+    ASSERT_TRUE(DeformerOptionsFromFlags(&options, &error)) << error;
+    EXPECT_EQ(options.backend, Solver::kCeres) << spelling;
+  }
+  gflags::FlagSaver saver;
+  ASSERT_FALSE(gflags::SetCommandLineOption("solver", "ceres").empty());
+  ASSERT_FALSE(gflags::SetCommandLineOption("backend", "gauss_newton").empty());
+  DeformerOptions options;
+  std::string error;
+  EXPECT_FALSE(DeformerOptionsFromFlags(&options, &error));
+  EXPECT_EQ(error, "--backend=gauss_newton and --solver=ceres: one option (backend), given twice");
+}
+
+// A report records every flag and --rerun sets them all: the spellings of
+// one option record the value it took, so the rerun builds the same options.
+TEST(DeformerFlagsTest, RecordedFlagsRebuildTheOptions) {
+  DeformerOptions first;
+  std::vector<std::pair<std::string, std::string>> recorded;
+  {
+    gflags::FlagSaver saver;
+    ASSERT_FALSE(gflags::SetCommandLineOption("threads", "1").empty());
+    ASSERT_FALSE(gflags::SetCommandLineOption("solver", "ceres").empty());
+    std::string error;
+    ASSERT_TRUE(DeformerOptionsFromFlags(&first, &error)) << error;
+    recorded = ProgramFlagValues();
+  }
+  std::map<std::string, std::string> by_name(recorded.begin(), recorded.end());
+  EXPECT_EQ(by_name["num_threads"], "1");
+  EXPECT_EQ(by_name["backend"], "ceres");
+  gflags::FlagSaver saver;
+  for (const auto& [name, value] : recorded) {
+    ASSERT_FALSE(gflags::SetCommandLineOption(name.c_str(), value.c_str()).empty()) << name;
+  }
+  DeformerOptions rerun;
+  std::string error;
+  ASSERT_TRUE(DeformerOptionsFromFlags(&rerun, &error)) << error;
+  EXPECT_EQ(DescribeOptions(rerun), DescribeOptions(first));
 }
 
 }  // namespace
