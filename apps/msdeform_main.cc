@@ -59,7 +59,6 @@ DEFINE_string(out_frames, "",
               "[output] Folder for every frame's mesh, <name>_0001.<ext> ... (ext of --out).");
 // The non-graph methods' options (methods/method_options.h); --method itself
 // is scales/deformer_flags.cc's and takes any registered name here.
-DECLARE_string(method);  // scales/deformer_flags.cc
 DEFINE_int32(cgal_iterations, msdeform::CgalArapOptions().iterations,
              "[method] cgal_arap, cgal_sr_arap: local/global iterations per frame.");
 DEFINE_int32(fastlsm_steps, msdeform::FastLsmOptions().steps_per_frame,
@@ -126,17 +125,12 @@ bool LoadMesh(const std::string& path, Mesh* mesh, MeshReadReport* report, std::
 bool PrepareJob(Job* job, std::string* error) {
   // --method names any registered method; DeformerOptionsFromFlags parses
   // the graph methods only, so it sees the default for the others.
-  job->method = FLAGS_method;
+  job->method = MethodFlag();
   if (!IsMethodName(job->method)) {
     *error = "--method=" + job->method + ": expected " + MethodNameList();
     return false;
   }
-  Method graph_method;
-  const bool is_graph = ParseMethod(job->method, &graph_method);
-  if (!is_graph) FLAGS_method = MethodName(DeformerOptions().method);
-  const bool parsed = DeformerOptionsFromFlags(&job->options, error);
-  FLAGS_method = job->method;
-  if (!parsed) return false;
+  if (!DeformerOptionsFromFlags(&job->options, error, MethodNames())) return false;
   job->method_options.deformer = job->options;
   job->method_options.cgal.iterations = FLAGS_cgal_iterations;
   job->method_options.fastlsm.steps_per_frame = FLAGS_fastlsm_steps;
@@ -149,7 +143,8 @@ bool PrepareJob(Job* job, std::string* error) {
     *error = "--fastlsm_steps/--fastlsm_damping: " + *error;
     return false;
   }
-  if (!is_graph && !FLAGS_dump_nodes.empty()) {
+  Method graph_method;
+  if (!ParseMethod(job->method, &graph_method) && !FLAGS_dump_nodes.empty()) {
     *error = "--dump_nodes: the " + job->method + " method has no deformation graph";
     return false;
   }

@@ -123,7 +123,14 @@ std::vector<std::string> FlagSpellings(const OptionRow<DeformerOptions>& row) {
   return spellings;
 }
 
-bool DeformerOptionsFromFlags(DeformerOptions* options, std::string* error) {
+std::string MethodFlag() {
+  std::string value;
+  gflags::GetCommandLineOption("method", &value);
+  return value;
+}
+
+bool DeformerOptionsFromFlags(DeformerOptions* options, std::string* error,
+                              const std::vector<std::string>& other_methods) {
   (void)kRegistered;
   const OptionTable<DeformerOptions>& table = DeformerOptionTable();
   const std::vector<TableFlag>& flags = TableFlags();
@@ -145,7 +152,11 @@ bool DeformerOptionsFromFlags(DeformerOptions* options, std::string* error) {
       ++end;
     }
     if (chosen == nullptr) chosen = &flags[i];
-    if (!table.Set(chosen->row->name, FlagText(*chosen), options, error,
+    const bool other_method =
+        chosen->row->name == "method" &&
+        std::find(other_methods.begin(), other_methods.end(), FlagText(*chosen)) !=
+            other_methods.end();
+    if (!other_method && !table.Set(chosen->row->name, FlagText(*chosen), options, error,
                    "--" + chosen->spelling)) {
       return false;
     }

@@ -23,8 +23,15 @@ namespace msdeform {
 
 // Sets every field of *options the flags cover from the flags (the others
 // keep their values) and checks the result; false with a message naming the
-// flag as typed and what it accepts.
-bool DeformerOptionsFromFlags(DeformerOptions* options, std::string* error);
+// flag as typed and what it accepts. --method names a graph method
+// (DeformerOptions::method), or one of `other_methods` (the editing methods
+// that are not graphs, methods/registry.h), which leaves options->method as
+// it was: the caller runs that method by name.
+bool DeformerOptionsFromFlags(DeformerOptions* options, std::string* error,
+                              const std::vector<std::string>& other_methods = {});
+
+// The text of --method as given (or its default).
+std::string MethodFlag();
 
 // When argv asks for help (-h, --help, --helpshort, --helpfull is left to
 // gflags), prints `usage` and the program's flags grouped by topic to `out`

@@ -199,6 +199,12 @@ const OptionTable<CeresOptions>& CeresOptionTable() {
         .ChoiceWords("one this Ceres has: ");
     t.Bool("group_position_terms", &C::group_position_terms,
            "One exact least-squares block per group of handle vertices sharing nodes.");
+    t.Enum("jacobians", &C::jacobians,
+           EnumNames<CeresOptions::Jacobians>::FromFunction(
+               {CeresOptions::Jacobians::kAnalytic, CeresOptions::Jacobians::kAutodiff},
+               JacobiansName),
+           "Ceres's residual blocks: analytic (the functors' hand-written Jacobians) or autodiff "
+           "(the same functors through ceres::AutoDiffCostFunction).");
   });
   return table;
 }
@@ -206,7 +212,7 @@ const OptionTable<CeresOptions>& CeresOptionTable() {
 const OptionTable<DeformerOptions>& DeformerOptionTable() {
   static const OptionTable<DeformerOptions>& table = Table<DeformerOptions>([](auto& t) {
     using DO = DeformerOptions;
-    t.Enum("method", &DO::method, MethodNames(),
+    t.Enum("method", &DO::method, GraphMethodNames(),
            "multiscale (the paper), static (one graph of static_nodes nodes) or static_dense "
            "(every DG1 node).")
         .Flag("method");
@@ -283,6 +289,7 @@ const OptionTable<DeformerOptions>& DeformerOptionTable() {
         {"ceres.trust_region", "ceres_trust_region", "solver"},
         {"ceres.linear_solver", "ceres_linear_solver", "solver"},
         {"ceres.sparse_library", "ceres_sparse", "solver"},
+        {"ceres.jacobians", "jacobians", "solver"},
         {"rigidity.model", "rigidity", "rigidity"},
         {"rigidity.external_stiffness", "rigidity_stiffness", "rigidity"},
         {"rigidity.damping", "rigidity_damping", "rigidity"},

@@ -10,17 +10,17 @@
 
 namespace msdeform {
 
-const EnumNames<Method>& MethodNames() {
+const EnumNames<Method>& GraphMethodNames() {
   static const EnumNames<Method> names = {{Method::kMultiScale, "multiscale"},
                                           {Method::kStatic, "static"},
                                           {Method::kStaticDense, "static_dense"}};
   return names;
 }
 
-const char* MethodName(Method method) { return MethodNames().Name(method); }
+const char* MethodName(Method method) { return GraphMethodNames().Name(method); }
 
 bool ParseMethod(const std::string& name, Method* method) {
-  return MethodNames().Parse(name, method);
+  return GraphMethodNames().Parse(name, method);
 }
 
 const EnumNames<Solver>& SolverNames() {

@@ -5,6 +5,7 @@
 #ifndef MSDEFORM_SCALES_DEFORMER_OPTIONS_H_
 #define MSDEFORM_SCALES_DEFORMER_OPTIONS_H_
 
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "msdeform/core/lattice.h"
 #include "msdeform/core/option_table.h"
 #include "msdeform/scales/ceres_solver.h"
+#include "msdeform/scales/deformation_energy.h"
 #include "msdeform/scales/frame_solver.h"
 #include "msdeform/scales/gauss_newton_solver.h"
 #include "msdeform/scales/rigidity.h"
@@ -34,7 +36,7 @@ enum class Solver { kCeres, kGaussNewton };
 enum class InitialGuess { kRest, kPrevious, kExtrapolated };
 
 // "multiscale", "static", "static_dense".
-const EnumNames<Method>& MethodNames();
+const EnumNames<Method>& GraphMethodNames();
 const char* MethodName(Method method);
 bool ParseMethod(const std::string& name, Method* method);
 // "gauss_newton", "ceres".
@@ -89,6 +91,11 @@ struct DeformerOptions {
   // is built when SetHandles first selects (or tries) it, not in Init; beyond
   // this many the least recently used is dropped. DG1's is always kept.
   int cached_scales = 4;
+  // Terms beyond Eq. 17, appended to each layout's energy after its own
+  // (energies/energy_term.h; docs/extending.md, "Adding an energy term"):
+  // called with the active graph (node ids, rest positions). Empty: Eq. 17
+  // alone. Code, not an option: no flag, report line or Python keyword.
+  std::function<void(const DeformationGraph& graph, DeformationEnergy* energy)> add_energy_terms;
 
   // The per-frame solve. Both backends minimise the same energy and stop on
   // the same rule (scales/frame_solver.h): at most 20 iterations, function

@@ -196,6 +196,8 @@ void Layout::BuildEnergy() {
   // edge direction, or none) get a gauge term that picks one member of the
   // family of equal-energy minima (docs/decisions.md, "Gauge freedom").
   energy_.gauge = GaugeTerms(energy_);
+  // Terms beyond Eq. 17 (energies/energy_term.h; docs/extending.md).
+  if (options.add_energy_terms) options.add_energy_terms(graph, &energy_);
 }
 
 }  // namespace msdeform

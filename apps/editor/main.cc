@@ -31,7 +31,6 @@
 #include "msdeform/methods/registry.h"
 #include "msdeform/scales/deformer_flags.h"
 
-DECLARE_string(method);  // scales/deformer_flags.cc: any registered method here
 
 namespace {
 const msdeform::editor::EditorOptions kDefaults;
@@ -222,13 +221,9 @@ int Run() {
   std::string error;
   // --method names any registered method (as msdeform's); the flags' parser
   // takes the graph methods only, so it sees the default for the others.
-  const std::string method = FLAGS_method;
+  const std::string method = MethodFlag();
   if (!IsMethodName(method)) return Fail("--method=" + method + ": expected " + MethodNameList());
-  Method graph_method;
-  if (!ParseMethod(method, &graph_method)) FLAGS_method = MethodName(options.method);
-  const bool parsed = DeformerOptionsFromFlags(&options, &error);
-  FLAGS_method = method;
-  if (!parsed) return Fail(error);
+  if (!DeformerOptionsFromFlags(&options, &error, MethodNames())) return Fail(error);
   if (FLAGS_width < 320 || FLAGS_width > 8192) {
     return Fail("--width=" + std::to_string(FLAGS_width) + ": expected 320..8192 pixels");
   }

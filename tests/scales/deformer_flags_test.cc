@@ -141,6 +141,7 @@ TEST(DeformerOptionTableTest, DescribeOfTheDefaultsIsUnchanged) {
       {"ceres.linear_solver", "sparse_normal_cholesky"},
       {"ceres.sparse_library", "eigen_sparse"},
       {"ceres.group_position_terms", "true"},
+      {"ceres.jacobians", "analytic"},
   };
   EXPECT_EQ(DescribeOptions(DeformerOptions()), expected);
 }

@@ -14,6 +14,8 @@
 #include <gtest/gtest.h>
 
 #include "examples/energy_terms/rest_pose_term.h"
+#include "msdeform/core/procedural_meshes.h"
+#include "msdeform/scales/deformer.h"
 #include "msdeform/scales/ceres_solver.h"
 #include "msdeform/scales/gauss_newton_solver.h"
 #include "tests/energies/cost_test_util.h"
@@ -272,6 +274,47 @@ TEST(VolumeTermTest, BadTermsAreRefusedWithAMessage) {
   EnergyTerm wrong_size = VolumeTerm(0, 1.0);
   wrong_size.blocks = {TermBlock::Translation(0)};
   refused(wrong_size, "parameter blocks");
+}
+
+// The term in a Deformer solve through DeformerOptions::add_energy_terms: the
+// hook adds one term per free node of each layout, and Gauss-Newton and
+// Ceres reach the same minimum with it on a bar squeezed along its length.
+TEST(VolumeTermTest, DeformerRunsTheTermThroughEitherBackend) {
+  const Mesh bar = MakeBar(12, 1.0, 4);
+  HandleLayout layout;
+  for (int v = 0; v < bar.num_vertices(); ++v) {
+    if (bar.vertices(0, v) <= 1.0) layout.fixed.push_back(v);
+    if (bar.vertices(0, v) >= 11.0) layout.moveable.push_back(v);
+  }
+  Eigen::Affine3d squeeze = Eigen::Affine3d::Identity();
+  squeeze.translation() << -2.0, 0.5, 0.0;
+  std::vector<Eigen::Matrix3Xd> results;
+  std::vector<double> costs;
+  for (Solver backend : {Solver::kGaussNewton, Solver::kCeres}) {
+    DeformerOptions options;
+    options.backend = backend;
+    options.stopping = TightStopping();
+    options.add_energy_terms = [](const DeformationGraph&, DeformationEnergy* energy) {
+      AddVolumeTerms(3.0, energy);
+    };
+    Deformer deformer;
+    std::string error;
+    ASSERT_TRUE(deformer.Init(bar, options, &error)) << error;
+    ASSERT_TRUE(deformer.SetHandles(layout, &error)) << error;
+    int free_nodes = 0;
+    for (NodeClass c : deformer.node_classes()) free_nodes += c != NodeClass::kFixed;
+    EXPECT_EQ(static_cast<int>(deformer.energy().terms.size()), free_nodes);
+    DragStats stats;
+    ASSERT_TRUE(deformer.Drag(squeeze, &stats, &error)) << error;
+    EXPECT_NEAR(stats.final_cost,
+                EvaluateEnergy(deformer.energy(), deformer.transforms(), squeeze),
+                1e-12 * std::max(1.0, stats.final_cost));
+    results.push_back(deformer.deformed_vertices());
+    costs.push_back(stats.final_cost);
+  }
+  EXPECT_NEAR(costs[0], costs[1], 1e-9 * costs[0]);
+  const double diagonal = std::sqrt(12.0 * 12.0 + 2.0);
+  EXPECT_LT((results[0] - results[1]).colwise().norm().maxCoeff(), 1e-7 * diagonal);
 }
 
 }  // namespace
