@@ -27,7 +27,10 @@ bool Precompute::Build(const Mesh& mesh, const DeformerOptions& options, std::st
   rest_normals_ = VertexNormals(mesh_);
   components_ = ConnectedComponents(mesh_);
   diagonal_ = BoundingBoxDiagonal(mesh_);
-  if (!Lattice::Build(mesh_, options_.lattice, &lattice_, error)) return false;
+  // The lattice's split_cells test reads the same normals and components.
+  if (!Lattice::Build(mesh_, options_.lattice, rest_normals_, components_, &lattice_, error)) {
+    return false;
+  }
   switch (options_.method) {
     case Method::kMultiScale:
       // The coarse scales are connected when first used (ConnectedGraph).
