@@ -167,6 +167,20 @@ int Lattice::NumParticlesAt(const Eigen::Vector3i& coords) const {
 
 bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* lattice,
                     std::string* error) {
+  return BuildWith(mesh, options, nullptr, nullptr, lattice, error);
+}
+
+bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options,
+                    const Eigen::Matrix3Xd& vertex_normals, const Components& components,
+                    Lattice* lattice, std::string* error) {
+  CHECK_EQ(vertex_normals.cols(), mesh.num_vertices());
+  CHECK_EQ(static_cast<int>(components.component_of_vertex.size()), mesh.num_vertices());
+  return BuildWith(mesh, options, &vertex_normals, &components, lattice, error);
+}
+
+bool Lattice::BuildWith(const Mesh& mesh, const LatticeOptions& options,
+                        const Eigen::Matrix3Xd* vertex_normals, const Components* components,
+                        Lattice* lattice, std::string* error) {
   CHECK(lattice != nullptr);
   if (!options.Check(error)) return false;
   if (!ValidateMesh(mesh, error)) return false;
@@ -346,20 +360,28 @@ bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* la
   // Whether a point lies behind a piece of surface: on the inner side of
   // the normal at the piece's vertex nearest to it. Normals point out of
   // their component's enclosed volume whatever the faces' orientation.
-  Eigen::Matrix3Xd normals;
+  // outward[c] is -1 where component c's faces wind inwards.
+  Eigen::Matrix3Xd own_normals;
+  Components own_components;
+  std::vector<double> outward;
   if (options.split_cells) {
-    normals = VertexNormals(mesh);
-    const Components components = ConnectedComponents(mesh);
-    std::vector<double> volume(components.count, 0.0);
+    if (vertex_normals == nullptr) {
+      own_normals = VertexNormals(mesh);
+      vertex_normals = &own_normals;
+    }
+    if (components == nullptr) {
+      own_components = ConnectedComponents(mesh);
+      components = &own_components;
+    }
+    std::vector<double> volume(components->count, 0.0);
     for (int f = 0; f < mesh.num_faces(); ++f) {
       const Eigen::Vector3d a = mesh.vertices.col(mesh.faces(0, f));
       const Eigen::Vector3d b = mesh.vertices.col(mesh.faces(1, f));
       const Eigen::Vector3d c = mesh.vertices.col(mesh.faces(2, f));
-      volume[components.component_of_vertex[mesh.faces(0, f)]] += a.dot(b.cross(c));
+      volume[components->component_of_vertex[mesh.faces(0, f)]] += a.dot(b.cross(c));
     }
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      if (volume[components.component_of_vertex[v]] < 0.0) normals.col(v) = -normals.col(v);
-    }
+    outward.resize(components->count);
+    for (int c = 0; c < components->count; ++c) outward[c] = volume[c] < 0.0 ? -1.0 : 1.0;
   }
   // A piece of many vertices (a fine mesh: thousands in a cell) is searched
   // at a stride that leaves at most 64, which keeps the test's cost bounded
@@ -376,7 +398,9 @@ bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options, Lattice* la
         nearest = *v;
       }
     }
-    return (point - mesh.vertices.col(nearest)).dot(normals.col(nearest)) < 0.0;
+    const Eigen::Vector3d normal =
+        outward[components->component_of_vertex[nearest]] * vertex_normals->col(nearest);
+    return (point - mesh.vertices.col(nearest)).dot(normal) < 0.0;
   };
 
   // Particle adjacency: L for surface-surface, 26 lattice neighbours when an

@@ -98,6 +98,12 @@ class Lattice {
   // with a message when the options are invalid or the grid would be too big.
   static bool Build(const Mesh& mesh, const LatticeOptions& options,
                     Lattice* lattice, std::string* error);
+  // The same with the mesh's VertexNormals and ConnectedComponents given, for
+  // a caller that has them already (the split_cells test reads them); the
+  // same lattice.
+  static bool Build(const Mesh& mesh, const LatticeOptions& options,
+                    const Eigen::Matrix3Xd& vertex_normals, const Components& components,
+                    Lattice* lattice, std::string* error);
 
   double cell_width() const { return cell_width_; }
   const Eigen::Vector3d& origin() const { return origin_; }  // (x_min, y_min, z_min)
@@ -135,6 +141,10 @@ class Lattice {
   int NumParticlesAt(const Eigen::Vector3i& coords) const;
 
  private:
+  // Build's body; the normals and components are computed when null.
+  static bool BuildWith(const Mesh& mesh, const LatticeOptions& options,
+                        const Eigen::Matrix3Xd* vertex_normals, const Components* components,
+                        Lattice* lattice, std::string* error);
   long long GridIndex(const Eigen::Vector3i& coords) const;  // padded grid
 
   double cell_width_ = 0.0;

@@ -52,15 +52,20 @@ bool Layout::Build(const HandleLayout& handles, std::string* error) {
                                          rigidity_.relative_extent.data() + num_dg1);
     ScaleSelectionOptions selection_options = options.selection;
     if (options.fix_fixed_handle_nodes) selection_options.half_free = HalfFreeRule::kNone;
-    if (!SelectScale(
-            [&pre](int scale) -> const DeformationGraph& { return pre.ConnectedGraph(scale - 1); },
-            static_cast<int>(pre.graphs().size()), dg1_extent, nodes,
-            options.graph.nodes_per_scale, pre.diagonal(), selection_options, &selection_,
-            error)) {
+    // The scales tried stay connected until the selection is done, whatever
+    // other layouts do with the cache meanwhile.
+    std::vector<Precompute::GraphPin> tried;
+    auto graph_at = [&pre, &tried](int scale) -> const DeformationGraph& {
+      tried.push_back(pre.ConnectAndPin(scale - 1));
+      return pre.graphs()[scale - 1];
+    };
+    if (!SelectScale(graph_at, static_cast<int>(pre.graphs().size()), dg1_extent, nodes,
+                     options.graph.nodes_per_scale, pre.diagonal(), selection_options,
+                     &selection_, error)) {
       return false;
     }
     active_graph_ = selection_.scale - 1;
-    pin_ = Precompute::GraphPin(&pre, active_graph_);
+    pin_ = pre.ConnectAndPin(active_graph_);
     // Every class, the still components' Fixed nodes included, was decided
     // by SelectScale before the alpha weights (docs/method.md §4).
     node_classes_ = selection_.node_class;
@@ -70,7 +75,7 @@ bool Layout::Build(const HandleLayout& handles, std::string* error) {
   } else {
     const auto start = std::chrono::steady_clock::now();
     active_graph_ = pre.static_graph();
-    pin_ = Precompute::GraphPin(&pre, active_graph_);
+    pin_ = pre.ConnectAndPin(active_graph_);
     node_classes_ = StaticGraphNodeClasses(graph(), nodes.still);
     BuildEnergy();
     if (!FindSkinnedVertices(error)) return false;

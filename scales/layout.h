@@ -9,8 +9,11 @@
 // vertices a non-Fixed node skins (hold_fixed_vertices). The static baselines
 // (Sumner et al. 2007 on one graph): all nodes Totally Free but the still
 // components', every directed edge, alpha = 1, and every fixed vertex held by
-// a position term. Energy weights (Eq. 17) are sqrt residual scales; lengths
-// in the coherence and position residuals are in bounding-box diagonals.
+// a position term. Energy weights (Eq. 17) are 1 / 10 / 100 as sqrt residual
+// scales. Lengths in the coherence and position residuals are measured in
+// bounding-box diagonals (the mesh as if scaled to a unit diagonal), so
+// results depend neither on the mesh's units nor on the cell width
+// (docs/decisions.md).
 
 #ifndef MSDEFORM_SCALES_LAYOUT_H_
 #define MSDEFORM_SCALES_LAYOUT_H_

@@ -27,7 +27,10 @@ bool Precompute::Build(const Mesh& mesh, const DeformerOptions& options, std::st
   rest_normals_ = VertexNormals(mesh_);
   components_ = ConnectedComponents(mesh_);
   diagonal_ = BoundingBoxDiagonal(mesh_);
-  if (!Lattice::Build(mesh_, options_.lattice, &lattice_, error)) return false;
+  // The lattice's split_cells test reads the same normals and components.
+  if (!Lattice::Build(mesh_, options_.lattice, rest_normals_, components_, &lattice_, error)) {
+    return false;
+  }
   switch (options_.method) {
     case Method::kMultiScale:
       // The coarse scales are connected when first used (ConnectedGraph).
@@ -69,38 +72,48 @@ GraphOptions Precompute::GraphBuildOptions() const {
 }
 
 const DeformationGraph& Precompute::ConnectedGraph(int index) const {
-  CHECK(index >= 0 && index < static_cast<int>(graphs_.size())) << index;
   std::lock_guard<std::mutex> lock(graphs_mutex_);
+  return ConnectLocked(index);
+}
+
+Precompute::GraphPin Precompute::ConnectAndPin(int index) const {
+  std::lock_guard<std::mutex> lock(graphs_mutex_);
+  ConnectLocked(index);
+  ++pins_[index];
+  return GraphPin(this, index);
+}
+
+DeformationGraph& Precompute::ConnectLocked(int index) const {
+  CHECK(index >= 0 && index < static_cast<int>(graphs_.size())) << index;
   DeformationGraph& graph = graphs_[index];
   if (index == 0) return graph;  // DG1 is connected by Create
   const auto used = std::find(connected_coarse_.begin(), connected_coarse_.end(), index);
   if (used != connected_coarse_.end()) connected_coarse_.erase(used);
   connected_coarse_.push_back(index);
   if (!graph.is_connected()) ConnectGraph(mesh_, lattice_, GraphBuildOptions(), &graph);
-  // Evict the least recently used, never this one nor a pinned one.
+  EvictLocked(index);
+  return graph;
+}
+
+void Precompute::EvictLocked(int keep) const {
+  // The least recently used first, never `keep` nor a pinned one.
   for (size_t i = 0; static_cast<int>(connected_coarse_.size()) > options_.cached_scales &&
                      i < connected_coarse_.size();) {
     const int evict = connected_coarse_[i];
-    if (evict == index || pins_[evict] > 0) {
+    if (evict == keep || pins_[evict] > 0) {
       ++i;
       continue;
     }
     graphs_[evict].Disconnect();
     connected_coarse_.erase(connected_coarse_.begin() + i);
   }
-  return graph;
-}
-
-Precompute::GraphPin::GraphPin(const Precompute* precompute, int index)
-    : precompute_(precompute), index_(index) {
-  std::lock_guard<std::mutex> lock(precompute_->graphs_mutex_);
-  ++precompute_->pins_[index_];
 }
 
 Precompute::GraphPin::~GraphPin() {
   if (precompute_ == nullptr) return;
   std::lock_guard<std::mutex> lock(precompute_->graphs_mutex_);
-  --precompute_->pins_[index_];
+  // The last pin gone, the cache comes back within its bound.
+  if (--precompute_->pins_[index_] == 0) precompute_->EvictLocked(-1);
 }
 
 Precompute::GraphPin::GraphPin(GraphPin&& other) noexcept

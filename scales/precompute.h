@@ -48,23 +48,24 @@ class Precompute {
   const Lattice& lattice() const { return lattice_; }
   // graphs()[i] is DG_{i+1}; the static baselines add their graph last. The
   // multi-scale coarse graphs have edges and weights only while connected
-  // (ConnectedGraph; at most options().cached_scales of them, least recently
-  // used dropped first, never a pinned one). Not to be read while another
-  // thread connects a graph.
+  // (ConnectedGraph; at most options().cached_scales of them and the pinned
+  // ones, least recently used dropped first). A graph may be read while
+  // another thread connects another; pin it (ConnectAndPin) to read it while
+  // other threads use the cache.
   const std::vector<DeformationGraph>& graphs() const { return graphs_; }
   // The static baselines' graph index; -1 for the multi-scale method.
   int static_graph() const { return static_graph_; }
 
   // graphs()[index], connected first if it is not. The reference stays
-  // connected while the graph is pinned (GraphPin), and until the next call
-  // otherwise.
+  // connected until the next call on this precompute (from any thread); hold
+  // a pin (ConnectAndPin) to keep it longer.
   const DeformationGraph& ConnectedGraph(int index) const;
 
-  // Keeps graphs()[index] connected while it lives (a layout's graph).
+  // Keeps a graph connected while it lives (a layout's graph, or the scales
+  // a selection tries while other threads use the cache).
   class GraphPin {
    public:
     GraphPin() = default;
-    GraphPin(const Precompute* precompute, int index);
     ~GraphPin();
     GraphPin(GraphPin&& other) noexcept;
     GraphPin& operator=(GraphPin&& other) noexcept;
@@ -72,9 +73,16 @@ class Precompute {
     GraphPin& operator=(const GraphPin&) = delete;
 
    private:
+    friend class Precompute;
+    // Adopts a pin already counted in precompute->pins_.
+    GraphPin(const Precompute* precompute, int index) : precompute_(precompute), index_(index) {}
     const Precompute* precompute_ = nullptr;
     int index_ = -1;
   };
+
+  // ConnectedGraph(index) and a pin on it, in one step: no other thread can
+  // drop the graph in between. Read it as graphs()[index].
+  GraphPin ConnectAndPin(int index) const;
 
   // Rigidity (multi-scale only) for the given fixed and moveable particles,
   // as RigidityEstimator::Estimate; one estimate at a time.
@@ -88,6 +96,11 @@ class Precompute {
  private:
   Precompute() = default;
   bool Build(const Mesh& mesh, const DeformerOptions& options, std::string* error);
+  // ConnectedGraph with graphs_mutex_ held.
+  DeformationGraph& ConnectLocked(int index) const;
+  // Drops connected coarse graphs beyond cached_scales, least recently used
+  // first, but `keep` and pinned ones; graphs_mutex_ held.
+  void EvictLocked(int keep) const;
   // options_.graph with num_threads = options_.num_threads where it is 0.
   GraphOptions GraphBuildOptions() const;
 

@@ -18,10 +18,10 @@ Session::Session(std::shared_ptr<const Layout> layout) : layout_(std::move(layou
 std::unique_ptr<Session> Session::Create(std::shared_ptr<const Layout> layout,
                                          std::string* error) {
   CHECK(layout != nullptr);
-  const auto start = std::chrono::steady_clock::now();
   std::unique_ptr<Session> session(new Session(std::move(layout)));
   const Precompute& pre = session->layout_->precompute();
   const DeformerOptions& options = pre.options();
+  const auto start = std::chrono::steady_clock::now();
   session->transforms_ = NodeTransforms::Identity(session->layout_->graph().num_nodes());
   if (options.backend == Solver::kGaussNewton) {
     session->solver_ = std::make_unique<GaussNewtonSolver>(options.gauss_newton, options.stopping);
@@ -34,9 +34,9 @@ std::unique_ptr<Session> Session::Create(std::shared_ptr<const Layout> layout,
     return nullptr;
   }
   session->previous_transforms_ = session->transforms_;
-  session->deformed_vertices_ = pre.mesh().vertices;
-  session->deformed_normals_ = pre.rest_normals();
   session->setup_ms_ = MillisecondsSince(start);
+  // At rest; the normals are copied when first skinned (deformed_normals).
+  session->deformed_vertices_ = pre.mesh().vertices;
   return session;
 }
 
@@ -110,8 +110,10 @@ bool Session::Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats,
 const Eigen::Matrix3Xd& Session::deformed_normals() const {
   // Skinned on first use; the lock makes concurrent const readers safe.
   std::lock_guard<std::mutex> lock(normals_mutex_);
+  const Precompute& pre = layout_->precompute();
   if (normals_stale_) {
-    const Precompute& pre = layout_->precompute();
+    // The vertices no free node skins keep their rest normals.
+    if (deformed_normals_.cols() == 0) deformed_normals_ = pre.rest_normals();
     SkinningOptions skinning;
     skinning.num_threads = pre.options().num_threads;
     SkinPositionsAndNormals(pre.mesh().vertices, pre.rest_normals(), layout_->graph(),
@@ -119,7 +121,7 @@ const Eigen::Matrix3Xd& Session::deformed_normals() const {
                             /*deformed=*/nullptr, &deformed_normals_, skinning);
     normals_stale_ = false;
   }
-  return deformed_normals_;
+  return deformed_normals_.cols() == 0 ? pre.rest_normals() : deformed_normals_;
 }
 
 }  // namespace msdeform

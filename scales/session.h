@@ -56,7 +56,8 @@ class Session {
   // call after it. Safe from several threads at once (const readers); not
   // during a Drag.
   const Eigen::Matrix3Xd& deformed_normals() const;
-  // Milliseconds Create spent setting up the solver.
+  // Milliseconds Create spent setting up the solver (the identity transforms
+  // and the backend's Setup).
   double setup_ms() const { return setup_ms_; }
 
  private:
@@ -68,7 +69,7 @@ class Session {
   NodeTransforms previous_transforms_;  // the frame before, for kExtrapolated
   int frames_ = 0;
   Eigen::Matrix3Xd deformed_vertices_;
-  mutable Eigen::Matrix3Xd deformed_normals_;
+  mutable Eigen::Matrix3Xd deformed_normals_;  // empty until first skinned
   mutable bool normals_stale_ = false;  // a Drag moved the positions since
   mutable std::mutex normals_mutex_;
   double setup_ms_ = 0.0;

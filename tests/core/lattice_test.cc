@@ -302,6 +302,32 @@ TEST(LatticeTest, InsideAndOutsideDoNotDependOnFaceOrientation) {
   EXPECT_FALSE(ProngsJoinAbove(flipped, from_flipped, kForkBaseHeight + 2.0));
 }
 
+// The overload that takes the mesh's normals and components (the Deformer's
+// precompute has them) builds the same lattice, faces flipped or not, and the
+// prongs stay apart.
+TEST(LatticeTest, GivenNormalsAndComponentsBuildTheSameLattice) {
+  const Mesh fork = MakeFork(0.1);
+  Mesh flipped = fork;
+  flipped.faces.row(1).swap(flipped.faces.row(2));
+  LatticeOptions options;
+  options.cell_width = 1.0;
+  for (const Mesh* mesh : {&fork, static_cast<const Mesh*>(&flipped)}) {
+    const Lattice computed = BuildTestLattice(*mesh, 1.0);
+    Lattice given;
+    std::string error;
+    ASSERT_TRUE(Lattice::Build(*mesh, options, VertexNormals(*mesh), ConnectedComponents(*mesh),
+                               &given, &error))
+        << error;
+    EXPECT_GT(given.num_split_cells(), 0);
+    EXPECT_EQ(given.num_split_cells(), computed.num_split_cells());
+    EXPECT_EQ(given.particle_of_vertex(), computed.particle_of_vertex());
+    EXPECT_EQ(given.rest_positions(), computed.rest_positions());
+    EXPECT_EQ(given.particle_adjacency().offsets, computed.particle_adjacency().offsets);
+    EXPECT_EQ(given.particle_adjacency().values, computed.particle_adjacency().values);
+    EXPECT_FALSE(ProngsJoinAbove(*mesh, given, kForkBaseHeight + 2.0));
+  }
+}
+
 TEST(LatticeTest, AdjacencyIsSymmetricAndFollowsMethod) {
   const Mesh bar = MakeBar(4, 3.0, 6);
   const Lattice lattice = BuildTestLattice(bar, 0.5);

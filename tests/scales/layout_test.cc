@@ -98,6 +98,14 @@ TEST(LayoutTest, CylinderLayoutsSelectCoarseScales) {
   ASSERT_NE(layout, nullptr) << error;
   const int active = layout->active_graph();
   ASSERT_GT(active, 0);
+  // The scales the selection tried were pinned only while it ran: the cache
+  // is back within its bound, the layout's graph in it.
+  int connected = 0;
+  for (size_t i = 1; i < precompute->graphs().size(); ++i) {
+    connected += precompute->graphs()[i].is_connected();
+  }
+  EXPECT_EQ(connected, 1);
+  EXPECT_TRUE(layout->graph().is_connected());
   const int other = active == 1 ? 2 : 1;
   // Pinned while the layout lives: another coarse scale does not evict it.
   precompute->ConnectedGraph(other);

@@ -53,6 +53,35 @@ TEST(PrecomputeTest, TheDeformersInitIsAPrecompute) {
   }
 }
 
+// Pinned graphs stay connected beyond cached_scales; once the pins are gone
+// the cache is back within its bound.
+TEST(PrecomputeTest, PinsHoldGraphsBeyondTheBoundUntilReleased) {
+  const CylinderLayouts cylinder;
+  DeformerOptions options = CylinderOptions(Method::kMultiScale);
+  options.cached_scales = 1;
+  std::string error;
+  std::shared_ptr<const Precompute> precompute =
+      Precompute::Create(cylinder.mesh, options, &error);
+  ASSERT_NE(precompute, nullptr) << error;
+  ASSERT_GE(precompute->graphs().size(), 4u);
+  auto num_connected = [&precompute] {
+    int connected = 0;
+    for (size_t i = 1; i < precompute->graphs().size(); ++i) {
+      connected += precompute->graphs()[i].is_connected();
+    }
+    return connected;
+  };
+  {
+    const Precompute::GraphPin first = precompute->ConnectAndPin(1);
+    const Precompute::GraphPin second = precompute->ConnectAndPin(2);
+    precompute->ConnectedGraph(3);
+    EXPECT_TRUE(precompute->graphs()[1].is_connected());
+    EXPECT_TRUE(precompute->graphs()[2].is_connected());
+    EXPECT_EQ(num_connected(), 3);
+  }
+  EXPECT_EQ(num_connected(), 1);
+}
+
 // Layouts and sessions made in four threads at once on one precompute (two
 // layouts, each twice, one cached coarse scale) drag as they do made one
 // after another.
