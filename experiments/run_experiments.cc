@@ -139,10 +139,14 @@ bool FillLabOptions(SolverLabOptions* options, std::string* error) {
 
 // The program; main() below adds the out-of-memory report.
 static int Main(int argc, char** argv) {
-  // The runner measures one core per run unless told otherwise.
-  gflags::SetCommandLineOptionWithMode(
-      "threads", std::to_string(msdeform::RunnerOptions().threads).c_str(),
-      gflags::SET_FLAGS_DEFAULT);
+  // The runner measures one core per run unless told otherwise: the default
+  // of every spelling of the option (the first given wins, none given the
+  // first registered).
+  for (const char* spelling : {"num_threads", "threads"}) {
+    gflags::SetCommandLineOptionWithMode(
+        spelling, std::to_string(msdeform::RunnerOptions().threads).c_str(),
+        gflags::SET_FLAGS_DEFAULT);
+  }
   const std::string usage =
       "msdeform_experiments [--quick] [--out_dir=DIR] [--scenarios=DIR] [--only=a,b] "
       "[--frames=N] [--threads=N] [any msdeform method, solver or ablation flag]\n"
