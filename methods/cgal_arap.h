@@ -43,7 +43,7 @@ struct CgalArapOptions {
   bool Check(std::string* error) const;
 };
 
-enum class ArapVariant { kOriginal, kSpokesAndRims };
+enum class ArapVariant { kOriginal, kSmoothRotationEnhanced };
 
 struct CgalArapStats {
   double solve_ms = 0.0;  // set targets + deform()

@@ -16,9 +16,13 @@
 // particle's cell follows that frame exactly (the handle and the fixed
 // vertices are exact); a vertex in a free particle's cell is the blend of the
 // frames of that particle and its lattice neighbours, x = sum_j w_j T_j(x0) /
-// sum_j w_j, with the trilinear weights w_j of the cell centres, so the
-// surface does not tear at cell walls. A rigid motion of the whole lattice is
-// a fixed point of the steps and of the skinning.
+// sum_j w_j, with the trilinear weights w_j of the cell centres: continuous
+// across the walls between free cells. At the wall of a driven or fixed cell
+// it is not (the vertices inside take that one frame, those just outside a
+// blend), so a large edit can open a seam there: on a 8 x 1 x 1 bar bent by
+// 0.6 rad the longest edge across such a wall stretched 3.6x (between free
+// cells 1.8x); docs/decisions.md, "FastLSM". A rigid motion of the whole
+// lattice is a fixed point of the steps and of the skinning.
 
 #ifndef MSDEFORM_METHODS_FASTLSM_H_
 #define MSDEFORM_METHODS_FASTLSM_H_

@@ -24,7 +24,7 @@ const std::vector<std::pair<std::string, Factory>>& Registry() {
       {"cgal_arap",
        [] { return std::make_unique<CgalArapMethod>("cgal_arap", ArapVariant::kOriginal); }},
       {"cgal_sr_arap",
-       [] { return std::make_unique<CgalArapMethod>("cgal_sr_arap", ArapVariant::kSpokesAndRims); }},
+       [] { return std::make_unique<CgalArapMethod>("cgal_sr_arap", ArapVariant::kSmoothRotationEnhanced); }},
 #endif
       {"fastlsm", [] { return std::make_unique<FastLsm>(); }},
   };

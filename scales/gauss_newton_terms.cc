@@ -1,6 +1,7 @@
 #include "msdeform/scales/gauss_newton_terms.h"
 
 #include <algorithm>
+#include <limits>
 
 #include <glog/logging.h>
 
@@ -54,9 +55,17 @@ void GaussNewtonTerms::Evaluate(const Term& term, const Eigen::VectorXd& x, doub
       jacobian_pointers[b] = (*jacobians)[b].data();
     }
   }
-  CHECK(term.cost->Evaluate(parameters.data(), residuals,
-                            jacobians != nullptr ? jacobian_pointers.data() : nullptr))
-      << "an energy term's cost function failed to evaluate";
+  if (!term.cost->Evaluate(parameters.data(), residuals,
+                           jacobians != nullptr ? jacobian_pointers.data() : nullptr)) {
+    // A term that cannot be evaluated here (a point outside its domain)
+    // makes the cost NaN, as Ceres treats it: a trial step there is
+    // rejected, and a frame that starts there fails with "the cost is not
+    // finite" instead of stopping the program.
+    std::fill(residuals, residuals + m, std::numeric_limits<double>::quiet_NaN());
+    if (jacobians != nullptr) {
+      for (std::vector<double>& block : *jacobians) std::fill(block.begin(), block.end(), 0.0);
+    }
+  }
 }
 
 void GaussNewtonTerms::AppendLinearRows(std::vector<Triplet>* a_entries,

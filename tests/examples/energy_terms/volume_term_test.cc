@@ -317,5 +317,36 @@ TEST(VolumeTermTest, DeformerRunsTheTermThroughEitherBackend) {
   EXPECT_LT((results[0] - results[1]).colwise().norm().maxCoeff(), 1e-7 * diagonal);
 }
 
+// A term whose functor refuses a point (R_00 < 0.99, outside its domain)
+// makes the cost NaN there in both backends: the steps that reach it are
+// rejected, and the solve ends on a finite cost inside the domain instead of
+// stopping the program.
+struct DomainLimitedCost {
+  template <typename T>
+  bool operator()(const T* rotation, T* residual) const {
+    if (rotation[0] < T(0.99)) return false;
+    residual[0] = rotation[0] - T(1.0);
+    return true;
+  }
+};
+
+TEST(VolumeTermTest, ATermOutsideItsDomainRejectsTheStepInBothBackends) {
+  SmallGraph graph = MakeSmallGraph(/*all_follow=*/true);
+  const int n = static_cast<int>(graph.nodes.size());
+  for (int j = 0; j < n; ++j) {
+    graph.energy.terms.push_back(MakeEnergyTerm<DomainLimitedCost, 1, 9>(
+        "domain_limited", {TermBlock::Rotation(j)}, /*linear=*/false, DomainLimitedCost()));
+  }
+  const Eigen::Affine3d handle = RigidHandle();
+  GaussNewtonSolver gauss_newton(GaussNewtonOptions(), TightStopping());
+  CeresSolver ceres(CeresOptions(), TightStopping(), 1);
+  for (FrameSolver* solver : std::vector<FrameSolver*>{&gauss_newton, &ceres}) {
+    const Solved solved = Solve(solver, graph.energy, handle);
+    ASSERT_FALSE(solved.summary.failed) << solved.summary.message;
+    EXPECT_TRUE(std::isfinite(solved.summary.final_cost));
+    for (int j = 0; j < n; ++j) EXPECT_GE(solved.transforms.rotation(j)(0, 0), 0.99) << j;
+  }
+}
+
 }  // namespace
 }  // namespace msdeform
