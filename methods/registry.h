@@ -1,5 +1,5 @@
 // Editing methods by name. Adding a method is its files and one line in
-// methods/registry.cc (docs/extending_method.md).
+// methods/registry.cc (docs/extending.md, "Adding a method").
 //
 //   std::unique_ptr<EditingMethod> method = CreateMethod(name, &error);
 //   if (method == nullptr) { /* error: "unknown method 'x' (expected ...)" */ }

@@ -8,7 +8,7 @@
 //   deformer.deformed_vertices();
 //
 // The Deformer is a facade over the three stages of an edit
-// (docs/extending_stages.md): Init makes a Precompute (mesh, lattice, graphs;
+// (docs/extending.md, "The stages of an edit"): Init makes a Precompute (mesh, lattice, graphs;
 // scales/precompute.h), SetHandles a Layout (rigidity, scale, node classes,
 // the energy; scales/layout.h) and a Session (solver, transforms, skinning;
 // scales/session.h), Drag drives the session. The stages cannot be made out

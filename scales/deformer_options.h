@@ -123,7 +123,7 @@ struct DeformerOptions {
 // backend, "cell_width" for lattice.cell_width), which every front end
 // accepts as aliases. DescribeOptions, the flags (scales/deformer_flags.h),
 // the Python keywords and the editor's panels are derived from it; a new
-// option is a struct field plus one row here (docs/extending_options.md).
+// option is a struct field plus one row here (docs/extending.md, "Adding an option").
 const OptionTable<DeformerOptions>& DeformerOptionTable();
 // The tables of the embedded structs, for a front end that binds them apart
 // (Python's LatticeOptions, ...) or a larger options struct that embeds them.

@@ -1,4 +1,4 @@
-// Stage 2 of 3 of an edit (scales/precompute.h; docs/extending_stages.md):
+// Stage 2 of 3 of an edit (scales/precompute.h; docs/extending.md, "The stages of an edit"):
 // everything that depends on the handle layout. Immutable once built.
 //
 // Multi-scale (docs/method.md §2-5): rigidity (by default the harmonic

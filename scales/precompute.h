@@ -1,4 +1,4 @@
-// Stage 1 of 3 of an edit (docs/extending_stages.md): everything that depends
+// Stage 1 of 3 of an edit (docs/extending.md, "The stages of an edit"): everything that depends
 // only on the mesh and the options. Immutable once built.
 //
 //   std::shared_ptr<const Precompute> precompute = Precompute::Create(mesh, options, &error);

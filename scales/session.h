@@ -1,4 +1,4 @@
-// Stage 3 of 3 of an edit (scales/precompute.h; docs/extending_stages.md): the
+// Stage 3 of 3 of an edit (scales/precompute.h; docs/extending.md, "The stages of an edit"): the
 // frames of one layout. The backend's solver (a Ceres problem, or the
 // Gauss-Newton system with its symbolic factorisation) set up once, the node
 // transforms warm-started from frame to frame, and the skinned mesh.
