@@ -32,6 +32,8 @@
 #include "msdeform/core/mesh_io.h"
 #include "msdeform/core/scenario.h"
 #include "msdeform/core/timing.h"
+#include "msdeform/methods/method_flags.h"
+#include "msdeform/methods/method_option_table.h"
 #include "msdeform/methods/method_options.h"
 #include "msdeform/methods/registry.h"
 #include "msdeform/scales/deformer.h"
@@ -59,12 +61,6 @@ DEFINE_string(out_frames, "",
               "[output] Folder for every frame's mesh, <name>_0001.<ext> ... (ext of --out).");
 // The non-graph methods' options (methods/method_options.h); --method itself
 // is scales/deformer_flags.cc's and takes any registered name here.
-DEFINE_int32(cgal_iterations, msdeform::CgalArapOptions().iterations,
-             "[method] cgal_arap, cgal_sr_arap: local/global iterations per frame.");
-DEFINE_int32(fastlsm_steps, msdeform::FastLsmOptions().steps_per_frame,
-             "[method] fastlsm: shape-matching steps per frame.");
-DEFINE_double(fastlsm_damping, msdeform::FastLsmOptions().damping,
-              "[method] fastlsm: fraction of each particle's velocity removed per step, [0, 1).");
 DEFINE_bool(overwrite, false, "[output] Replace outputs that exist (otherwise an error).");
 DEFINE_bool(quiet, false, "[diagnostics] Print nothing but errors.");
 DEFINE_bool(verbose, false,
@@ -123,26 +119,15 @@ bool LoadMesh(const std::string& path, Mesh* mesh, MeshReadReport* report, std::
 }
 
 bool PrepareJob(Job* job, std::string* error) {
-  // --method names any registered method; DeformerOptionsFromFlags parses
-  // the graph methods only, so it sees the default for the others.
+  // --method names any registered method; MethodOptionsFromFlags leaves
+  // deformer.method at its default for a method that is not a graph.
   job->method = MethodFlag();
   if (!IsMethodName(job->method)) {
     *error = "--method=" + job->method + ": expected " + MethodNameList();
     return false;
   }
-  if (!DeformerOptionsFromFlags(&job->options, error, MethodNames())) return false;
-  job->method_options.deformer = job->options;
-  job->method_options.cgal.iterations = FLAGS_cgal_iterations;
-  job->method_options.fastlsm.steps_per_frame = FLAGS_fastlsm_steps;
-  job->method_options.fastlsm.damping = FLAGS_fastlsm_damping;
-  if (!job->method_options.cgal.Check(error)) {
-    *error = "--cgal_iterations=" + std::to_string(FLAGS_cgal_iterations) + ": " + *error;
-    return false;
-  }
-  if (!job->method_options.fastlsm.Check(error)) {
-    *error = "--fastlsm_steps/--fastlsm_damping: " + *error;
-    return false;
-  }
+  if (!MethodOptionsFromFlags(&job->method_options, error)) return false;
+  job->options = job->method_options.deformer;
   Method graph_method;
   if (!ParseMethod(job->method, &graph_method) && !FLAGS_dump_nodes.empty()) {
     *error = "--dump_nodes: the " + job->method + " method has no deformation graph";
@@ -282,6 +267,10 @@ bool Provenance(const Job& job, const std::vector<std::string>& command_line, Js
   (*report)["inputs"] = inputs;
   Json options = Json::object();
   for (const auto& [name, value] : DescribeOptions(job.options)) options[name] = value;
+  // The methods' own (cgal.iterations, fastlsm.steps_per_frame, ...).
+  for (const auto& [name, value] : MethodOptionTable().Describe(job.method_options)) {
+    if (IsMethodOwnRow(name)) options[name] = value;
+  }
   (*report)["options"] = options;
   return true;
 }

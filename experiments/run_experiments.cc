@@ -21,6 +21,7 @@
 #include "experiments/runner.h"
 #include "experiments/solver_lab.h"
 #include "msdeform/core/main_guard.h"
+#include "msdeform/methods/method_flags.h"
 #include "msdeform/scales/deformer_flags.h"
 
 DEFINE_string(scenarios, "",
@@ -58,12 +59,6 @@ DEFINE_string(reference_method, "cgal_arap",
 DEFINE_bool(time_other_backend, true,
             "[solver] Also time multiscale and static with the other backend (Ceres when "
             "--solver=gauss_newton, the default).");
-DEFINE_int32(cgal_iterations, msdeform::CgalArapOptions().iterations,
-             "[solver] CGAL ARAP iterations per frame.");
-DEFINE_int32(fastlsm_steps, msdeform::FastLsmOptions().steps_per_frame,
-             "[solver] FastLSM shape-matching steps per frame.");
-DEFINE_double(fastlsm_damping, msdeform::FastLsmOptions().damping,
-              "[solver] FastLSM: fraction of each particle's velocity removed per step, [0, 1).");
 
 namespace msdeform {
 namespace {
@@ -93,10 +88,11 @@ bool FillOptions(RunnerOptions* options, std::string* error) {
   options->time_other_backend = FLAGS_time_other_backend;
   if (!DeformerOptionsFromFlags(&options->deformer, error)) return false;
   options->threads = options->deformer.num_threads;
-  options->cgal.iterations = FLAGS_cgal_iterations;
+  MethodOptions own;  // the methods' own flags (--cgal_iterations, --fastlsm_steps, ...)
+  if (!MethodOwnOptionsFromFlags(&own, error)) return false;
+  options->cgal = own.cgal;
+  options->fastlsm = own.fastlsm;
   options->reference_method = FLAGS_reference_method;
-  options->fastlsm.steps_per_frame = FLAGS_fastlsm_steps;
-  options->fastlsm.damping = FLAGS_fastlsm_damping;
   options->progress = PrintLine;
   return options->Check(error);
 }

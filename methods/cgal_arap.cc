@@ -9,6 +9,7 @@
 #include <CGAL/Surface_mesh_deformation.h>
 
 #include "msdeform/core/timing.h"
+#include "msdeform/methods/method_option_table.h"
 #include "msdeform/methods/method_options.h"
 
 namespace msdeform {
@@ -44,19 +45,10 @@ struct CgalArap::Impl {
 };
 
 bool CgalArapOptions::Check(std::string* error) const {
-  if (iterations < 1) {
-    *error = "CGAL ARAP iterations must be >= 1";
-    return false;
-  }
-  if (!(tolerance >= 0.0)) {
-    *error = "CGAL ARAP tolerance must be >= 0";
-    return false;
-  }
-  if (!(sre_alpha >= 0.0) || !std::isfinite(sre_alpha)) {
-    *error = "CGAL SR-ARAP alpha must be finite and >= 0";
-    return false;
-  }
-  return true;
+  // The table's ranges, named as MethodOptionTable() names the row.
+  if (CgalArapOptionTable().CheckRanges(*this, error)) return true;
+  *error = "cgal." + *error;
+  return false;
 }
 
 CgalArap::CgalArap(ArapVariant variant) : variant_(variant) {}

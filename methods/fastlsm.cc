@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "msdeform/core/timing.h"
+#include "msdeform/methods/method_option_table.h"
 #include "msdeform/methods/method_options.h"
 #include "msdeform/scales/polar_decomposition.h"
 
@@ -19,19 +20,10 @@ constexpr double kRotationTolerance = 1e-9;
 }  // namespace
 
 bool FastLsmOptions::Check(std::string* error) const {
-  if (steps_per_frame < 1 || steps_per_frame > 100000) {
-    *error = "fastlsm steps_per_frame must be in 1..100000";
-    return false;
-  }
-  if (region_half_width < 1 || region_half_width > kMaxRegionHalfWidth) {
-    *error = "fastlsm region_half_width must be in 1.." + std::to_string(kMaxRegionHalfWidth);
-    return false;
-  }
-  if (!(damping >= 0.0 && damping < 1.0)) {
-    *error = "fastlsm damping must be in [0, 1)";
-    return false;
-  }
-  return true;
+  // The table's ranges, named as MethodOptionTable() names the row.
+  if (FastLsmOptionTable().CheckRanges(*this, error)) return true;
+  *error = "fastlsm." + *error;
+  return false;
 }
 
 bool FastLsm::DoPrecompute(const Mesh& mesh, const MethodOptions& options, std::string* error) {

@@ -142,13 +142,8 @@ py::tuple RunCgalArapOn(const ExperimentScenario& scenario, int iterations, doub
 
 py::tuple RunMethodOn(const ExperimentScenario& scenario, const std::string& method,
                       const py::object& options, const py::object& label,
-                      const py::object& reference, int cgal_iterations, int fastlsm_steps,
-                      double fastlsm_damping, const py::kwargs& kwargs) {
-  MethodOptions method_options;
-  method_options.deformer = DeformerOptionsFrom(options, kwargs);
-  method_options.cgal.iterations = cgal_iterations;
-  method_options.fastlsm.steps_per_frame = fastlsm_steps;
-  method_options.fastlsm.damping = fastlsm_damping;
+                      const py::object& reference, const py::kwargs& kwargs) {
+  const MethodOptions method_options = MethodOptionsFrom(options, kwargs);
   std::string error;
   if (!IsMethodName(method)) ThrowValueError("method: " + (CreateMethod(method, &error), error));
   if (!method_options.deformer.Check(&error) || !method_options.cgal.Check(&error) ||
@@ -333,14 +328,11 @@ void BindRunner(py::module_& m) {
   m.def("run_method", &RunMethodOn, py::arg("scenario"), py::arg("method"),
         py::arg("options") = py::none(), py::arg("label") = py::none(),
         py::arg("reference") = py::none(),
-        py::arg("cgal_iterations") = CgalArapOptions().iterations,
-        py::arg("fastlsm_steps") = FastLsmOptions().steps_per_frame,
-        py::arg("fastlsm_damping") = FastLsmOptions().damping,
-        "run_method(scenario, method, options=None, label=None, reference=None, "
-        "cgal_iterations=20, fastlsm_steps=20, fastlsm_damping=0.1, **kwargs)\n\n"
+        "run_method(scenario, method, options=None, label=None, reference=None, **kwargs)\n\n"
         "Runs any registered method (msdeform.METHODS) over the scenario's drag path through "
         "the method interface, as the experiment runner does (experiments/runner.h, "
-        "RunMethod). options and keyword arguments as for Deformer. reference, the reference "
+        "RunMethod). options and keyword arguments as for Method (the Deformer's, and the "
+        "methods' own: cgal_iterations, fastlsm_steps, ...). reference, the reference "
         "method's final vertices on the same drag, gives arap_distance_rel (NaN without). "
         "Returns (row, V2): run_deformer's dict and the final vertices (#V, 3). Raises "
         "ValueError for an unknown method or bad options, RuntimeError when a frame fails.");

@@ -15,6 +15,7 @@
 #include <gflags/gflags.h>
 #include <pybind11/stl.h>
 
+#include "msdeform/methods/method_option_table.h"
 #include "msdeform/scales/deformer_flags.h"
 #include "python/bindings.h"
 
@@ -86,9 +87,9 @@ DeformerOptions OptionsFromFlags(const py::dict& flags) {
 
 // The options table's rows, for front ends that build widgets or docs.
 py::list OptionRows() {
-  const DeformerOptions defaults;
+  const MethodOptions defaults;
   py::list rows;
-  for (const OptionRow<DeformerOptions>& row : DeformerOptionTable().rows()) {
+  for (const OptionRow<MethodOptions>& row : MethodOptionTable().rows()) {
     py::dict entry;
     entry["name"] = row.name;
     entry["type"] = OptionTypeName(row.type);
@@ -98,6 +99,8 @@ py::list OptionRows() {
     entry["range"] = row.has_range ? py::object(py::str(row.expected)) : py::object(py::none());
     entry["aliases"] = row.aliases;
     entry["flag_topic"] = row.topic;
+    entry["keywords"] = IsMethodOwnRow(row.name) ? MethodKeywords(row.name)
+                                                 : std::vector<std::string>{};
     rows.append(entry);
   }
   return rows;
@@ -132,7 +135,10 @@ void BindFlags(py::module_& m) {
         "for an unknown name (with the nearest flag) or a bad value, TypeError for a value "
         "that is not a bool, int, float or str.");
   m.def("option_rows", &OptionRows,
-        "The Deformer's options table (scales/deformer_options.h), in declaration order: a list "
+        "The one options table of the methods (methods/method_option_table.h): the Deformer's "
+        "rows (scales/deformer_options.h), then the methods' own ('cgal.iterations', "
+        "'fastlsm.steps_per_frame'; keywords: the Method keywords that set them), in "
+        "declaration order: a list "
         "of dicts with name ('lattice.cell_width'), type (bool, int, double, enum), default (as "
         "DescribeOptions prints it), help, choices (of an enum), range (its words, or None), "
         "aliases (other spellings every front end accepts, e.g. 'solver' for 'backend') and "

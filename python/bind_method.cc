@@ -15,6 +15,7 @@
 
 #include <pybind11/stl.h>
 
+#include "msdeform/methods/method_option_table.h"
 #include "msdeform/methods/method_options.h"
 #include "msdeform/methods/registry.h"
 #include "python/bindings.h"
@@ -43,14 +44,9 @@ py::dict FrameToDict(const MethodStats& stats) {
 
 std::unique_ptr<PyMethod> MakeMethod(const py::object& vertices, const py::object& faces,
                                      const std::string& name, const py::object& options,
-                                     int cgal_iterations, int fastlsm_steps,
-                                     double fastlsm_damping, const py::kwargs& kwargs) {
+                                     const py::kwargs& kwargs) {
   const Mesh mesh = MeshFromArrays(vertices, faces);
-  MethodOptions method_options;
-  method_options.deformer = DeformerOptionsFrom(options, kwargs);
-  method_options.cgal.iterations = cgal_iterations;
-  method_options.fastlsm.steps_per_frame = fastlsm_steps;
-  method_options.fastlsm.damping = fastlsm_damping;
+  const MethodOptions method_options = MethodOptionsFrom(options, kwargs);
   auto self = std::make_unique<PyMethod>();
   std::string error;
   self->method = CreateMethod(name, &error);
@@ -113,6 +109,29 @@ py::array_t<double> Drag(const py::object& self_object, const py::object& matrix
   return ReadOnlyView(self.method->deformed_vertices(), self_object);
 }
 
+// The constructor's doc: the methods' own keywords from their rows.
+std::string MethodDoc() {
+  std::string doc =
+      "Method(V, F, method='multiscale', options=None, **kwargs)\n\n"
+      "V float64 (#V, 3), F (#F, 3). `options` and the other keyword arguments are "
+      "DeformerOptions, as for Deformer (the graph methods use them, FastLSM its lattice "
+      "options). The methods' own options (msdeform.option_rows(), 'cgal.' and 'fastlsm.' "
+      "rows) are keywords too:\n";
+  const MethodOptions defaults;
+  for (const OptionRow<MethodOptions>& row : MethodOptionTable().rows()) {
+    if (!IsMethodOwnRow(row.name)) continue;
+    std::string keywords;
+    for (const std::string& keyword : MethodKeywords(row.name)) {
+      keywords += (keywords.empty() ? "" : " or ") + keyword;
+    }
+    doc += "  " + keywords + " (" + OptionTypeName(row.type) + ", default " + row.get(defaults) +
+           "): " + row.help + "\n";
+  }
+  return doc +
+         "Raises ValueError naming the registered methods for an unknown name, and naming the "
+         "keyword for an invalid option.";
+}
+
 }  // namespace
 
 void BindMethod(py::module_& m) {
@@ -126,15 +145,7 @@ void BindMethod(py::module_& m) {
       "Not copyable. Calls from several threads take turns; the GIL is released while it works.");
   c.def(py::init(&MakeMethod), py::arg("V"), py::arg("F"), py::arg("method") = "multiscale",
         py::arg("options") = py::none(),
-        py::arg("cgal_iterations") = CgalArapOptions().iterations,
-        py::arg("fastlsm_steps") = FastLsmOptions().steps_per_frame,
-        py::arg("fastlsm_damping") = FastLsmOptions().damping,
-        "Method(V, F, method='multiscale', options=None, cgal_iterations=20, fastlsm_steps=20, "
-        "fastlsm_damping=0.1, **kwargs)\n\n"
-        "V float64 (#V, 3), F (#F, 3). `options` and keyword arguments are DeformerOptions, as "
-        "for Deformer (the graph methods use them, FastLSM its lattice options). Raises "
-        "ValueError naming the registered methods for an unknown name, and for invalid "
-        "options.");
+        MethodDoc().c_str());
   c.def("set_handles", &SetHandles, py::arg("status"),
         "A handle layout: a status array (#V,) with 0 fixed, 1 free, 2 moveable, or a .sel "
         "path. Raises ValueError for an invalid layout.");

@@ -23,6 +23,7 @@
 #include "msdeform/core/deformation_graph.h"
 #include "msdeform/core/lattice.h"
 #include "msdeform/core/option_table.h"
+#include "msdeform/methods/method_option_table.h"
 #include "msdeform/scales/ceres_solver.h"
 #include "msdeform/scales/deformer.h"
 #include "msdeform/scales/frame_solver.h"
@@ -424,6 +425,41 @@ DeformerOptions DeformerOptionsFrom(const py::handle& options, const py::kwargs&
     resolved.graph.num_threads = resolved.num_threads;
   }
   return resolved;
+}
+
+std::vector<std::string> MethodKeywords(const std::string& row_name) {
+  const OptionRow<MethodOptions>* row = MethodOptionTable().Find(row_name);
+  std::string underscored = row_name;
+  std::replace(underscored.begin(), underscored.end(), '.', '_');
+  std::vector<std::string> keywords = {underscored};
+  for (const std::string& alias : row->aliases) {
+    if (alias != underscored) keywords.push_back(alias);
+  }
+  return keywords;
+}
+
+MethodOptions MethodOptionsFrom(const py::handle& options, const py::kwargs& kwargs) {
+  MethodOptions result;
+  py::kwargs rest;
+  std::set<std::string> used, consumed;  // rows set, keywords read
+  for (const OptionRow<MethodOptions>& row : MethodOptionTable().rows()) {
+    if (!IsMethodOwnRow(row.name)) continue;
+    for (const std::string& keyword : MethodKeywords(row.name)) {
+      if (!kwargs.contains(keyword)) continue;
+      if (!used.insert(row.name).second) {
+        ThrowValueError(keyword + ": one option (" + row.name + "), given twice");
+      }
+      consumed.insert(keyword);
+      const std::string text = RowText(row, kwargs[py::str(keyword)], keyword);
+      std::string error;
+      if (!MethodOptionTable().Set(row.name, text, &result, &error, keyword)) ThrowValueError(error);
+    }
+  }
+  for (const auto& [key, value] : kwargs) {
+    if (consumed.count(py::str(key).cast<std::string>()) == 0) rest[key] = value;
+  }
+  result.deformer = DeformerOptionsFrom(options, rest);
+  return result;
 }
 
 void BindOptions(py::module_& m) {

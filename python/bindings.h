@@ -26,6 +26,7 @@
 
 #include "msdeform/core/handles.h"
 #include "msdeform/core/mesh.h"
+#include "msdeform/methods/method_options.h"
 #include "msdeform/scales/deformer.h"
 
 namespace msdeform {
@@ -90,6 +91,14 @@ py::array_t<int> ReadOnlyView(const Eigen::Matrix3Xi& faces, const py::handle& o
 // arguments naming its fields (bind_options.cc): TypeError for an unknown
 // name, ValueError for a bad value.
 DeformerOptions DeformerOptionsFrom(const py::handle& options, const py::kwargs& kwargs);
+// A method's options: the keywords that are the methods' own rows of
+// MethodOptionTable() (the row's name with '_' for '.', or its flag alias:
+// fastlsm_steps_per_frame or fastlsm_steps) set cgal/fastlsm, checked by the
+// row (ValueError naming the keyword); the rest are DeformerOptionsFrom's.
+MethodOptions MethodOptionsFrom(const py::handle& options, const py::kwargs& kwargs);
+// The keywords of a method's own row ("fastlsm.steps_per_frame":
+// fastlsm_steps_per_frame, fastlsm_steps).
+std::vector<std::string> MethodKeywords(const std::string& row_name);
 
 }  // namespace python
 }  // namespace msdeform

@@ -11,7 +11,8 @@
 
 #include "msdeform/core/option_table.h"
 
-// The flags are DeformerOptionTable()'s rows that have a command-line topic,
+// The flags are the rows of an options table that have a command-line topic
+// (DeformerOptionTable()'s here, the methods' own in methods/method_flags.cc),
 // registered with gflags at start-up under each of the row's spellings: its
 // name where it has no dot, and its aliases (the legacy spellings: --solver
 // for backend, --cell_width for lattice.cell_width). Name, type, default and
@@ -24,25 +25,21 @@ DEFINE_uint64(seed, msdeform::DeformerOptions().graph.seed,
 namespace msdeform {
 namespace {
 
-using Row = OptionRow<DeformerOptions>;
-
 // One registered spelling of a row and its storage.
 struct TableFlag {
-  const Row* row;
+  int group;
+  std::string row;  // the row's name, the same for each of its spellings
   std::string spelling;
   OptionType type;
   void* value;  // bool, int32, double or std::string
 };
 
-std::string RowDescription(const Row& row, const std::string& spelling) {
-  std::string text = "[" + row.topic + "] " + row.help;
+std::string SpellingDescription(const FlagRow& row, const std::string& spelling) {
   std::string others;
-  if (spelling != row.name && row.name.find('.') == std::string::npos) others = "--" + row.name;
-  for (const std::string& alias : row.aliases) {
-    if (alias != spelling) others += (others.empty() ? "--" : ", --") + alias;
+  for (const std::string& other : row.spellings) {
+    if (other != spelling) others += (others.empty() ? "--" : ", --") + other;
   }
-  if (!others.empty()) text += " (also " + others + ")";
-  return text;
+  return others.empty() ? row.description : row.description + " (also " + others + ")";
 }
 
 template <typename V>
@@ -55,43 +52,11 @@ V* Register(const std::string& spelling, const std::string& help, V value) {
   return current;
 }
 
-std::vector<TableFlag> RegisterTableFlags() {
-  std::vector<TableFlag> flags;
-  const DeformerOptions defaults;
-  for (const Row& row : DeformerOptionTable().rows()) {
-    const std::vector<std::string> spellings = FlagSpellings(row);
-    const std::string value = row.get(defaults);
-    for (const std::string& spelling : spellings) {
-      const std::string help = RowDescription(row, spelling);
-      TableFlag flag{&row, spelling, row.type, nullptr};
-      switch (row.type) {
-        case OptionType::kBool:
-          flag.value = Register<bool>(spelling, help, value == "true");
-          break;
-        case OptionType::kInt:
-          flag.value = Register<gflags::int32>(spelling, help, std::stoi(value));
-          break;
-        case OptionType::kDouble:
-          flag.value = Register<double>(spelling, help, std::stod(value));
-          break;
-        case OptionType::kString:
-        case OptionType::kEnum:
-          flag.value = Register<std::string>(spelling, help, value);
-          break;
-      }
-      flags.push_back(flag);
-    }
-  }
+// Every group's flags, rows in declaration order, a row's spellings together.
+std::vector<TableFlag>& TableFlags() {
+  static std::vector<TableFlag> flags;
   return flags;
 }
-
-const std::vector<TableFlag>& TableFlags() {
-  static const std::vector<TableFlag> flags = RegisterTableFlags();
-  return flags;
-}
-
-// Registered before main parses argv.
-const bool kRegistered = !TableFlags().empty();
 
 // The flag's value as text: numbers as short as reads back exactly.
 std::string FlagText(const TableFlag& flag) {
@@ -113,14 +78,68 @@ bool IsDefault(const std::string& spelling) {
   return gflags::GetCommandLineFlagInfoOrDie(spelling.c_str()).is_default;
 }
 
+bool SameRow(const TableFlag& a, const TableFlag& b) { return a.group == b.group && a.row == b.row; }
+
+// The Deformer's rows, registered before main parses argv.
+const int kDeformerGroup = RegisterFlagRows(FlagRowsOf(DeformerOptionTable(), DeformerOptions()));
+
 }  // namespace
 
-std::vector<std::string> FlagSpellings(const OptionRow<DeformerOptions>& row) {
-  std::vector<std::string> spellings;
-  if (row.topic.empty()) return spellings;
-  if (row.name.find('.') == std::string::npos) spellings.push_back(row.name);
-  spellings.insert(spellings.end(), row.aliases.begin(), row.aliases.end());
-  return spellings;
+int RegisterFlagRows(const std::vector<FlagRow>& rows) {
+  static int groups = 0;
+  const int group = groups++;
+  std::vector<TableFlag>& flags = TableFlags();
+  for (const FlagRow& row : rows) {
+    for (const std::string& spelling : row.spellings) {
+      const std::string help = SpellingDescription(row, spelling);
+      TableFlag flag{group, row.name, spelling, row.type, nullptr};
+      const std::string& value = row.default_value;
+      switch (row.type) {
+        case OptionType::kBool:
+          flag.value = Register<bool>(spelling, help, value == "true");
+          break;
+        case OptionType::kInt:
+          flag.value = Register<gflags::int32>(spelling, help, std::stoi(value));
+          break;
+        case OptionType::kDouble:
+          flag.value = Register<double>(spelling, help, std::stod(value));
+          break;
+        case OptionType::kString:
+        case OptionType::kEnum:
+          flag.value = Register<std::string>(spelling, help, value);
+          break;
+      }
+      flags.push_back(flag);
+    }
+  }
+  return group;
+}
+
+bool FlagRowValues(int group, std::vector<FlagValue>* values, std::string* error) {
+  values->clear();
+  const std::vector<TableFlag>& flags = TableFlags();
+  for (size_t i = 0; i < flags.size();) {
+    // The spellings of one row are registered together: the one given wins
+    // (two given with different values is an error); none given, the first.
+    size_t end = i;
+    const TableFlag* chosen = nullptr;
+    while (end < flags.size() && SameRow(flags[end], flags[i])) {
+      if (!IsDefault(flags[end].spelling)) {
+        if (chosen != nullptr && FlagText(*chosen) != FlagText(flags[end])) {
+          *error = "--" + chosen->spelling + "=" + FlagText(*chosen) + " and --" +
+                   flags[end].spelling + "=" + FlagText(flags[end]) +
+                   ": one option (" + flags[end].row + "), given twice";
+          return false;
+        }
+        chosen = &flags[end];
+      }
+      ++end;
+    }
+    if (chosen == nullptr) chosen = &flags[i];
+    if (chosen->group == group) values->push_back({chosen->row, chosen->spelling, FlagText(*chosen)});
+    i = end;
+  }
+  return true;
 }
 
 std::string MethodFlag() {
@@ -131,36 +150,16 @@ std::string MethodFlag() {
 
 bool DeformerOptionsFromFlags(DeformerOptions* options, std::string* error,
                               const std::vector<std::string>& other_methods) {
-  (void)kRegistered;
+  std::vector<FlagValue> values;
+  if (!FlagRowValues(kDeformerGroup, &values, error)) return false;
   const OptionTable<DeformerOptions>& table = DeformerOptionTable();
-  const std::vector<TableFlag>& flags = TableFlags();
-  for (size_t i = 0; i < flags.size();) {
-    // The spellings of one row are registered together: the one given wins
-    // (two given with different values is an error); none given, the first.
-    size_t end = i;
-    const TableFlag* chosen = nullptr;
-    while (end < flags.size() && flags[end].row == flags[i].row) {
-      if (!IsDefault(flags[end].spelling)) {
-        if (chosen != nullptr && FlagText(*chosen) != FlagText(flags[end])) {
-          *error = "--" + chosen->spelling + "=" + FlagText(*chosen) + " and --" +
-                   flags[end].spelling + "=" + FlagText(flags[end]) +
-                   ": one option (" + flags[end].row->name + "), given twice";
-          return false;
-        }
-        chosen = &flags[end];
-      }
-      ++end;
-    }
-    if (chosen == nullptr) chosen = &flags[i];
+  for (const FlagValue& value : values) {
     const bool other_method =
-        chosen->row->name == "method" &&
-        std::find(other_methods.begin(), other_methods.end(), FlagText(*chosen)) !=
-            other_methods.end();
-    if (!other_method && !table.Set(chosen->row->name, FlagText(*chosen), options, error,
-                   "--" + chosen->spelling)) {
+        value.row == "method" &&
+        std::find(other_methods.begin(), other_methods.end(), value.text) != other_methods.end();
+    if (!other_method && !table.Set(value.row, value.text, options, error, "--" + value.spelling)) {
       return false;
     }
-    i = end;
   }
   options->graph.seed = FLAGS_seed;
   options->rigidity.seed = FLAGS_seed;
@@ -252,7 +251,7 @@ std::vector<std::pair<std::string, std::string>> ProgramFlagValues() {
   for (size_t i = 0; i < flags.size();) {
     size_t end = i;
     std::string chosen = flags[i].spelling;
-    for (; end < flags.size() && flags[end].row == flags[i].row; ++end) {
+    for (; end < flags.size() && SameRow(flags[end], flags[i]); ++end) {
       if (!IsDefault(flags[end].spelling)) chosen = flags[end].spelling;
     }
     const std::string value = gflags::GetCommandLineFlagInfoOrDie(chosen.c_str()).current_value;

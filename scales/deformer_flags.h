@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "msdeform/core/option_table.h"
 #include "msdeform/scales/deformer.h"
 
 namespace msdeform {
@@ -38,10 +39,59 @@ std::string MethodFlag();
 // and returns true; the caller exits 0. Call before gflags parses argv.
 bool HandleHelpRequest(int argc, char** argv, const std::string& usage, std::ostream& out);
 
-// The command-line spellings of a row of DeformerOptionTable(): its name
-// where it has no dot, then its aliases; none when the row has no topic
-// (not a flag). The first is the one --help lists first.
-std::vector<std::string> FlagSpellings(const OptionRow<DeformerOptions>& row);
+// The command-line spellings of a row of an options table: its name where
+// it has no dot, then its aliases; none when the row has no topic (not a
+// flag). The first is the one --help lists first.
+template <typename T>
+std::vector<std::string> FlagSpellings(const OptionRow<T>& row) {
+  std::vector<std::string> spellings;
+  if (row.topic.empty()) return spellings;
+  if (row.name.find('.') == std::string::npos) spellings.push_back(row.name);
+  spellings.insert(spellings.end(), row.aliases.begin(), row.aliases.end());
+  return spellings;
+}
+
+// The flags of any options table's rows (the Deformer's here; the methods'
+// own in methods/method_flags.cc): what gflags needs of a row.
+struct FlagRow {
+  std::string name;  // the row's ("fastlsm.steps_per_frame")
+  OptionType type = OptionType::kDouble;
+  std::string description;  // "[topic] help (also --x)" for each spelling
+  std::vector<std::string> spellings;
+  std::string default_value;  // the row's text of the default
+};
+template <typename T>
+std::vector<FlagRow> FlagRowsOf(const OptionTable<T>& table, const T& defaults,
+                                bool (*keep)(const std::string& name) = nullptr) {
+  std::vector<FlagRow> rows;
+  for (const OptionRow<T>& row : table.rows()) {
+    if (keep != nullptr && !keep(row.name)) continue;
+    FlagRow flag{row.name, row.type, "[" + row.topic + "] " + row.help, FlagSpellings(row),
+                 row.get(defaults)};
+    if (!flag.spellings.empty()) rows.push_back(flag);
+  }
+  return rows;
+}
+// Registers every spelling of `rows` with gflags (call during static
+// initialisation, before main parses argv); returns the group's id.
+int RegisterFlagRows(const std::vector<FlagRow>& rows);
+// Of each row of the group: the spelling given (the first when none was)
+// and its text; false with "--a=1 and --b=2: one option (x), given twice".
+struct FlagValue {
+  std::string row, spelling, text;
+};
+bool FlagRowValues(int group, std::vector<FlagValue>* values, std::string* error);
+// Sets *options from the group's flags through `table` (ranges checked);
+// false with "--flag=value: expected ..." naming the spelling given.
+template <typename T>
+bool OptionsFromFlagRows(const OptionTable<T>& table, int group, T* options, std::string* error) {
+  std::vector<FlagValue> values;
+  if (!FlagRowValues(group, &values, error)) return false;
+  for (const FlagValue& value : values) {
+    if (!table.Set(value.row, value.text, options, error, "--" + value.spelling)) return false;
+  }
+  return true;
+}
 
 // Before gflags parses argv: false with "unknown flag --x (did you mean
 // --y?)" naming the nearest of the program's flags when argv has a flag

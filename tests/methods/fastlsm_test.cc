@@ -79,11 +79,11 @@ TEST(FastLsmTest, InvalidOptionsAndInseparableHandlesAreOneLineErrors) {
   MethodOptions options;
   options.fastlsm.steps_per_frame = 0;
   EXPECT_FALSE(method.Precompute(bar, options, &error));
-  EXPECT_EQ(error, "fastlsm steps_per_frame must be in 1..100000");
+  EXPECT_EQ(error, "fastlsm.steps_per_frame=0: expected an integer in 1..100000");
   options.fastlsm = FastLsmOptions();
   options.fastlsm.damping = 1.0;
   EXPECT_FALSE(method.Precompute(bar, options, &error));
-  EXPECT_EQ(error, "fastlsm damping must be in [0, 1)");
+  EXPECT_EQ(error, "fastlsm.damping=1: expected a number in [0, 1)");
   // One cell holds the whole bar, so the handle's cell also holds fixed
   // vertices and stays fixed: the handle cannot move.
   options.fastlsm = FastLsmOptions();

@@ -1,0 +1,30 @@
+// The command-line flags of every editing method: the Deformer's
+// (scales/deformer_flags.h) and the methods' own rows of MethodOptionTable()
+// (--cgal_iterations, --fastlsm_steps, ...), registered from the rows, so an
+// executable that links this has them all and --help lists them under
+// "method".
+//
+//   MethodOptions options;
+//   if (!MethodOptionsFromFlags(&options, &error)) ...  // "--fastlsm_steps=0: expected ..."
+
+#ifndef MSDEFORM_METHODS_METHOD_FLAGS_H_
+#define MSDEFORM_METHODS_METHOD_FLAGS_H_
+
+#include <string>
+
+#include "msdeform/methods/method_options.h"
+
+namespace msdeform {
+
+// options->deformer from the Deformer's flags (--method may name any
+// registered method; a method that is not a graph leaves deformer.method as
+// it was), then the methods' own fields from theirs; false with one line
+// naming the flag as typed.
+bool MethodOptionsFromFlags(MethodOptions* options, std::string* error);
+// The methods' own fields only (options->cgal, options->fastlsm), for a
+// program that reads the Deformer's flags itself.
+bool MethodOwnOptionsFromFlags(MethodOptions* options, std::string* error);
+
+}  // namespace msdeform
+
+#endif  // MSDEFORM_METHODS_METHOD_FLAGS_H_

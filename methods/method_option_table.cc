@@ -1,0 +1,76 @@
+#include "msdeform/methods/method_option_table.h"
+
+#include <limits>
+
+#include "msdeform/scales/rigidity.h"
+
+namespace msdeform {
+
+namespace {
+constexpr double kIntMax = std::numeric_limits<int>::max();
+}  // namespace
+
+const OptionTable<CgalArapOptions>& CgalArapOptionTable() {
+  static const OptionTable<CgalArapOptions> table = [] {
+    using O = CgalArapOptions;
+    OptionTable<O> t;
+    t.Int("iterations", &O::iterations,
+          "cgal_arap, cgal_sr_arap: local/global iterations per frame.")
+        .Range(1, kIntMax, "an integer >= 1")
+        .Alias("cgal_iterations")
+        .Flag("method");
+    t.Double("tolerance", &O::tolerance,
+             "cgal_arap, cgal_sr_arap: CGAL's relative energy tolerance (0: run every iteration).")
+        .AtLeast(0, "a finite number >= 0")
+        .Alias("cgal_tolerance")
+        .Flag("method");
+    t.Double("sre_alpha", &O::sre_alpha,
+             "cgal_sr_arap: SR-ARAP's rotation smoothing weight (CGAL's set_sre_arap_alpha).")
+        .AtLeast(0, "a finite number >= 0")
+        .Alias("cgal_sre_alpha")
+        .Flag("method");
+    return t;
+  }();
+  return table;
+}
+
+const OptionTable<FastLsmOptions>& FastLsmOptionTable() {
+  static const OptionTable<FastLsmOptions> table = [] {
+    using O = FastLsmOptions;
+    OptionTable<O> t;
+    t.Int("steps_per_frame", &O::steps_per_frame, "fastlsm: shape-matching steps per frame.")
+        .Range(1, 100000, "an integer in 1..100000")
+        .Alias("fastlsm_steps")
+        .Flag("method");
+    t.Int("region_half_width", &O::region_half_width,
+          "fastlsm: r, a region is a particle and its r-ring.")
+        .Range(1, kMaxRegionHalfWidth,
+               "an integer in 1.." + std::to_string(kMaxRegionHalfWidth))
+        .Alias("fastlsm_region_half_width")
+        .Flag("method");
+    t.Double("damping", &O::damping,
+             "fastlsm: fraction of each particle's velocity removed per step, [0, 1).")
+        .Range(0, 1, "a number in [0, 1)", /*high_open=*/true)
+        .Alias("fastlsm_damping")
+        .Flag("method");
+    return t;
+  }();
+  return table;
+}
+
+const OptionTable<MethodOptions>& MethodOptionTable() {
+  static const OptionTable<MethodOptions> table = [] {
+    OptionTable<MethodOptions> t;
+    t.Embed("", &MethodOptions::deformer, DeformerOptionTable());
+    t.Embed("cgal", &MethodOptions::cgal, CgalArapOptionTable());
+    t.Embed("fastlsm", &MethodOptions::fastlsm, FastLsmOptionTable());
+    return t;
+  }();
+  return table;
+}
+
+bool IsMethodOwnRow(const std::string& name) {
+  return name.rfind("cgal.", 0) == 0 || name.rfind("fastlsm.", 0) == 0;
+}
+
+}  // namespace msdeform

@@ -1,0 +1,31 @@
+// The options tables of the editing methods (core/option_table.h): one row
+// per field of CgalArapOptions and FastLsmOptions, and MethodOptionTable(),
+// the one table of MethodOptions that every front end reads: the Deformer's
+// rows under their own names ("w_con", "lattice.cell_width"), then
+// "cgal.<field>" and "fastlsm.<field>". The method rows' flags keep the
+// command line's spellings (--cgal_iterations, --fastlsm_steps, ...).
+//
+//   MethodOptions options;
+//   MethodOptionTable().Set("fastlsm.steps_per_frame", "40", &options, &error);
+
+#ifndef MSDEFORM_METHODS_METHOD_OPTION_TABLE_H_
+#define MSDEFORM_METHODS_METHOD_OPTION_TABLE_H_
+
+#include <string>
+
+#include "msdeform/core/option_table.h"
+#include "msdeform/methods/method_options.h"
+
+namespace msdeform {
+
+const OptionTable<CgalArapOptions>& CgalArapOptionTable();
+const OptionTable<FastLsmOptions>& FastLsmOptionTable();
+const OptionTable<MethodOptions>& MethodOptionTable();
+
+// True for a row of MethodOptionTable() that is a method's own (not one of
+// DeformerOptionTable()'s): "cgal.iterations", "fastlsm.damping".
+bool IsMethodOwnRow(const std::string& name);
+
+}  // namespace msdeform
+
+#endif  // MSDEFORM_METHODS_METHOD_OPTION_TABLE_H_

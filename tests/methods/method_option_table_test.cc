@@ -1,0 +1,82 @@
+// MethodOptionTable(): the one table of every method's options. Each of the
+// methods' own rows sets its field, keeps the command line's spelling as an
+// alias, and refuses a value out of its range in one line naming it.
+
+#include "msdeform/methods/method_option_table.h"
+
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace msdeform {
+namespace {
+
+TEST(MethodOptionTableTest, EachMethodRowSetsItsField) {
+  const OptionTable<MethodOptions>& table = MethodOptionTable();
+  MethodOptions options;
+  std::string error;
+  ASSERT_TRUE(table.Set("cgal.iterations", "7", &options, &error)) << error;
+  ASSERT_TRUE(table.Set("cgal.tolerance", "0.25", &options, &error)) << error;
+  ASSERT_TRUE(table.Set("cgal.sre_alpha", "0.5", &options, &error)) << error;
+  ASSERT_TRUE(table.Set("fastlsm.steps_per_frame", "33", &options, &error)) << error;
+  ASSERT_TRUE(table.Set("fastlsm.region_half_width", "3", &options, &error)) << error;
+  ASSERT_TRUE(table.Set("fastlsm.damping", "0.75", &options, &error)) << error;
+  EXPECT_EQ(options.cgal.iterations, 7);
+  EXPECT_EQ(options.cgal.tolerance, 0.25);
+  EXPECT_EQ(options.cgal.sre_alpha, 0.5);
+  EXPECT_EQ(options.fastlsm.steps_per_frame, 33);
+  EXPECT_EQ(options.fastlsm.region_half_width, 3);
+  EXPECT_EQ(options.fastlsm.damping, 0.75);
+  // The Deformer's rows keep their names (no prefix) and set options.deformer.
+  ASSERT_TRUE(table.Set("w_con", "123", &options, &error)) << error;
+  EXPECT_EQ(options.deformer.w_con, 123.0);
+}
+
+TEST(MethodOptionTableTest, CommandLineSpellingsAreAliases) {
+  const OptionTable<MethodOptions>& table = MethodOptionTable();
+  MethodOptions options;
+  std::string error;
+  ASSERT_TRUE(table.Set("cgal_iterations", "9", &options, &error)) << error;
+  ASSERT_TRUE(table.Set("fastlsm_steps", "11", &options, &error)) << error;
+  ASSERT_TRUE(table.Set("fastlsm_damping", "0.5", &options, &error)) << error;
+  EXPECT_EQ(options.cgal.iterations, 9);
+  EXPECT_EQ(options.fastlsm.steps_per_frame, 11);
+  EXPECT_EQ(options.fastlsm.damping, 0.5);
+  EXPECT_EQ(table.Find("fastlsm_steps")->topic, "method");
+}
+
+TEST(MethodOptionTableTest, OutOfRangeIsOneLineNamingTheOption) {
+  const OptionTable<MethodOptions>& table = MethodOptionTable();
+  MethodOptions options;
+  std::string error;
+  EXPECT_FALSE(table.Set("fastlsm_steps", "0", &options, &error, "--fastlsm_steps"));
+  EXPECT_EQ(error, "--fastlsm_steps=0: expected an integer in 1..100000");
+  EXPECT_FALSE(table.Set("fastlsm.damping", "1", &options, &error));
+  EXPECT_EQ(error, "fastlsm.damping=1: expected a number in [0, 1)");
+  EXPECT_FALSE(table.Set("fastlsm.region_half_width", "9", &options, &error));
+  EXPECT_EQ(error, "fastlsm.region_half_width=9: expected an integer in 1..8");
+  EXPECT_FALSE(table.Set("cgal.iterations", "0", &options, &error));
+  EXPECT_EQ(error, "cgal.iterations=0: expected an integer >= 1");
+  EXPECT_FALSE(table.Set("cgal.sre_alpha", "-1", &options, &error));
+  EXPECT_EQ(error, "cgal.sre_alpha=-1: expected a finite number >= 0");
+  // Nothing was changed by the refused values.
+  EXPECT_EQ(options.fastlsm.steps_per_frame, FastLsmOptions().steps_per_frame);
+  EXPECT_EQ(options.cgal.iterations, CgalArapOptions().iterations);
+  // Check() is the table's ranges, named as the table names the row.
+  options.cgal.tolerance = -1;
+  EXPECT_FALSE(options.cgal.Check(&error));
+  EXPECT_EQ(error, "cgal.tolerance=-1: expected a finite number >= 0");
+}
+
+TEST(MethodOptionTableTest, DefaultsAreTheStructs) {
+  const MethodOptions defaults;
+  std::string error;
+  EXPECT_TRUE(MethodOptionTable().CheckRanges(defaults, &error)) << error;
+  const auto fields = MethodOptionTable().Describe(defaults);
+  EXPECT_EQ(fields.size(), DeformerOptionTable().rows().size() + 6);
+  EXPECT_EQ(fields.back().first, "fastlsm.damping");
+  EXPECT_EQ(fields.back().second, "0.10000000000000001");
+}
+
+}  // namespace
+}  // namespace msdeform
