@@ -72,3 +72,61 @@ def test_run_method_gives_the_runner_rows(scenarios):
     method_row, _ = msdeform.run_method(cactus, "static", reference=reference)
     for column in ("handle_rms_rel", "arap_energy", "arap_distance_rel", "orthogonality"):
         assert method_row[column] == deformer_row[column]
+
+
+# The methods' own options: rows of the one table (msdeform.option_rows()), keywords of Method
+# and run_method under the row's name ('fastlsm_steps_per_frame') or the flag's
+# ('fastlsm_steps').
+METHOD_ROWS = {"cgal.iterations": "3", "cgal.tolerance": "0.5", "cgal.sre_alpha": "0.125",
+               "fastlsm.steps_per_frame": "3", "fastlsm.region_half_width": "1",
+               "fastlsm.damping": "0.25"}
+
+
+def test_option_rows_list_the_method_rows():
+    rows = {row["name"]: row for row in msdeform._msdeform.option_rows() if row["keywords"]}
+    assert set(rows) == set(METHOD_ROWS)
+    assert rows["fastlsm.steps_per_frame"]["keywords"] == ["fastlsm_steps_per_frame",
+                                                          "fastlsm_steps"]
+    assert rows["fastlsm.steps_per_frame"]["aliases"] == ["fastlsm_steps"]
+    assert rows["fastlsm.steps_per_frame"]["flag_topic"] == "method"
+    assert rows["cgal.iterations"]["default"] == "20"
+    assert rows["fastlsm.damping"]["range"] == "a number in [0, 1)"
+
+
+@pytest.mark.parametrize("method,prefix", [("fastlsm", "fastlsm."), ("cgal_sr_arap", "cgal.")])
+def test_method_keywords_equal_the_flags(cli, scenarios, tmp_path, method, prefix):
+    scenario_file = scenarios / "cactus.json"
+    rows = {row["name"]: row for row in msdeform._msdeform.option_rows() if row["keywords"]}
+    flags = [f"--{rows[name]['aliases'][0]}={value}" for name, value in METHOD_ROWS.items()
+             if name.startswith(prefix)]
+    out = tmp_path / "cli.off"
+    subprocess.run([str(cli), f"--scenario={scenario_file}", "--frames=3", f"--method={method}",
+                    f"--out={out}", "--quiet", *flags], check=True)
+    V_cli, _ = read_off_exact(out)
+    scenario = msdeform.load_scenario(scenario_file, frames=3)
+    path = np.stack(scenario.path)
+    for keyword_of in (lambda name: rows[name]["keywords"][0],   # fastlsm_steps_per_frame
+                       lambda name: rows[name]["keywords"][-1]):  # fastlsm_steps
+        keywords = {keyword_of(name): float(value) if "." in value else int(value)
+                    for name, value in METHOD_ROWS.items() if name.startswith(prefix)}
+        e = msdeform.Method(scenario.V, scenario.F, method, **keywords)
+        e.set_handles(scenario.status)
+        assert np.array_equal(e.drag(path), V_cli)
+        _, V_run = msdeform.run_method(scenario, method, **keywords)
+        assert np.array_equal(V_run, V_cli)
+    default = msdeform.Method(scenario.V, scenario.F, method)
+    default.set_handles(scenario.status)
+    assert not np.array_equal(default.drag(path), V_cli)
+
+
+def test_method_keywords_out_of_range_name_the_keyword(meshes):
+    V, F = msdeform.read_mesh(meshes / "cactus.off")
+    with pytest.raises(ValueError, match=r"^fastlsm_steps=0: expected an integer in 1..100000$"):
+        msdeform.Method(V, F, "fastlsm", fastlsm_steps=0)
+    with pytest.raises(ValueError, match=r"^fastlsm_damping=1: expected a number in \[0, 1\)$"):
+        msdeform.Method(V, F, "fastlsm", fastlsm_damping=1.0)
+    with pytest.raises(ValueError, match=r"^cgal_iterations=0: expected an integer >= 1$"):
+        msdeform.Method(V, F, "cgal_arap", cgal_iterations=0)
+    with pytest.raises(ValueError, match=r"^fastlsm_steps: one option "
+                                         r"\(fastlsm.steps_per_frame\), given twice$"):
+        msdeform.Method(V, F, "fastlsm", fastlsm_steps=3, fastlsm_steps_per_frame=4)
