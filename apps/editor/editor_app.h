@@ -110,6 +110,7 @@ class EditorApp {
   void DrawFilePanel();
   void DrawToolPanel();
   void DrawMethodPanel();
+  void DrawMethodChooser();
   void DrawViewPanel();
   void DrawStatePanel();
   void DrawTimingPanel();

@@ -18,6 +18,8 @@
 #include "apps/editor/overlays.h"
 #include "apps/editor/timing_report.h"
 #include "apps/outputs.h"
+#include "msdeform/methods/method_option_table.h"
+#include "msdeform/methods/registry.h"
 #include "msdeform/scales/deformer_flags.h"
 
 namespace msdeform {
@@ -222,9 +224,50 @@ void EditorApp::SetFlagFromPanel(const std::string& name, const std::string& val
   ApplyOptions(options);
 }
 
+// Every registered method (methods/registry.h), then the selected method's
+// own rows of MethodOptionTable() (cgal.*, fastlsm.*), each set through its
+// flag as `msdeform --fastlsm_steps=40` would.
+void EditorApp::DrawMethodChooser() {
+  const std::string current = session_->method_name();
+  ImGui::SetNextItemWidth(200);
+  if (ImGui::BeginCombo("method", current.c_str())) {
+    for (const std::string& name : MethodNames()) {
+      if (ImGui::Selectable(name.c_str(), current == name) && current != name) {
+        DeformerOptions options = session_->options();
+        std::string error;
+        if (!SetDeformerFlag("method", name, &options, &error) ||
+            !session_->SetMethod(name, &error)) {
+          status_.Show(error);
+        } else {
+          status_.Clear();
+        }
+      }
+    }
+    ImGui::EndCombo();
+  }
+  Help(DeformerOptionTable().Find("method")->help.c_str());
+  for (const auto& row : MethodOptionTable().rows()) {
+    if (!RowOfMethod(row.name, current)) continue;
+    const std::string flag = FlagSpellings(row).front();
+    std::string text = DeformerFlagValue(flag);
+    ImGui::SetNextItemWidth(120);
+    if (ImGui::InputText(row.name.c_str(), &text, ImGuiInputTextFlags_EnterReturnsTrue)) {
+      MethodOptions options = session_->method_options();
+      std::string error;
+      if (!SetMethodFlag(flag, text, &options, &error)) {
+        status_.Show(error);
+      } else {
+        status_.Clear();
+        session_->SetMethodOptions(options.cgal, options.fastlsm);
+      }
+    }
+    Help(row.help.c_str());
+  }
+}
+
 void EditorApp::DrawMethodPanel() {
   if (!ImGui::CollapsingHeader("Method", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  // The widgets are DeformerOptionTable()'s command-line rows: a combo per
+  // The method chooser, then DeformerOptionTable()'s command-line rows: a combo per
   // enum, a checkbox per switch; the solver's details and the numbers under
   // "More". Each change goes through the flag, as `msdeform --name=value`.
   const auto draw_row = [this](const OptionRow<DeformerOptions>& row) {
@@ -257,8 +300,9 @@ void EditorApp::DrawMethodPanel() {
     return (row.type == OptionType::kEnum || row.type == OptionType::kBool) &&
            (row.topic != "solver" || row.name == "backend");
   };
+  DrawMethodChooser();
   for (const auto& row : DeformerOptionTable().rows()) {
-    if (!row.topic.empty() && main_row(row)) draw_row(row);
+    if (!row.topic.empty() && main_row(row) && row.name != "method") draw_row(row);
   }
   if (ImGui::TreeNode("More")) {
     for (const auto& row : DeformerOptionTable().rows()) {

@@ -28,6 +28,7 @@
 #include "apps/outputs.h"
 #include "msdeform/core/build_info.h"
 #include "msdeform/core/main_guard.h"
+#include "msdeform/methods/method_flags.h"
 #include "msdeform/methods/registry.h"
 #include "msdeform/scales/deformer_flags.h"
 
@@ -112,7 +113,8 @@ EditorOptions WindowOptions(bool visible) {
   return options;
 }
 
-int RunScriptMode(DeformerOptions options, const std::string& method) {
+int RunScriptMode(DeformerOptions options, const MethodOptions& method_options,
+                  const std::string& method) {
   for (const char* flag :
        {"mesh", "sel", "def", "scenario", "frames", "screenshot", "screenshot_camera", "out"}) {
     if (FlagGiven(flag)) {
@@ -129,6 +131,7 @@ int RunScriptMode(DeformerOptions options, const std::string& method) {
   }
   EditSession session;
   if (!session.SetMethod(method, &error)) return Fail(error);
+  session.SetMethodOptions(method_options.cgal, method_options.fastlsm);
   EditorApp app(&session);
   if (!app.Init(WindowOptions(FLAGS_keep_open), &error)) return Fail(error);
   StagedOutputs staged;
@@ -141,7 +144,8 @@ int RunScriptMode(DeformerOptions options, const std::string& method) {
   return 0;
 }
 
-int RunFilesMode(const DeformerOptions& options, const std::string& method) {
+int RunFilesMode(const DeformerOptions& options, const MethodOptions& method_options,
+                 const std::string& method) {
   OpenRequest request;
   request.mesh = FLAGS_mesh;
   request.sel = FLAGS_sel;
@@ -168,6 +172,7 @@ int RunFilesMode(const DeformerOptions& options, const std::string& method) {
   }
   EditSession session;
   if (!session.SetMethod(method, &error)) return Fail(error);
+  session.SetMethodOptions(method_options.cgal, method_options.fastlsm);
   session.Open(std::move(inputs), options);
   if (!one_shot) {
     EditorApp app(&session);
@@ -219,18 +224,21 @@ int RunFilesMode(const DeformerOptions& options, const std::string& method) {
 int Run() {
   DeformerOptions options;
   std::string error;
-  // --method names any registered method (as msdeform's); the flags' parser
-  // takes the graph methods only, so it sees the default for the others.
+  // --method names any registered method (as msdeform's); the methods' own
+  // flags (--cgal_iterations, --fastlsm_steps, ...) are rows of the one table.
   const std::string method = MethodFlag();
   if (!IsMethodName(method)) return Fail("--method=" + method + ": expected " + MethodNameList());
-  if (!DeformerOptionsFromFlags(&options, &error, MethodNames())) return Fail(error);
+  MethodOptions method_options;
+  if (!MethodOptionsFromFlags(&method_options, &error)) return Fail(error);
+  options = method_options.deformer;
   if (FLAGS_width < 320 || FLAGS_width > 8192) {
     return Fail("--width=" + std::to_string(FLAGS_width) + ": expected 320..8192 pixels");
   }
   if (FLAGS_height < 240 || FLAGS_height > 8192) {
     return Fail("--height=" + std::to_string(FLAGS_height) + ": expected 240..8192 pixels");
   }
-  return FLAGS_script.empty() ? RunFilesMode(options, method) : RunScriptMode(options, method);
+  return FLAGS_script.empty() ? RunFilesMode(options, method_options, method)
+                             : RunScriptMode(options, method_options, method);
 }
 
 }  // namespace

@@ -1,9 +1,13 @@
 #include "apps/editor/option_flags.h"
 
+#include <functional>
 #include <vector>
 
 #include <gflags/gflags.h>
 
+#include "msdeform/methods/method_flags.h"
+#include "msdeform/methods/method_option_table.h"
+#include "msdeform/methods/registry.h"
 #include "msdeform/scales/deformer_flags.h"
 
 namespace msdeform {
@@ -12,21 +16,11 @@ namespace {
 
 using Row = OptionRow<DeformerOptions>;
 
-}  // namespace
-
-bool SetDeformerFlag(const std::string& name, const std::string& value, DeformerOptions* options,
-                     std::string* error) {
-  const Row* row = DeformerOptionTable().Find(name);
-  if (row == nullptr) {
-    *error = "--" + name + ": not an option of msdeform's method, solver, weights, rigidity or "
-             "ablations";
-    return false;
-  }
-  const std::vector<std::string> spellings = FlagSpellings(*row);
-  if (spellings.empty()) {
-    // Not a command-line flag: set on the options alone.
-    return DeformerOptionTable().Set(row->name, value, options, error, "--" + name);
-  }
+// Sets every spelling of a row's flag to `value`, then `parse` from the
+// flags; on failure all keep their old values.
+bool SetSpellings(const std::string& name, const std::vector<std::string>& spellings,
+                  const std::string& value, const std::function<bool(std::string*)>& parse,
+                  std::string* error) {
   // Every spelling of the row (--solver and --backend) gets the value, so
   // that the flags never disagree; on failure all keep their old values.
   std::vector<gflags::CommandLineFlagInfo> old(spellings.size());
@@ -45,9 +39,59 @@ bool SetDeformerFlag(const std::string& name, const std::string& value, Deformer
       return false;
     }
   }
-  DeformerOptions candidate = *options;
-  if (!DeformerOptionsFromFlags(&candidate, error)) {
+  if (!parse(error)) {
     restore();
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool SetDeformerFlag(const std::string& name, const std::string& value, DeformerOptions* options,
+                     std::string* error) {
+  const Row* row = DeformerOptionTable().Find(name);
+  if (row == nullptr) {
+    *error = "--" + name + ": not an option of msdeform's method, solver, weights, rigidity or "
+             "ablations";
+    return false;
+  }
+  const std::vector<std::string> spellings = FlagSpellings(*row);
+  if (spellings.empty()) {
+    // Not a command-line flag: set on the options alone.
+    return DeformerOptionTable().Set(row->name, value, options, error, "--" + name);
+  }
+  DeformerOptions candidate = *options;
+  // --method may name any registered method (msdeform's --method).
+  const auto parse = [&](std::string* e) {
+    return DeformerOptionsFromFlags(&candidate, e, MethodNames());
+  };
+  if (!SetSpellings(name, spellings, value, parse, error)) return false;
+  *options = candidate;
+  return true;
+}
+
+bool IsMethodOption(const std::string& name) {
+  const OptionRow<MethodOptions>* row = MethodOptionTable().Find(name);
+  return row != nullptr && IsMethodOwnRow(row->name);
+}
+
+bool RowOfMethod(const std::string& row, const std::string& method) {
+  if (row.rfind("cgal.", 0) == 0) return method == "cgal_arap" || method == "cgal_sr_arap";
+  if (row.rfind("fastlsm.", 0) == 0) return method == "fastlsm";
+  return false;
+}
+
+bool SetMethodFlag(const std::string& name, const std::string& value, MethodOptions* options,
+                   std::string* error) {
+  if (!IsMethodOption(name)) {
+    *error = "--" + name + ": not an option of a method";
+    return false;
+  }
+  const OptionRow<MethodOptions>& row = *MethodOptionTable().Find(name);
+  MethodOptions candidate = *options;
+  const auto parse = [&](std::string* e) { return MethodOwnOptionsFromFlags(&candidate, e); };
+  if (!SetSpellings(FlagSpellings(row).front(), FlagSpellings(row), value, parse, error)) {
     return false;
   }
   *options = candidate;
@@ -55,11 +99,15 @@ bool SetDeformerFlag(const std::string& name, const std::string& value, Deformer
 }
 
 std::string DeformerFlagValue(const std::string& name) {
+  // A row of the Deformer's table or a method's own.
   const Row* row = DeformerOptionTable().Find(name);
-  if (row == nullptr) return "";
+  const OptionRow<MethodOptions>* method_row = MethodOptionTable().Find(name);
+  if (row == nullptr && method_row == nullptr) return "";
+  const std::vector<std::string> spellings =
+      row != nullptr ? FlagSpellings(*row) : FlagSpellings(*method_row);
   // The spelling that was given, if any.
   std::string value;
-  for (const std::string& spelling : FlagSpellings(*row)) {
+  for (const std::string& spelling : spellings) {
     gflags::CommandLineFlagInfo info;
     if (!gflags::GetCommandLineFlagInfo(spelling.c_str(), &info)) continue;
     if (value.empty() || !info.is_default) value = info.current_value;

@@ -8,6 +8,7 @@
 
 #include <string>
 
+#include "msdeform/methods/method_options.h"
 #include "msdeform/scales/deformer.h"
 
 namespace msdeform {
@@ -21,8 +22,19 @@ namespace editor {
 bool SetDeformerFlag(const std::string& name, const std::string& value, DeformerOptions* options,
                      std::string* error);
 
+// A method's own option (a row of MethodOptionTable(): "fastlsm.damping" or
+// its flag, "fastlsm_damping"), set as SetDeformerFlag sets the Deformer's:
+// through every spelling of its flag, then options->cgal and ->fastlsm from
+// the flags ("--fastlsm_damping=1: expected a number in [0, 1)").
+bool SetMethodFlag(const std::string& name, const std::string& value, MethodOptions* options,
+                   std::string* error);
+// True when `name` is a method's own option or its flag.
+bool IsMethodOption(const std::string& name);
+// True when a method's own row ("fastlsm.damping") is one of method `method`'s.
+bool RowOfMethod(const std::string& row, const std::string& method);
+
 // The flag's current value as text, of the spelling that was given ("" for
-// an unknown flag or an option without one).
+// an unknown flag or an option without one); a Deformer's or a method's.
 std::string DeformerFlagValue(const std::string& name);
 
 }  // namespace editor

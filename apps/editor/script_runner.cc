@@ -256,7 +256,20 @@ class Runner {
     const std::string text = value.is_string()    ? value.get<std::string>()
                              : value.is_boolean() ? (value.get<bool>() ? "true" : "false")
                                                   : value.dump();
-    if (!SetDeformerFlag(args["flag"].get<std::string>(), text, options_, error)) return false;
+    const std::string flag = args["flag"].get<std::string>();
+    if (IsMethodOption(flag)) {
+      // A method's own option (--fastlsm_steps, fastlsm.damping).
+      MethodOptions options = session_.method_options();
+      if (!SetMethodFlag(flag, text, &options, error)) return false;
+      session_.SetMethodOptions(options.cgal, options.fastlsm);
+      return Settled(error);
+    }
+    if (!SetDeformerFlag(flag, text, options_, error)) return false;
+    if (flag == "method") {
+      // Any registered method, as the panel's chooser.
+      if (!session_.SetMethod(text, error)) return false;
+      return Settled(error);
+    }
     app_->ApplyOptions(*options_);
     return Settled(error);
   }

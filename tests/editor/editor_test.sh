@@ -101,6 +101,33 @@ else
   fail "scripted session exited non-zero: $(cat "${work}/stderr")"
 fi
 
+# --- 2b. Any registered method and its own options (MethodOptionTable()). ------
+# One shot with the methods' flags, and a script that picks the method and sets
+# its options by flag and by row name: both give msdeform's mesh with the flags.
+own=(--method=fastlsm --fastlsm_steps=3 --fastlsm_damping=0.25)
+"${cli}" --quiet "${cactus[@]}" "${own[@]}" --out="${work}/cli_own.off" ||
+  fail "msdeform with the fastlsm flags"
+if "${editor}" --quiet "${cactus[@]}" "${own[@]}" --out="${work}/own.off" 2> "${work}/stderr"; then
+  run_check same_mesh "${work}/own.off" "${work}/cli_own.off" 1e-9
+else
+  fail "one shot with the fastlsm flags exited $?: $(cat "${work}/stderr")"
+fi
+cat > "${work}/methods.json" <<EOF
+[
+  {"do": "open", "mesh": "${meshes}/cactus.off", "sel": "${meshes}/cactus.sel",
+   "def": "${meshes}/cactus.def"},
+  {"do": "set", "flag": "method", "value": "fastlsm"},
+  {"do": "set", "flag": "fastlsm_steps", "value": 3},
+  {"do": "set", "flag": "fastlsm.damping", "value": 0.25},
+  {"do": "save", "mesh": "methods.off"}
+]
+EOF
+if "${editor}" --quiet --script="${work}/methods.json" 2> "${work}/stderr"; then
+  run_check same_mesh "${work}/methods.off" "${work}/cli_own.off" 1e-9
+else
+  fail "the methods script exited non-zero: $(cat "${work}/stderr")"
+fi
+
 # --- 3. Inputs msdeform refuses. --------------------------------------------
 # Every corpus entry that fails and takes only input and method flags: the
 # editor's one-line message must be msdeform's.
@@ -157,6 +184,9 @@ expect_error "[{\"do\": \"open\", \"mesh\": \"${meshes}/cactus.off\"},
 expect_error "[{\"do\": \"open\", \"mesh\": \"${meshes}/cactus.off\"},
   {\"do\": \"set\", \"flag\": \"method\", \"value\": \"fast\"}]" \
   'actions[1] (set): --method=fast: expected'
+expect_error "[{\"do\": \"open\", \"mesh\": \"${meshes}/cactus.off\"},
+  {\"do\": \"set\", \"flag\": \"fastlsm_damping\", \"value\": 1}]" \
+  'actions[1] (set): --fastlsm_damping=1: expected a number in [0, 1)'
 expect_error "[{\"do\": \"open\", \"mesh\": \"${meshes}/cactus.off\"},
   {\"do\": \"drag\", \"matrix\": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1]}]" \
   'actions[1] (drag): no handle is set up'
