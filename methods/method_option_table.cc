@@ -69,8 +69,12 @@ const OptionTable<MethodOptions>& MethodOptionTable() {
   return table;
 }
 
-bool IsMethodOwnRow(const std::string& name) {
-  return name.rfind("cgal.", 0) == 0 || name.rfind("fastlsm.", 0) == 0;
+bool IsMethodOwnRow(const std::string& name) { return !MethodsOfRow(name).empty(); }
+
+std::vector<std::string> MethodsOfRow(const std::string& name) {
+  if (name.rfind("cgal.", 0) == 0) return {"cgal_arap", "cgal_sr_arap"};
+  if (name.rfind("fastlsm.", 0) == 0) return {"fastlsm"};
+  return {};
 }
 
 }  // namespace msdeform

@@ -12,6 +12,7 @@
 #define MSDEFORM_METHODS_METHOD_OPTION_TABLE_H_
 
 #include <string>
+#include <vector>
 
 #include "msdeform/core/option_table.h"
 #include "msdeform/methods/method_options.h"
@@ -25,6 +26,9 @@ const OptionTable<MethodOptions>& MethodOptionTable();
 // True for a row of MethodOptionTable() that is a method's own (not one of
 // DeformerOptionTable()'s): "cgal.iterations", "fastlsm.damping".
 bool IsMethodOwnRow(const std::string& name);
+// The registered methods that read a method's own row: cgal_arap and
+// cgal_sr_arap for "cgal.*", fastlsm for "fastlsm.*"; none for any other.
+std::vector<std::string> MethodsOfRow(const std::string& name);
 
 }  // namespace msdeform
 

@@ -101,6 +101,7 @@ py::list OptionRows() {
     entry["flag_topic"] = row.topic;
     entry["keywords"] = IsMethodOwnRow(row.name) ? MethodKeywords(row.name)
                                                  : std::vector<std::string>{};
+    entry["methods"] = MethodsOfRow(row.name);
     rows.append(entry);
   }
   return rows;
@@ -126,6 +127,19 @@ py::list OptionFlags() {
 }  // namespace
 
 void BindFlags(py::module_& m) {
+  m.def(
+      "describe_method_options",
+      [](const py::kwargs& kwargs) {
+        std::vector<std::pair<std::string, std::string>> fields;
+        const MethodOptions options = MethodOptionsFrom(py::none(), kwargs);
+        for (const auto& field : MethodOptionTable().Describe(options)) {
+          if (IsMethodOwnRow(field.first)) fields.push_back(field);
+        }
+        return fields;
+      },
+      "The methods' own options (rows 'cgal.*', 'fastlsm.*' of option_rows()) as (name, value) "
+      "string pairs, from Method's keywords (fastlsm_steps=40); raises ValueError naming the "
+      "keyword for a bad value, as Method does.");
   m.def("options_from_flags", &OptionsFromFlags, py::arg("flags"),
         "The DeformerOptions the msdeform command line builds from these flags: a dict of "
         "flag name (without '--') or option name to value, e.g. {'w_con': 1000, 'backend': "
@@ -137,7 +151,8 @@ void BindFlags(py::module_& m) {
   m.def("option_rows", &OptionRows,
         "The one options table of the methods (methods/method_option_table.h): the Deformer's "
         "rows (scales/deformer_options.h), then the methods' own ('cgal.iterations', "
-        "'fastlsm.steps_per_frame'; keywords: the Method keywords that set them), in "
+        "'fastlsm.steps_per_frame'; keywords: the Method keywords that set them; methods: the "
+        "methods that read them), in "
         "declaration order: a list "
         "of dicts with name ('lattice.cell_width'), type (bool, int, double, enum), default (as "
         "DescribeOptions prints it), help, choices (of an enum), range (its words, or None), "

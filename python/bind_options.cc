@@ -452,7 +452,9 @@ MethodOptions MethodOptionsFrom(const py::handle& options, const py::kwargs& kwa
       consumed.insert(keyword);
       const std::string text = RowText(row, kwargs[py::str(keyword)], keyword);
       std::string error;
-      if (!MethodOptionTable().Set(row.name, text, &result, &error, keyword)) ThrowValueError(error);
+      if (!MethodOptionTable().Set(row.name, text, &result, &error, keyword)) {
+        ThrowValueError(error);
+      }
     }
   }
   for (const auto& [key, value] : kwargs) {

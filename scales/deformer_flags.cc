@@ -78,7 +78,9 @@ bool IsDefault(const std::string& spelling) {
   return gflags::GetCommandLineFlagInfoOrDie(spelling.c_str()).is_default;
 }
 
-bool SameRow(const TableFlag& a, const TableFlag& b) { return a.group == b.group && a.row == b.row; }
+bool SameRow(const TableFlag& a, const TableFlag& b) {
+  return a.group == b.group && a.row == b.row;
+}
 
 // The Deformer's rows, registered before main parses argv.
 const int kDeformerGroup = RegisterFlagRows(FlagRowsOf(DeformerOptionTable(), DeformerOptions()));
@@ -136,7 +138,9 @@ bool FlagRowValues(int group, std::vector<FlagValue>* values, std::string* error
       ++end;
     }
     if (chosen == nullptr) chosen = &flags[i];
-    if (chosen->group == group) values->push_back({chosen->row, chosen->spelling, FlagText(*chosen)});
+    if (chosen->group == group) {
+      values->push_back({chosen->row, chosen->spelling, FlagText(*chosen)});
+    }
     i = end;
   }
   return true;

@@ -1,5 +1,6 @@
 #include "apps/editor/option_flags.h"
 
+#include <algorithm>
 #include <functional>
 #include <vector>
 
@@ -77,9 +78,8 @@ bool IsMethodOption(const std::string& name) {
 }
 
 bool RowOfMethod(const std::string& row, const std::string& method) {
-  if (row.rfind("cgal.", 0) == 0) return method == "cgal_arap" || method == "cgal_sr_arap";
-  if (row.rfind("fastlsm.", 0) == 0) return method == "fastlsm";
-  return false;
+  const std::vector<std::string> methods = MethodsOfRow(row);
+  return std::find(methods.begin(), methods.end(), method) != methods.end();
 }
 
 bool SetMethodFlag(const std::string& name, const std::string& value, MethodOptions* options,

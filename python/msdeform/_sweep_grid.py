@@ -13,7 +13,9 @@ spaces). docs/decisions.md, "Sweeps on Dask (issue 18)", records the schema and 
 
 Option names are msdeform's command-line flag names (msdeform.option_flags()); a name with a dot,
 or a DeformerOptions field without a flag, sets that field of the options the flags built
-("selection.member_extent": "mean").
+("selection.member_extent": "mean"). A method's own option is named as the options table names it
+("fastlsm.steps_per_frame", "cgal.iterations"; msdeform.option_rows()) and applies to the methods
+that read it; the other methods' tasks leave it out (and are not repeated along its axis).
 """
 
 import hashlib
@@ -27,8 +29,8 @@ import msdeform
 
 # Methods a task can run: the Deformer's three and CGAL's ARAP (experiments/runner.h).
 # Every registered method (methods/registry.h); the graph methods take the Deformer option
-# grid, the others (CGAL's ARAP and SR-ARAP, FastLSM) run once per scenario with their
-# defaults (cgal_iterations for CGAL's).
+# grid, the others (CGAL's ARAP and SR-ARAP, FastLSM) the grid of their own options
+# (method_rows()), once per scenario without any (cgal_iterations for CGAL's).
 METHODS = tuple(msdeform.METHODS)
 DEFORMER_METHODS = ("multiscale", "static", "static_dense")
 
@@ -61,6 +63,27 @@ def canonical_json(value):
                       allow_nan=False)
 
 
+def method_rows():
+    """{row name: row} of the methods' own options ("fastlsm.steps_per_frame"), each row a dict
+    of msdeform.option_rows() (type, default, keywords, methods: those that read it)."""
+    return {row["name"]: row for row in msdeform.option_rows() if row["methods"]}
+
+
+def applies(name, method, rows=None):
+    """True when option `name` is one that `method` reads: a method's own row for the methods
+    that read it, any other option for the graph methods."""
+    rows = rows if rows is not None else method_rows()
+    if name in rows:
+        return method in rows[name]["methods"]
+    return method in DEFORMER_METHODS
+
+
+def method_keywords(settings):
+    """The Method / run_method keywords of a task's own options ("fastlsm.steps_per_frame" ->
+    fastlsm_steps_per_frame)."""
+    return {name.replace(".", "_"): value for name, value in settings.items()}
+
+
 def flag_types():
     """{flag name: gflags type name} of the Deformer's command-line flags."""
     return {flag["name"]: flag["type"] for flag in msdeform.option_flags()}
@@ -79,8 +102,11 @@ def _typed_default(flag):
 
 
 def option_default(name):
-    """The value a task has for an option it does not set: the flag's default, or the field's
-    value in a default DeformerOptions (with the default flags)."""
+    """The value a task has for an option it does not set: the flag's default, the field's
+    value in a default DeformerOptions (with the default flags), or a method row's default."""
+    row = method_rows().get(name)
+    if row is not None:
+        return {"int": int, "double": float}.get(row["type"], str)(row["default"])
     for flag in msdeform.option_flags():
         if flag["name"] == name:
             return _typed_default(flag)
@@ -277,6 +303,8 @@ class Sweep:
             self._fail(field, "the method is the 'methods' axis, not an option")
         if name in SEED_FIELDS:
             self._fail(field, "the seed is the 'seeds' axis (and 'seed_field'), not an option")
+        if name in method_rows():
+            return
         if name not in self._flags and not is_field_path(name, self._flags):
             try:
                 msdeform.options_from_flags({name: True})
@@ -291,6 +319,12 @@ class Sweep:
             self._fail(field, f"expected a bool, number or string, got {json.dumps(value)}")
         if isinstance(value, float) and not math.isfinite(value):
             self._fail(field, f"expected a finite number, got {value}")
+        if name in method_rows():
+            try:  # the row's own parse and range, as Method checks them
+                msdeform.describe_method_options(**method_keywords({name: value}))
+            except (TypeError, ValueError) as error:
+                self._fail(field, str(error))
+            return
         try:
             build_options("multiscale", {name: value}, option_default("seed"), "seed", self._flags)
         except (TypeError, ValueError) as error:
@@ -363,14 +397,28 @@ class Sweep:
         axes = [[(name, value) for value in values] for name, values in self.options.items()]
         points = [dict(point) for point in itertools.product(*axes)]
         defaults = {name: option_default(name) for name in self.option_names}
+        rows = method_rows()
         tasks, seen = [], {}
         for written, absolute in self.scenarios:
             for method in self.methods:
+                # The options a method does not read are left out of its tasks; a grid point
+                # that differs only in those is the same task.
+                def own(settings):
+                    return {k: v for k, v in settings.items() if applies(k, method, rows)}
                 if method not in DEFORMER_METHODS:
-                    grid = [(None, None, None)]
+                    grid = []
+                    for variant in self.variants:
+                        for point in points:
+                            settings = own({**self.variants[variant], **point})
+                            if (None, settings, None) not in grid:
+                                grid.append((None, settings, None))
                 else:
-                    grid = [(variant, point, seed) for variant in self.variants
-                            for point in points for seed in self.seeds]
+                    grid = []
+                    for variant in self.variants:
+                        for point in points:
+                            for seed in self.seeds:
+                                if (variant, own(point), seed) not in grid:
+                                    grid.append((variant, own(point), seed))
                 for variant, point, seed in grid:
                     task = self._task(written, absolute, method, variant, point, seed, defaults)
                     if task["id"] in seen:
@@ -397,15 +445,20 @@ class Sweep:
             params = {"scenario": written, "method": method, "frames": frames,
                       "cgal_iterations": cgal_iterations}
             values = {}
+            if point:  # its own options (without any, the id is as before they existed)
+                params["options"] = point
+                values = {name: point.get(name, defaults[name]) for name in self.option_names
+                          if applies(name, method)}
         else:
-            settings = dict(self.variants[variant])
+            settings = {k: v for k, v in self.variants[variant].items() if applies(k, method)}
             settings.update(point)
             params = {"scenario": written, "method": method, "variant": variant, "seed": seed,
                       "seed_field": self.seed_field, "options": settings, "frames": frames,
                       "arap_reference": self.settings["arap_reference"],
                       "time_other_backend": self.settings["time_other_backend"],
                       "cgal_iterations": cgal_iterations}
-            values = {name: settings.get(name, defaults[name]) for name in self.option_names}
+            values = {name: settings.get(name, defaults[name]) for name in self.option_names
+                      if applies(name, method)}
         columns = {"scenario_file": written, "method": method, "variant": variant,
                    "seed": seed, "frames": frames}
         for name in self.option_names:
@@ -415,6 +468,8 @@ class Sweep:
             label.append(variant)
             label += [f"{name}={json.dumps(value)}" for name, value in point.items()]
             label.append(f"seed {seed}")
+        else:
+            label += [f"{name}={json.dumps(value)}" for name, value in (point or {}).items()]
         return {"id": task_id(params), "method": method, "params": params,
                 "scenario_path": absolute, "columns": columns, "label": " / ".join(label)}
 

@@ -13,7 +13,7 @@ import sys
 import time
 
 import msdeform
-from msdeform._sweep_grid import DEFORMER_METHODS, build_options
+from msdeform._sweep_grid import DEFORMER_METHODS, build_options, method_keywords
 
 # The row of a task, in column order: the parameters come first (the sweep's columns: index,
 # task_id, scenario, scenario_file, model, method, variant, seed, frames, opt_<option>...).
@@ -163,7 +163,8 @@ def _run_deformer_task(task, row, reference):
 
 def _run_method_task(task, row, reference):
     """A task of a method without Deformer options (cgal_sr_arap, fastlsm): run_method with
-    the sweep's CGAL iterations, against the scenario's reference when there is one."""
+    the sweep's CGAL iterations and the task's own options, against the scenario's reference
+    when there is one."""
     params = task["params"]
     if reference is not None and "error" in reference:
         return _failed_reference(row, reference)
@@ -171,6 +172,9 @@ def _run_method_task(task, row, reference):
     keywords = {}
     if params.get("cgal_iterations") is not None:
         keywords["cgal_iterations"] = params["cgal_iterations"]
+    # Its own options (fastlsm.steps_per_frame), as Method keywords; they win over the sweep's
+    # cgal_iterations.
+    keywords.update(method_keywords(params.get("options", {})))
     result, _ = msdeform.run_method(scenario, params["method"],
                                     reference=reference["V2"] if reference is not None else None,
                                     **keywords)

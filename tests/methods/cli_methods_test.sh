@@ -55,16 +55,22 @@ assert {k: fastlsm[k] for k in expected} == expected, fastlsm
 expected = {"cgal.iterations": "3", "cgal.tolerance": "0.5", "cgal.sre_alpha": "0.125"}
 assert {k: cgal[k] for k in expected} == expected, cgal
 PY
-cmp -s "${work}/fastlsm.off" "${work}/fastlsm_own.off" && { echo "cli_methods_test: --fastlsm_* changed nothing"; exit 1; }
-cmp -s "${work}/cgal_sr_arap.off" "${work}/cgal_own.off" && { echo "cli_methods_test: --cgal_* changed nothing"; exit 1; }
+if cmp -s "${work}/fastlsm.off" "${work}/fastlsm_own.off"; then
+  echo "cli_methods_test: --fastlsm_* changed nothing"; exit 1
+fi
+if cmp -s "${work}/cgal_sr_arap.off" "${work}/cgal_own.off"; then
+  echo "cli_methods_test: --cgal_* changed nothing"; exit 1
+fi
 for flag in fastlsm_steps=0 fastlsm_damping=1 fastlsm_region_half_width=9 cgal_iterations=0 \
             cgal_tolerance=-1 cgal_sre_alpha=nan; do
   if "${msdeform}" --quiet --scenario="${scenario}" --method=fastlsm --"${flag}" \
        --out="${work}/bad.off" 2> "${work}/stderr"; then
     echo "cli_methods_test: --${flag} succeeded"; exit 1
   fi
-  if [[ "$(wc -l < "${work}/stderr")" != 1 || "$(cat "${work}/stderr")" != "msdeform: --${flag}: expected "* ]]; then
+  message="$(cat "${work}/stderr")"
+  if [[ "$(wc -l < "${work}/stderr")" != 1 || "${message}" != "msdeform: --${flag}: expected "* ]]; then
     echo "cli_methods_test: --${flag}: stderr was: $(cat "${work}/stderr")"; exit 1
   fi
 done
-echo "cli_methods_test: every registered method runs; an unknown one is refused; the methods' own flags"
+echo "cli_methods_test: every registered method runs; an unknown one is refused;" \
+  "the methods' own flags set their options"

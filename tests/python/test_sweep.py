@@ -15,7 +15,7 @@ import pytest
 import msdeform
 from msdeform._sweep_grid import SweepError, canonical_json, load_sweep
 from msdeform._sweep_report import NONDETERMINISTIC_COLUMNS
-from msdeform._sweep_task import METRIC_COLUMNS, TIMING_COLUMNS
+from msdeform._sweep_task import METRIC_COLUMNS, TIMING_COLUMNS, run_task
 
 import sweep_helpers as helpers
 
@@ -317,3 +317,40 @@ def test_bad_command_line(source, tmp_path):
     assert done.stderr.splitlines()[-1].startswith(
         "msdeform.sweep: --scheduler tcp://127.0.0.1:1: cannot connect within 2 s")
     assert not out.exists()
+
+
+def test_method_options_by_table_name(source, tmp_path):
+    """A method's own option, named as the options table names it (fastlsm.steps_per_frame),
+    is an axis of the methods that read it only: the graph method's tasks are not repeated
+    along it, the fastlsm tasks run with it (run_method's rows with the same keyword), and a
+    bad value names the field and the row."""
+    sweep_file = helpers.write_json(tmp_path / "own.json", {
+        "scenarios": [scenario(source, "cactus")], "methods": ["static", "fastlsm"], "frames": 2,
+        "options": {"w_con": [100, 1000], "fastlsm.steps_per_frame": [3, 7]}})
+    tasks = load_sweep(sweep_file).tasks
+    seed = tasks[0]["params"]["seed"]
+    assert [task["label"] for task in tasks] == [
+        f"cactus / static / default / w_con=100 / seed {seed}",
+        f"cactus / static / default / w_con=1000 / seed {seed}",
+        "cactus / fastlsm / fastlsm.steps_per_frame=3",
+        "cactus / fastlsm / fastlsm.steps_per_frame=7"]
+    assert tasks[0]["params"]["options"] == {"w_con": 100}
+    assert tasks[0]["columns"]["opt_fastlsm.steps_per_frame"] is None
+    assert tasks[2]["params"]["options"] == {"fastlsm.steps_per_frame": 3}
+    assert tasks[2]["columns"]["opt_fastlsm.steps_per_frame"] == 3
+    assert tasks[2]["columns"]["opt_w_con"] is None
+    cactus = msdeform.load_scenario(scenario(source, "cactus"), frames=2)
+    for task, steps in ((tasks[2], 3), (tasks[3], 7)):
+        row = run_task(task)
+        assert row["status"] == "ok", row
+        expected, _ = msdeform.run_method(cactus, "fastlsm", fastlsm_steps=steps)
+        for column in ("handle_rms_rel", "arap_energy", "variables"):
+            assert row[column] == expected[column], (column, steps)
+    assert run_task(tasks[2])["arap_energy"] != run_task(tasks[3])["arap_energy"]
+    bad = helpers.write_json(tmp_path / "bad.json", {
+        "scenarios": [scenario(source, "cactus")], "methods": ["fastlsm"],
+        "options": {"fastlsm.steps_per_frame": [0]}})
+    with pytest.raises(SweepError, match=r"options\.fastlsm\.steps_per_frame\[0\]: "
+                                         r"fastlsm_steps_per_frame=0: expected an integer in "
+                                         r"1\.\.100000$"):
+        load_sweep(bad)
