@@ -94,10 +94,8 @@ class EditingMethod {
   Stage stage_ = Stage::kEmpty;
 };
 
-// Drags `method` (SetHandles done) through `path`, as scales/deformer.h's
-// DragAlong does for a Deformer: false with "frame F of N: <what failed>".
-bool DragAlong(EditingMethod* method, const std::vector<Eigen::Affine3d>& path,
-               const DragAlongOptions& options, DragLog* log, std::string* error);
+// DragAlong(method, path, ...) (scales/deformer.h) drags a method through a
+// path of handle transforms, as it does a Deformer.
 
 }  // namespace msdeform
 

@@ -67,24 +67,19 @@ bool ParseSparseLibrary(const std::string& name, ceres::SparseLinearAlgebraLibra
   return true;
 }
 
+const EnumNames<CeresOptions::Jacobians>& JacobiansNames() {
+  static const EnumNames<CeresOptions::Jacobians> names{
+      {CeresOptions::Jacobians::kAnalytic, "analytic"},
+      {CeresOptions::Jacobians::kAutodiff, "autodiff"}};
+  return names;
+}
+
 const char* JacobiansName(CeresOptions::Jacobians jacobians) {
-  switch (jacobians) {
-    case CeresOptions::Jacobians::kAnalytic:
-      return "analytic";
-    case CeresOptions::Jacobians::kAutodiff:
-      return "autodiff";
-  }
-  return "unknown";
+  return JacobiansNames().Name(jacobians);
 }
 
 bool ParseJacobians(const std::string& name, CeresOptions::Jacobians* jacobians) {
-  for (auto value : {CeresOptions::Jacobians::kAnalytic, CeresOptions::Jacobians::kAutodiff}) {
-    if (name == JacobiansName(value)) {
-      *jacobians = value;
-      return true;
-    }
-  }
-  return false;
+  return JacobiansNames().Parse(name, jacobians);
 }
 
 std::string CeresVersion() { return CERES_VERSION_STRING; }

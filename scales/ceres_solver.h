@@ -14,6 +14,7 @@
 
 #include <ceres/types.h>
 
+#include "msdeform/core/option_table.h"
 #include "msdeform/scales/frame_solver.h"
 
 namespace msdeform {
@@ -54,6 +55,7 @@ bool ParseCeresLinearSolver(const std::string& name, ceres::LinearSolverType* ty
 std::string SparseLibraryName(ceres::SparseLinearAlgebraLibraryType type);
 bool ParseSparseLibrary(const std::string& name, ceres::SparseLinearAlgebraLibraryType* type);
 // "analytic", "autodiff".
+const EnumNames<CeresOptions::Jacobians>& JacobiansNames();  // core/option_table.h
 const char* JacobiansName(CeresOptions::Jacobians jacobians);
 bool ParseJacobians(const std::string& name, CeresOptions::Jacobians* jacobians);
 // "2.1.0": the Ceres msdeform is built against.

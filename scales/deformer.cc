@@ -136,24 +136,4 @@ const DeformationEnergy& Deformer::energy() const {
   return layout_ ? layout_->energy() : Nothing().energy;
 }
 
-bool DragAlong(Deformer* deformer, const std::vector<Eigen::Affine3d>& path,
-               const DragAlongOptions& options, DragLog* log, std::string* error) {
-  *log = DragLog();
-  const int num_frames = static_cast<int>(path.size());
-  for (int f = 0; f < num_frames; ++f) {
-    DragStats stats;
-    std::string frame_error;
-    if (!deformer->Drag(path[f], &stats, &frame_error)) {
-      log->failed_frames.push_back(f + 1);
-      if (options.continue_after_failure && f + 1 < num_frames) continue;
-      *error = "frame " + std::to_string(f + 1) + " of " + std::to_string(num_frames) +
-               (options.continue_after_failure ? " (the result)" : "") + ": " + frame_error;
-      return false;
-    }
-    if (options.on_frame) options.on_frame(f + 1, stats);
-    log->frames.push_back(std::move(stats));
-  }
-  return true;
-}
-
 }  // namespace msdeform

@@ -164,10 +164,30 @@ struct DragLog {
   std::vector<int> failed_frames;  // 1-based
 };
 
-// Drags `deformer` (SetHandles done) through `path`; false with
-// "frame F of N: <what failed>" in *error.
-bool DragAlong(Deformer* deformer, const std::vector<Eigen::Affine3d>& path,
-               const DragAlongOptions& options, DragLog* log, std::string* error);
+// Drags `editor` through `path`: a Deformer (SetHandles done) or anything
+// with its Drag(transform, DragStats*, std::string* error), such as an
+// editing method (methods/method.h); false with "frame F of N: <what
+// failed>" in *error.
+template <typename Editor>
+bool DragAlong(Editor* editor, const std::vector<Eigen::Affine3d>& path,
+               const DragAlongOptions& options, DragLog* log, std::string* error) {
+  *log = DragLog();
+  const int num_frames = static_cast<int>(path.size());
+  for (int f = 0; f < num_frames; ++f) {
+    DragStats stats;
+    std::string frame_error;
+    if (!editor->Drag(path[f], &stats, &frame_error)) {
+      log->failed_frames.push_back(f + 1);
+      if (options.continue_after_failure && f + 1 < num_frames) continue;
+      *error = "frame " + std::to_string(f + 1) + " of " + std::to_string(num_frames) +
+               (options.continue_after_failure ? " (the result)" : "") + ": " + frame_error;
+      return false;
+    }
+    if (options.on_frame) options.on_frame(f + 1, stats);
+    log->frames.push_back(std::move(stats));
+  }
+  return true;
+}
 
 }  // namespace msdeform
 

@@ -144,22 +144,14 @@ const OptionTable<GaussNewtonOptions>& GaussNewtonOptionTable() {
   using GN = GaussNewtonOptions;
   static const OptionTable<GN>& table = Table<GN>([](auto& t) {
     t.Enum("linear_solver", &GN::linear_solver,
-           EnumNames<GN::LinearSolver>::FromFunction(
-               {GN::LinearSolver::kCholesky, GN::LinearSolver::kPcgJacobi,
-                GN::LinearSolver::kPcgIncompleteCholesky},
-               LinearSolverName),
+           LinearSolverNames(),
            "Gauss-Newton step: cholesky (exact), pcg_jacobi or pcg_incomplete_cholesky "
            "(inexact, forcing-term stop).");
     t.Enum("cholesky", &GN::cholesky,
-           EnumNames<GN::Cholesky>::FromFunction(
-               {GN::Cholesky::kEigenLLT, GN::Cholesky::kEigenLDLT, GN::Cholesky::kCholmod},
-               CholeskyName),
+           CholeskyNames(),
            "Gauss-Newton sparse Cholesky: eigen_llt, eigen_ldlt or cholmod.");
     t.Enum("factorization", &GN::factorization,
-           EnumNames<GN::Factorization>::FromFunction(
-               {GN::Factorization::kEveryIteration, GN::Factorization::kPerFrame,
-                GN::Factorization::kLagged},
-               FactorizationName),
+           FactorizationNames(),
            "When Gauss-Newton refactorises J^T J: every_iteration, per_frame or lagged (kept "
            "while the gradient falls 4x a step, also across frames).");
     t.Double("refactor_ratio", &GN::refactor_ratio,
@@ -167,8 +159,7 @@ const OptionTable<GaussNewtonOptions>& GaussNewtonOptionTable() {
              "gradient by less than this factor (1: only when it grew).")
         .Above(0, "a number > 0");
     t.Enum("damping", &GN::damping,
-           EnumNames<GN::Damping>::FromFunction(
-               {GN::Damping::kGaussNewton, GN::Damping::kLevenbergMarquardt}, DampingName),
+           DampingNames(),
            "Gauss-Newton damping: gauss_newton (a 1e-9 floor, raised only after a rejected "
            "step) or levenberg_marquardt (adapted every step).");
     t.Double("min_damping", &GN::min_damping, "mu floor, relative to diag(J^T J).");
@@ -200,9 +191,7 @@ const OptionTable<CeresOptions>& CeresOptionTable() {
     t.Bool("group_position_terms", &C::group_position_terms,
            "One exact least-squares block per group of handle vertices sharing nodes.");
     t.Enum("jacobians", &C::jacobians,
-           EnumNames<CeresOptions::Jacobians>::FromFunction(
-               {CeresOptions::Jacobians::kAnalytic, CeresOptions::Jacobians::kAutodiff},
-               JacobiansName),
+           JacobiansNames(),
            "Ceres's residual blocks: analytic (the functors' hand-written Jacobians) or autodiff "
            "(the same functors through ceres::AutoDiffCostFunction).");
   });

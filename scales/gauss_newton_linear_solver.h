@@ -7,7 +7,7 @@
 // Adding one (docs/extending.md, "Adding a Gauss-Newton linear solver"): a
 // class in this file's .cc (or a file of its own) and its case in
 // MakeGaussNewtonLinearSolver, plus its value and name in
-// GaussNewtonOptions::LinearSolver (or Cholesky) and LinearSolverName.
+// GaussNewtonOptions::LinearSolver (or Cholesky) and LinearSolverNames().
 
 #ifndef MSDEFORM_SCALES_GAUSS_NEWTON_LINEAR_SOLVER_H_
 #define MSDEFORM_SCALES_GAUSS_NEWTON_LINEAR_SOLVER_H_

@@ -31,94 +31,56 @@ bool GaussNewtonOptions::Check(std::string* error) const {
   return true;
 }
 
-namespace {
-
-template <typename Enum, size_t N>
-bool ParseByName(const std::string& name, const Enum (&values)[N], const char* (*to_name)(Enum),
-                 Enum* value) {
-  for (Enum candidate : values) {
-    if (name == to_name(candidate)) {
-      *value = candidate;
-      return true;
-    }
-  }
-  return false;
-}
-
 using LinearSolver = GaussNewtonOptions::LinearSolver;
 using Cholesky = GaussNewtonOptions::Cholesky;
 using Factorization = GaussNewtonOptions::Factorization;
 using Damping = GaussNewtonOptions::Damping;
 
-}  // namespace
-
-const char* LinearSolverName(LinearSolver solver) {
-  switch (solver) {
-    case LinearSolver::kCholesky:
-      return "cholesky";
-    case LinearSolver::kPcgJacobi:
-      return "pcg_jacobi";
-    case LinearSolver::kPcgIncompleteCholesky:
-      return "pcg_incomplete_cholesky";
-  }
-  return "unknown";
+const EnumNames<LinearSolver>& LinearSolverNames() {
+  static const EnumNames<LinearSolver> names{
+      {LinearSolver::kCholesky, "cholesky"},
+      {LinearSolver::kPcgJacobi, "pcg_jacobi"},
+      {LinearSolver::kPcgIncompleteCholesky, "pcg_incomplete_cholesky"}};
+  return names;
 }
 
+const EnumNames<Cholesky>& CholeskyNames() {
+  static const EnumNames<Cholesky> names{{Cholesky::kEigenLLT, "eigen_llt"},
+                                         {Cholesky::kEigenLDLT, "eigen_ldlt"},
+                                         {Cholesky::kCholmod, "cholmod"}};
+  return names;
+}
+
+const EnumNames<Factorization>& FactorizationNames() {
+  static const EnumNames<Factorization> names{{Factorization::kEveryIteration, "every_iteration"},
+                                              {Factorization::kPerFrame, "per_frame"},
+                                              {Factorization::kLagged, "lagged"}};
+  return names;
+}
+
+const EnumNames<Damping>& DampingNames() {
+  static const EnumNames<Damping> names{{Damping::kGaussNewton, "gauss_newton"},
+                                        {Damping::kLevenbergMarquardt, "levenberg_marquardt"}};
+  return names;
+}
+
+const char* LinearSolverName(LinearSolver solver) { return LinearSolverNames().Name(solver); }
 bool ParseLinearSolver(const std::string& name, LinearSolver* solver) {
-  static constexpr LinearSolver kAll[] = {LinearSolver::kCholesky, LinearSolver::kPcgJacobi,
-                                          LinearSolver::kPcgIncompleteCholesky};
-  return ParseByName(name, kAll, LinearSolverName, solver);
+  return LinearSolverNames().Parse(name, solver);
 }
-
-const char* CholeskyName(Cholesky cholesky) {
-  switch (cholesky) {
-    case Cholesky::kEigenLLT:
-      return "eigen_llt";
-    case Cholesky::kEigenLDLT:
-      return "eigen_ldlt";
-    case Cholesky::kCholmod:
-      return "cholmod";
-  }
-  return "unknown";
-}
-
+const char* CholeskyName(Cholesky cholesky) { return CholeskyNames().Name(cholesky); }
 bool ParseCholesky(const std::string& name, Cholesky* cholesky) {
-  static constexpr Cholesky kAll[] = {Cholesky::kEigenLLT, Cholesky::kEigenLDLT,
-                                      Cholesky::kCholmod};
-  return ParseByName(name, kAll, CholeskyName, cholesky);
+  return CholeskyNames().Parse(name, cholesky);
 }
-
 const char* FactorizationName(Factorization factorization) {
-  switch (factorization) {
-    case Factorization::kEveryIteration:
-      return "every_iteration";
-    case Factorization::kPerFrame:
-      return "per_frame";
-    case Factorization::kLagged:
-      return "lagged";
-  }
-  return "unknown";
+  return FactorizationNames().Name(factorization);
 }
-
 bool ParseFactorization(const std::string& name, Factorization* factorization) {
-  static constexpr Factorization kAll[] = {Factorization::kEveryIteration,
-                                           Factorization::kPerFrame, Factorization::kLagged};
-  return ParseByName(name, kAll, FactorizationName, factorization);
+  return FactorizationNames().Parse(name, factorization);
 }
-
-const char* DampingName(Damping damping) {
-  switch (damping) {
-    case Damping::kGaussNewton:
-      return "gauss_newton";
-    case Damping::kLevenbergMarquardt:
-      return "levenberg_marquardt";
-  }
-  return "unknown";
-}
-
+const char* DampingName(Damping damping) { return DampingNames().Name(damping); }
 bool ParseDamping(const std::string& name, Damping* damping) {
-  static constexpr Damping kAll[] = {Damping::kGaussNewton, Damping::kLevenbergMarquardt};
-  return ParseByName(name, kAll, DampingName, damping);
+  return DampingNames().Parse(name, damping);
 }
 
 bool GaussNewtonHasCholmod() {

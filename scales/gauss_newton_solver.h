@@ -51,6 +51,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "msdeform/core/option_table.h"
 #include "msdeform/scales/frame_solver.h"
 
 namespace msdeform {
@@ -108,6 +109,11 @@ struct GaussNewtonOptions {
 };
 
 // "cholesky", "pcg_jacobi", "pcg_incomplete_cholesky".
+// The names of the enums above (core/option_table.h), and Name/Parse by them.
+const EnumNames<GaussNewtonOptions::LinearSolver>& LinearSolverNames();
+const EnumNames<GaussNewtonOptions::Cholesky>& CholeskyNames();
+const EnumNames<GaussNewtonOptions::Factorization>& FactorizationNames();
+const EnumNames<GaussNewtonOptions::Damping>& DampingNames();
 const char* LinearSolverName(GaussNewtonOptions::LinearSolver solver);
 bool ParseLinearSolver(const std::string& name, GaussNewtonOptions::LinearSolver* solver);
 // "eigen_llt", "eigen_ldlt", "cholmod".
