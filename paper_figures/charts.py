@@ -48,6 +48,8 @@ METHOD_STYLE = {
     "static": dict(color="#1f77b4", marker="s", label="static graph, 220 nodes"),
     "static_dense": dict(color="#2ca02c", marker="^", label="static graph = DG1"),
     "cgal_arap": dict(color="#7f7f7f", marker="D", label="CGAL ARAP"),
+    "cgal_sr_arap": dict(color="#8c564b", marker="d", label="CGAL SR-ARAP"),
+    "fastlsm": dict(color="#17becf", marker="P", label="FastLSM, 20 steps"),
 }
 
 
