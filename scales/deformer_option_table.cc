@@ -202,8 +202,10 @@ const OptionTable<DeformerOptions>& DeformerOptionTable() {
   static const OptionTable<DeformerOptions>& table = Table<DeformerOptions>([](auto& t) {
     using DO = DeformerOptions;
     t.Enum("method", &DO::method, GraphMethodNames(),
-           "multiscale (the paper), static (one graph of static_nodes nodes) or static_dense "
-           "(every DG1 node).")
+           "multiscale (the paper), static (one graph of static_nodes nodes), static_dense "
+           "(every DG1 node); where a program runs any registered method (msdeform, the "
+           "editor, the experiments: methods/registry.h) also cgal_arap, cgal_sr_arap and "
+           "fastlsm.")
         .Flag("method");
     t.Embed("lattice", &DO::lattice, LatticeOptionTable());
     t.Embed("graph", &DO::graph, GraphOptionTable());
