@@ -98,11 +98,25 @@ void ApplyKeywords(const py::object& target, const py::dict& keywords) {
   const py::tuple fields = target.attr("fields");
   const py::dict aliases = target.attr("aliases");
   const std::string name = py::str(py::type::handle_of(target).attr("__name__"));
+  // Two spellings of one option with different values are refused, as the
+  // command line refuses them (the same value twice is fine).
+  std::map<std::string, std::pair<std::string, py::object>> given;  // path -> keyword, value
+  auto check_once = [&](const std::string& path, const std::string& key, const py::handle& value) {
+    const auto [it, inserted] = given.emplace(path, std::make_pair(key, py::reinterpret_borrow<py::object>(value)));
+    if (!inserted && it->second.second.not_equal(value)) {
+      ThrowTypeError(name + ": " + it->second.first + "=" + Repr(it->second.second) + " and " +
+                     key + "=" + Repr(value) + ": one option (" + path + "), given twice");
+    }
+  };
   for (const auto& [key, value] : keywords) {
+    const std::string spelling = py::str(key);
     if (fields.contains(key)) {
+      check_once(spelling, spelling, value);
       target.attr(key) = value;
     } else if (aliases.contains(key)) {
-      SetPath(target, py::str(aliases[key]), value);
+      const std::string path = py::str(aliases[key]);
+      check_once(path, spelling, value);
+      SetPath(target, path, value);
     } else {
       std::vector<std::string> names;
       for (const py::handle field : fields) names.push_back(py::str(field));

@@ -59,3 +59,14 @@ def test_bad_values_name_the_option():
         msdeform.options_from_flags({"rigidity.damping": 1.0})
     with pytest.raises(TypeError, match="unknown option 'solvr'"):
         msdeform.DeformerOptions(solvr="ceres")
+
+
+def test_two_spellings_of_one_option_with_different_values_are_refused():
+    # As the command line refuses --threads=3 --num_threads=4.
+    with pytest.raises(TypeError, match=r"one option \(num_threads\), given twice"):
+        msdeform.DeformerOptions(threads=3, num_threads=4)
+    with pytest.raises(TypeError, match=r"one option \(backend\), given twice"):
+        msdeform.DeformerOptions(solver="ceres", backend="gauss_newton")
+    # The same value under both spellings is one option given once.
+    options = msdeform.DeformerOptions(solver="ceres", backend="ceres")
+    assert options.backend == "ceres"
