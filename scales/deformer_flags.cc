@@ -1,6 +1,7 @@
 #include "msdeform/scales/deformer_flags.h"
 
 #include <algorithm>
+#include <deque>
 #include <map>
 #include <ostream>
 #include <string>
@@ -44,11 +45,17 @@ std::string SpellingDescription(const FlagRow& row, const std::string& spelling)
 
 template <typename V>
 V* Register(const std::string& spelling, const std::string& help, V value) {
-  // gflags keeps the pointers for the life of the program.
-  const std::string* name = new std::string(spelling);
-  const std::string* text = new std::string(help);
-  V* current = new V(value);
-  new gflags::FlagRegisterer(name->c_str(), text->c_str(), __FILE__, current, new V(value));
+  // gflags keeps the pointers for the life of the program: the storage is
+  // never freed nor moved (deques grow without moving), and stays reachable
+  // from these statics (so the leak checker does not count it).
+  static auto* strings = new std::deque<std::string>();
+  static auto* values = new std::deque<V>();
+  static auto* registerers = new std::deque<gflags::FlagRegisterer>();
+  const std::string* name = &strings->emplace_back(spelling);
+  const std::string* text = &strings->emplace_back(help);
+  V* current = &values->emplace_back(value);
+  V* defaults = &values->emplace_back(value);
+  registerers->emplace_back(name->c_str(), text->c_str(), __FILE__, current, defaults);
   return current;
 }
 
