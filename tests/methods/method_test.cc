@@ -12,21 +12,10 @@
 #include "msdeform/core/procedural_meshes.h"
 #include "msdeform/methods/method_options.h"
 #include "msdeform/methods/registry.h"
+#include "tests/scales/deformer_test_util.h"
 
 namespace msdeform {
 namespace {
-
-// A bar along x (8 x 1 x 1), its first voxel fixed and its last the handle.
-struct Bar {
-  Mesh mesh = MakeBar(8, 1.0, 2);
-  HandleLayout layout;
-  Bar() {
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      if (mesh.vertices(0, v) <= 1.0) layout.fixed.push_back(v);
-      if (mesh.vertices(0, v) >= 7.0) layout.moveable.push_back(v);
-    }
-  }
-};
 
 Eigen::Affine3d RigidMotion() {
   Eigen::Affine3d motion = Eigen::Affine3d::Identity();
@@ -54,7 +43,7 @@ class MethodTest : public testing::TestWithParam<std::string> {
 };
 
 TEST_P(MethodTest, CallsOutOfOrderAreRefused) {
-  const Bar bar;
+  const BarEdit bar(8, 2);
   std::unique_ptr<EditingMethod> method = Create();
   EXPECT_FALSE(method->SetHandles(bar.layout, &error_));
   EXPECT_EQ(error_, GetParam() + ": SetHandles before a successful Precompute");
@@ -79,7 +68,7 @@ TEST_P(MethodTest, CallsOutOfOrderAreRefused) {
 }
 
 TEST_P(MethodTest, WholeMeshAsHandleMovesRigidly) {
-  const Bar bar;
+  const BarEdit bar(8, 2);
   HandleLayout all;
   for (int v = 0; v < bar.mesh.num_vertices(); ++v) all.moveable.push_back(v);
   std::unique_ptr<EditingMethod> method = Create();
@@ -95,7 +84,7 @@ TEST_P(MethodTest, WholeMeshAsHandleMovesRigidly) {
 }
 
 TEST_P(MethodTest, IdentityDragLeavesTheMeshAtRest) {
-  const Bar bar;
+  const BarEdit bar(8, 2);
   std::unique_ptr<EditingMethod> method = Create();
   ASSERT_TRUE(method->Precompute(bar.mesh, options_, &error_)) << error_;
   ASSERT_TRUE(method->SetHandles(bar.layout, &error_)) << error_;
@@ -104,7 +93,7 @@ TEST_P(MethodTest, IdentityDragLeavesTheMeshAtRest) {
 }
 
 TEST_P(MethodTest, LiftKeepsTheFixedVerticesAndMovesTheHandle) {
-  const Bar bar;
+  const BarEdit bar(8, 2);
   std::unique_ptr<EditingMethod> method = Create();
   ASSERT_TRUE(method->Precompute(bar.mesh, options_, &error_)) << error_;
   ASSERT_TRUE(method->SetHandles(bar.layout, &error_)) << error_;

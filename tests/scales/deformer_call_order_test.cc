@@ -22,18 +22,6 @@
 namespace msdeform {
 namespace {
 
-// A bar along x, its first voxel fixed and its last voxel the handle.
-struct Bar {
-  Mesh mesh = MakeBar(8, 1.0, 2);
-  HandleLayout layout;
-  Bar() {
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      if (mesh.vertices(0, v) <= 1.0) layout.fixed.push_back(v);
-      if (mesh.vertices(0, v) >= 7.0) layout.moveable.push_back(v);
-    }
-  }
-};
-
 Eigen::Affine3d Lift(double z) {
   Eigen::Affine3d lift = Eigen::Affine3d::Identity();
   lift.translation() << 0.0, 0.0, z;
@@ -52,7 +40,7 @@ Eigen::Matrix3Xd FreshResult(const Mesh& mesh, const DeformerOptions& options,
 }
 
 TEST(DeformerCallOrderTest, CallsBeforeInitAreRefused) {
-  const Bar bar;
+  const BarEdit bar(8, 2);
   Deformer deformer;
   std::string error;
   EXPECT_FALSE(deformer.SetHandles(bar.layout, &error));
@@ -63,7 +51,7 @@ TEST(DeformerCallOrderTest, CallsBeforeInitAreRefused) {
 }
 
 TEST(DeformerCallOrderTest, DragBeforeSetHandlesIsRefused) {
-  const Bar bar;
+  const BarEdit bar(8, 2);
   Deformer deformer;
   std::string error;
   ASSERT_TRUE(deformer.Init(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
@@ -76,7 +64,7 @@ TEST(DeformerCallOrderTest, DragBeforeSetHandlesIsRefused) {
 // second Init drops the layout, so Drag is refused; after SetHandles the
 // result is a fresh Deformer's, bit for bit.
 TEST(DeformerCallOrderTest, ReInitDropsTheLayout) {
-  const Bar bar;
+  const BarEdit bar(8, 2);
   const Mesh longer = MakeBar(12, 1.0, 2);
   HandleLayout longer_layout;
   for (int v = 0; v < longer.num_vertices(); ++v) {
@@ -123,7 +111,7 @@ TEST(DeformerCallOrderTest, OptionsRefuseAZeroHandleWeightAndTooManyThreads) {
 // Invalid options leave the object as it was (the layout too); a failure
 // past the checks (the lattice) leaves it empty.
 TEST(DeformerCallOrderTest, FailedInitLeavesTheObjectAsItWasOrEmpty) {
-  const Bar bar;
+  const BarEdit bar(8, 2);
   Deformer deformer;
   std::string error;
   ASSERT_TRUE(deformer.Init(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
@@ -163,7 +151,7 @@ TEST(DeformerCallOrderTest, FailedInitLeavesTheObjectAsItWasOrEmpty) {
 // lattice cell) leaves no layout: the next Drag is refused instead of solving
 // the old one.
 TEST(DeformerCallOrderTest, FailedSetHandlesIsNotFollowedByAStaleDrag) {
-  const Bar bar;
+  const BarEdit bar(8, 2);
   HandleLayout conflicting = bar.layout;
   // A handle vertex that shares its lattice cell with another handle vertex
   // (cells of about one voxel), made fixed.
@@ -205,7 +193,7 @@ TEST(DeformerCallOrderTest, FailedSetHandlesIsNotFollowedByAStaleDrag) {
 // Every combination of the backends' enums runs, or is refused by Check with
 // one line (never a crash in Ceres's own option check).
 TEST(DeformerCallOrderTest, EveryBackendOptionCombinationRunsOrIsRefusedByCheck) {
-  Bar bar;  // a coarse lattice: 186 Inits
+  BarEdit bar(8, 2);  // a coarse lattice: 186 Inits
   bar.mesh = MakeBar(8, 1.0, 1);
   bar.layout = HandleLayout();
   for (int v = 0; v < bar.mesh.num_vertices(); ++v) {
@@ -360,7 +348,7 @@ TEST(DeformerCallOrderTest, StillComponentNodesAreFixedBeforeTheAlphaWeights) {
 // inner max is 0: T is the floor 0.1 with a fixed handle and 0.5 without one
 // (docs/method.md §4).
 TEST(DeformerCallOrderTest, HarmonicThresholdIsConstant) {
-  const Bar bar;
+  const BarEdit bar(8, 2);
   Deformer deformer;
   std::string error;
   ASSERT_TRUE(deformer.Init(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
@@ -379,7 +367,7 @@ TEST(DeformerCallOrderTest, HarmonicThresholdIsConstant) {
 // const readers of one Deformer (normals skinned on first use) may run
 // concurrently.
 TEST(DeformerCallOrderTest, DeformersInParallelThreadsMatchSerialRuns) {
-  const Bar bar;
+  const BarEdit bar(8, 2);
   const DeformerOptions multiscale = OptionsFor(Method::kMultiScale);
   const DeformerOptions dense = OptionsFor(Method::kStaticDense);
   const Eigen::Matrix3Xd serial_a = FreshResult(bar.mesh, multiscale, bar.layout, 1.0);
@@ -415,7 +403,7 @@ TEST(DeformerCallOrderTest, DeformersInParallelThreadsMatchSerialRuns) {
 // session but keeps the precompute, and a stage made by hand from the
 // facade's precompute drags exactly as the facade does.
 TEST(DeformerCallOrderTest, TheFacadesStagesExistOnlyOnceMade) {
-  const Bar bar;
+  const BarEdit bar(8, 2);
   Deformer deformer;
   std::string error;
   EXPECT_EQ(deformer.precompute(), nullptr);

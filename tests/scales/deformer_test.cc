@@ -14,18 +14,6 @@
 namespace msdeform {
 namespace {
 
-// A 12 x 1 x 1 bar, the first voxel fixed and the last one the handle.
-struct BarEdit {
-  Mesh mesh = MakeBar(12, 1.0, 4);
-  HandleLayout layout;
-  BarEdit() {
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      if (mesh.vertices(0, v) <= 1.0) layout.fixed.push_back(v);
-      if (mesh.vertices(0, v) >= 11.0) layout.moveable.push_back(v);
-    }
-  }
-};
-
 void InitOrDie(Deformer* deformer, const Mesh& mesh, const DeformerOptions& options,
                const HandleLayout& layout) {
   std::string error;

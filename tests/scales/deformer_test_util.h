@@ -1,7 +1,8 @@
-// Shared by the deformer and stage tests (deformer_test.cc,
-// deformer_robustness_test.cc, precompute/layout/session_test.cc):
-// the methods, small-graph options for small procedural meshes, and a
-// vertex distance.
+// Shared by the deformer, stage and method tests (deformer_test.cc,
+// deformer_call_order_test.cc, deformer_robustness_test.cc,
+// precompute/layout/session_test.cc, tests/methods/method_test.cc,
+// tests/examples/energy_terms/volume_term_test.cc): the methods, small-graph
+// options for small procedural meshes, a bar edit, and a vertex distance.
 
 #ifndef MSDEFORM_TESTS_SCALES_DEFORMER_TEST_UTIL_H_
 #define MSDEFORM_TESTS_SCALES_DEFORMER_TEST_UTIL_H_
@@ -29,6 +30,20 @@ inline DeformerOptions OptionsFor(Method method) {
   options.num_threads = 1;
   return options;
 }
+
+// A bar along x (length x 1 x 1 voxels of width 1, each subdivided), its
+// first voxel fixed and its last voxel the handle.
+struct BarEdit {
+  explicit BarEdit(int length = 12, int subdivisions = 4)
+      : mesh(MakeBar(length, 1.0, subdivisions)) {
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      if (mesh.vertices(0, v) <= 1.0) layout.fixed.push_back(v);
+      if (mesh.vertices(0, v) >= length - 1.0) layout.moveable.push_back(v);
+    }
+  }
+  Mesh mesh;
+  HandleLayout layout;
+};
 
 // Largest distance between corresponding columns.
 inline double MaxDistance(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {

@@ -14,11 +14,11 @@
 #include <gtest/gtest.h>
 
 #include "examples/energy_terms/rest_pose_term.h"
-#include "msdeform/core/procedural_meshes.h"
-#include "msdeform/scales/deformer.h"
 #include "msdeform/scales/ceres_solver.h"
+#include "msdeform/scales/deformer.h"
 #include "msdeform/scales/gauss_newton_solver.h"
 #include "tests/energies/cost_test_util.h"
+#include "tests/scales/deformer_test_util.h"
 
 namespace msdeform {
 namespace {
@@ -280,12 +280,7 @@ TEST(VolumeTermTest, BadTermsAreRefusedWithAMessage) {
 // hook adds one term per free node of each layout, and Gauss-Newton and
 // Ceres reach the same minimum with it on a bar squeezed along its length.
 TEST(VolumeTermTest, DeformerRunsTheTermThroughEitherBackend) {
-  const Mesh bar = MakeBar(12, 1.0, 4);
-  HandleLayout layout;
-  for (int v = 0; v < bar.num_vertices(); ++v) {
-    if (bar.vertices(0, v) <= 1.0) layout.fixed.push_back(v);
-    if (bar.vertices(0, v) >= 11.0) layout.moveable.push_back(v);
-  }
+  const BarEdit bar;  // 12 x 1 x 1
   Eigen::Affine3d squeeze = Eigen::Affine3d::Identity();
   squeeze.translation() << -2.0, 0.5, 0.0;
   std::vector<Eigen::Matrix3Xd> results;
@@ -299,8 +294,8 @@ TEST(VolumeTermTest, DeformerRunsTheTermThroughEitherBackend) {
     };
     Deformer deformer;
     std::string error;
-    ASSERT_TRUE(deformer.Init(bar, options, &error)) << error;
-    ASSERT_TRUE(deformer.SetHandles(layout, &error)) << error;
+    ASSERT_TRUE(deformer.Init(bar.mesh, options, &error)) << error;
+    ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
     int free_nodes = 0;
     for (NodeClass c : deformer.node_classes()) free_nodes += c != NodeClass::kFixed;
     EXPECT_EQ(static_cast<int>(deformer.energy().terms.size()), free_nodes);
