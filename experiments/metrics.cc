@@ -9,6 +9,8 @@
 #include <Eigen/SVD>
 #include <glog/logging.h>
 
+#include "msdeform/core/cotangent_weights.h"
+
 namespace msdeform {
 
 double HandleRmsError(const Mesh& rest, const Eigen::Matrix3Xd& deformed,
@@ -40,35 +42,19 @@ Displacement VertexDisplacement(const Mesh& rest, const Eigen::Matrix3Xd& deform
 ArapTerms ArapEnergyPerVertex(const Mesh& rest, const Eigen::Matrix3Xd& deformed) {
   CHECK_EQ(rest.vertices.cols(), deformed.cols());
   const int n = rest.num_vertices();
-  // Half-cotangent of each face corner, accumulated onto the opposite edge.
-  std::vector<std::pair<std::pair<int, int>, double>> corner_weights;
-  corner_weights.reserve(3 * rest.num_faces());
-  for (int f = 0; f < rest.num_faces(); ++f) {
-    for (int c = 0; c < 3; ++c) {
-      const int i = rest.faces(c, f), j = rest.faces((c + 1) % 3, f), k = rest.faces((c + 2) % 3, f);
-      const Eigen::Vector3d a = rest.vertices.col(j) - rest.vertices.col(i);
-      const Eigen::Vector3d b = rest.vertices.col(k) - rest.vertices.col(i);
-      const double cross = a.cross(b).norm();
-      const double cot = cross > 0.0 ? a.dot(b) / cross : 0.0;
-      corner_weights.push_back({{std::min(j, k), std::max(j, k)}, 0.5 * cot});
-    }
-  }
-  std::sort(corner_weights.begin(), corner_weights.end());
+  // The undirected edges (a < b) in sorted order with their cotangent weights.
+  const CotangentWeights cotangent = ComputeCotangentWeights(rest);
   struct Edge {
     int a, b;
     double w;
   };
   std::vector<Edge> edges;
-  for (size_t s = 0; s < corner_weights.size();) {
-    size_t e = s;
-    double w = 0.0;
-    while (e < corner_weights.size() && corner_weights[e].first == corner_weights[s].first) {
-      w += corner_weights[e].second;
-      ++e;
+  edges.reserve(cotangent.weight.size() / 2);
+  for (int a = 0; a < n; ++a) {
+    for (int s = cotangent.adjacency.offsets[a]; s < cotangent.adjacency.offsets[a + 1]; ++s) {
+      const int b = cotangent.adjacency.neighbors[s];
+      if (b > a) edges.push_back({a, b, cotangent.weight[s]});
     }
-    edges.push_back({corner_weights[s].first.first, corner_weights[s].first.second,
-                     std::max(w, 0.0)});
-    s = e;
   }
   // Per-vertex covariance, then the best rotation, then the energy.
   std::vector<Eigen::Matrix3d> covariance(n, Eigen::Matrix3d::Zero());

@@ -163,6 +163,11 @@ bool CeresSolver::Setup(const DeformationEnergy& energy, const NodeTransforms& t
                         std::string* error) {
   if (!options_.Check(error) || !stopping_.Check(error)) return false;
   CHECK_EQ(static_cast<int>(energy.node_class.size()), transforms.num_nodes());
+  if (energy.arap) {
+    *error = "the Ceres backend does not run the subspace ARAP energy (--energy=arap); use "
+             "--backend=gauss_newton";
+    return false;
+  }
   impl_ = std::make_unique<Impl>();
   Impl& impl = *impl_;
   ceres::Solver::Options& solver = impl.solver;

@@ -11,6 +11,7 @@
 #ifndef MSDEFORM_SCALES_DEFORMATION_ENERGY_H_
 #define MSDEFORM_SCALES_DEFORMATION_ENERGY_H_
 
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
@@ -20,6 +21,7 @@
 #include "msdeform/energies/energy_term.h"
 #include "msdeform/energies/position_cost.h"
 #include "msdeform/scales/scale_selection.h"
+#include "msdeform/scales/subspace_arap.h"
 
 namespace msdeform {
 
@@ -65,6 +67,10 @@ struct DeformationEnergy {
   // from this description alone (examples/energy_terms/ has one). They do
   // not enter GaugeTerms.
   std::vector<EnergyTerm> terms;
+  // The subspace ARAP energy (--energy=arap; scales/subspace_arap.h): the
+  // mesh's cotangent ARAP energy over the free nodes, in place of the terms
+  // of Eq. 17 above (which are then empty). Null for Eq. 17.
+  std::shared_ptr<const SubspaceArap> arap;
 
   // 12 per Totally Free node, 9 per Half Free node.
   int num_variables() const;

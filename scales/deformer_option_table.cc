@@ -198,6 +198,27 @@ const OptionTable<CeresOptions>& CeresOptionTable() {
   return table;
 }
 
+const OptionTable<ArapOptions>& ArapOptionTable() {
+  static const OptionTable<ArapOptions>& table = Table<ArapOptions>([](auto& t) {
+    using A = ArapOptions;
+    t.Enum("clusters", &A::clusters, RotationClustersNames(),
+           "Rotation clusters of the subspace ARAP energy: weights (k-means on the skinning "
+           "weights, FAST), nodes (one per node's support) or vertices (one per vertex).");
+    t.Int("num_clusters", &A::num_clusters, "clusters=weights: clusters over the active vertices.")
+        .Range(1, kIntMax, "an integer >= 1");
+    t.Int("kmeans_iterations", &A::kmeans_iterations,
+          "clusters=weights: Lloyd iterations of the k-means.")
+        .Range(0, kIntMax, "an integer >= 0");
+    t.Enum("constraints", &A::constraints, ArapConstraintsNames(),
+           "Handle and fixed vertices of the subspace ARAP energy: exact (constants outside "
+           "the subspace) or soft (skinned, pulled by position terms of soft_weight).");
+    t.Double("soft_weight", &A::soft_weight,
+             "constraints=soft: weight of |x' - q|^2 against the cotangent-weighted edges.")
+        .Above(0, "a finite weight > 0");
+  });
+  return table;
+}
+
 const OptionTable<DeformerOptions>& DeformerOptionTable() {
   static const OptionTable<DeformerOptions>& table = Table<DeformerOptions>([](auto& t) {
     using DO = DeformerOptions;
@@ -215,6 +236,11 @@ const OptionTable<DeformerOptions>& DeformerOptionTable() {
           "Nodes of the static baseline graph (Sumner et al. 2007: about 220).")
         .Range(1, kIntMax, "an integer >= 1")
         .Flag("method");
+    t.Enum("energy", &DO::energy, EnergyNames(),
+           "What each frame minimises: ed (Eq. 17, the paper's) or arap (the mesh's cotangent "
+           "ARAP energy over the selected graph's subspace, docs/method.md §9).")
+        .Flag("method");
+    t.Embed("arap", &DO::arap, ArapOptionTable());
     t.Double("w_rot", &DO::w_rot, "w_rot of Eq. 17, >= 0.")
         .AtLeast(0, "a finite weight >= 0")
         .Flag("weights");
@@ -281,6 +307,9 @@ const OptionTable<DeformerOptions>& DeformerOptionTable() {
         {"ceres.linear_solver", "ceres_linear_solver", "solver"},
         {"ceres.sparse_library", "ceres_sparse", "solver"},
         {"ceres.jacobians", "jacobians", "solver"},
+        {"arap.clusters", "arap_clusters", "method"},
+        {"arap.num_clusters", "arap_num_clusters", "method"},
+        {"arap.constraints", "arap_constraints", "method"},
         {"rigidity.model", "rigidity", "rigidity"},
         {"rigidity.external_stiffness", "rigidity_stiffness", "rigidity"},
         {"rigidity.damping", "rigidity_damping", "rigidity"},

@@ -35,6 +35,13 @@ bool ParseSolver(const std::string& name, Solver* solver) {
   return SolverNames().Parse(name, solver);
 }
 
+const EnumNames<Energy>& EnergyNames() {
+  static const EnumNames<Energy> names = {{Energy::kEd, "ed"}, {Energy::kArap, "arap"}};
+  return names;
+}
+
+const char* EnergyName(Energy energy) { return EnergyNames().Name(energy); }
+
 const EnumNames<InitialGuess>& InitialGuessNames() {
   static const EnumNames<InitialGuess> names = {{InitialGuess::kPrevious, "previous"},
                                                 {InitialGuess::kExtrapolated, "extrapolated"},
@@ -83,7 +90,7 @@ DeformerOptions PaperProcedure(DeformerOptions options) {
 
 bool DeformerOptions::Check(std::string* error) const {
   if (!lattice.Check(error) || !graph.Check(error) || !rigidity.Check(error) ||
-      !selection.Check(error)) {
+      !selection.Check(error) || !arap.Check(error)) {
     return false;
   }
   if (static_nodes < 1) {

@@ -19,6 +19,7 @@
 #include "msdeform/scales/gauss_newton_solver.h"
 #include "msdeform/scales/rigidity.h"
 #include "msdeform/scales/scale_selection.h"
+#include "msdeform/scales/subspace_arap.h"
 
 namespace msdeform {
 
@@ -28,6 +29,11 @@ enum class Method { kMultiScale, kStatic, kStaticDense };
 // Gauss-Newton solver of scales/gauss_newton_solver.h, or Ceres
 // (scales/ceres_solver.h), the reference.
 enum class Solver { kCeres, kGaussNewton };
+
+// What a frame minimises: Eq. 17, the paper's embedded-deformation energy
+// (ed), or the mesh's own cotangent ARAP energy over the selected graph's
+// subspace (arap; scales/subspace_arap.h, docs/method.md §9).
+enum class Energy { kEd, kArap };
 
 // Where a frame's solve starts: the rest pose (R = I, t = 0: no warm start),
 // the previous frame's solution (warm start), or its linear extrapolation
@@ -43,6 +49,9 @@ bool ParseMethod(const std::string& name, Method* method);
 const EnumNames<Solver>& SolverNames();
 const char* SolverName(Solver solver);
 bool ParseSolver(const std::string& name, Solver* solver);
+// "ed", "arap".
+const EnumNames<Energy>& EnergyNames();
+const char* EnergyName(Energy energy);
 // "previous", "extrapolated", "rest".
 const EnumNames<InitialGuess>& InitialGuessNames();
 const char* InitialGuessName(InitialGuess guess);
@@ -65,6 +74,10 @@ struct DeformerOptions {
   ScaleSelectionOptions selection;   // thresholds, alpha, ablation switches
   // Nodes of the static baseline graph (Sumner et al. 2007 used about 220).
   int static_nodes = 220;
+  // The energy each frame minimises, and the subspace ARAP energy's options
+  // (rotation clusters, exact or soft constraints).
+  Energy energy = Energy::kEd;
+  ArapOptions arap;
   // Eq. 17 weights (used as sqrt residual scales).
   double w_rot = 1.0;
   double w_coh = 10.0;
@@ -134,6 +147,7 @@ const OptionTable<ScaleSelectionOptions>& ScaleSelectionOptionTable();
 const OptionTable<StoppingRule>& StoppingRuleTable();
 const OptionTable<GaussNewtonOptions>& GaussNewtonOptionTable();
 const OptionTable<CeresOptions>& CeresOptionTable();
+const OptionTable<ArapOptions>& ArapOptionTable();
 
 // Every field of `options` as (name, value) pairs, in declaration order, with
 // names as in the struct ("stopping.max_iterations") and numbers printed

@@ -178,6 +178,11 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
                               std::string* error) {
   if (!options_.Check(error) || !stopping_.Check(error)) return false;
   CHECK_EQ(static_cast<int>(energy.node_class.size()), transforms.num_nodes());
+  if (energy.arap) {
+    *error = "the subspace ARAP energy (--energy=arap) is minimised by ArapLocalGlobalSolver "
+             "(scales/arap_solver.h)";
+    return false;
+  }
   impl_ = std::make_unique<Impl>();
   Impl& impl = *impl_;
   impl.options = options_;

@@ -139,6 +139,21 @@ void Layout::BuildEnergy() {
   num_coherence_terms_ = 0;
   num_position_terms_ = 0;
 
+  if (options.energy == Energy::kArap) {
+    // The mesh's ARAP energy over the free nodes, in place of Eq. 17.
+    SubspaceArapInput input;
+    input.mesh = &mesh;
+    input.cotangent = &precompute_->cotangent();
+    input.graph = &graph;
+    input.node_class = &node_classes_;
+    input.handles = &handles_;
+    input.still_vertices = &still_vertices_;
+    input.length_unit = options.length_unit > 0.0 ? options.length_unit : precompute_->diagonal();
+    energy_.arap = SubspaceArap::Build(input, options.arap);
+    if (options.add_energy_terms) options.add_energy_terms(graph, &energy_);
+    return;
+  }
+
   // E_rot over Totally and Half Free nodes.
   energy_.sqrt_rot = std::sqrt(options.w_rot);
   for (int j = 0; j < n; ++j)

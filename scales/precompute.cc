@@ -56,6 +56,8 @@ bool Precompute::Build(const Mesh& mesh, const DeformerOptions& options, std::st
       break;
   }
   pins_.assign(graphs_.size(), 0);
+  // The subspace ARAP energy's cotangent weights, once per mesh.
+  if (options_.energy == Energy::kArap) cotangent_ = ComputeCotangentWeights(mesh_);
   if (options_.method == Method::kMultiScale) {
     rigidity_estimator_ = std::make_unique<RigidityEstimator>();
     if (!rigidity_estimator_->Init(lattice_, options_.rigidity, error)) return false;

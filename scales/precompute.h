@@ -20,6 +20,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include "msdeform/core/cotangent_weights.h"
 #include "msdeform/core/deformation_graph.h"
 #include "msdeform/core/lattice.h"
 #include "msdeform/core/mesh.h"
@@ -53,6 +54,9 @@ class Precompute {
   // another thread connects another; pin it (ConnectAndPin) to read it while
   // other threads use the cache.
   const std::vector<DeformationGraph>& graphs() const { return graphs_; }
+  // The mesh's cotangent weights (core/cotangent_weights.h); built when the
+  // energy is the subspace ARAP energy (options().energy), empty otherwise.
+  const CotangentWeights& cotangent() const { return cotangent_; }
   // The static baselines' graph index; -1 for the multi-scale method.
   int static_graph() const { return static_graph_; }
 
@@ -110,6 +114,7 @@ class Precompute {
   Components components_;
   double diagonal_ = 0.0;
   Lattice lattice_;
+  CotangentWeights cotangent_;
   int static_graph_ = -1;
   double build_ms_ = 0.0;
 

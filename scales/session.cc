@@ -8,6 +8,7 @@
 
 #include "msdeform/core/skinning.h"
 #include "msdeform/core/timing.h"
+#include "msdeform/scales/arap_solver.h"
 #include "msdeform/scales/ceres_solver.h"
 #include "msdeform/scales/gauss_newton_solver.h"
 
@@ -23,7 +24,9 @@ std::unique_ptr<Session> Session::Create(std::shared_ptr<const Layout> layout,
   const DeformerOptions& options = pre.options();
   const auto start = std::chrono::steady_clock::now();
   session->transforms_ = NodeTransforms::Identity(session->layout_->graph().num_nodes());
-  if (options.backend == Solver::kGaussNewton) {
+  if (session->layout_->energy().arap && options.backend == Solver::kGaussNewton) {
+    session->solver_ = std::make_unique<ArapLocalGlobalSolver>(options.stopping);
+  } else if (options.backend == Solver::kGaussNewton) {
     session->solver_ = std::make_unique<GaussNewtonSolver>(options.gauss_newton, options.stopping);
   } else {
     session->solver_ =
@@ -101,6 +104,13 @@ bool Session::Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats,
   SkinPositionsAndNormals(pre.mesh().vertices, pre.rest_normals(), layout_->graph(), transforms_,
                           layout_->skin_all() ? nullptr : &layout_->skinned_vertices(),
                           &deformed_vertices_, /*deformed_normals=*/nullptr, skinning);
+  // The subspace ARAP energy's exact constraints: the handle and fixed
+  // vertices are constants outside the subspace.
+  if (const SubspaceArap* arap = layout_->energy().arap.get()) {
+    for (int v : arap->exact_moveable())
+      deformed_vertices_.col(v) = deformed_from_rest * Eigen::Vector3d(pre.mesh().vertices.col(v));
+    for (int v : arap->exact_fixed()) deformed_vertices_.col(v) = pre.mesh().vertices.col(v);
+  }
   normals_stale_ = true;
   frame.skin_ms = MillisecondsSince(skin_start);
   frame.frame_ms = MillisecondsSince(frame_start);

@@ -1,0 +1,102 @@
+#include "msdeform/scales/arap_solver.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "msdeform/core/timing.h"
+
+namespace msdeform {
+
+bool ArapLocalGlobalSolver::Setup(const DeformationEnergy& energy,
+                                  const NodeTransforms& transforms, std::string* error) {
+  (void)transforms;  // the constant slots are gathered from each frame's transforms
+  if (!energy.arap) {
+    *error = "the local/global solver needs the subspace ARAP energy (--energy=arap)";
+    return false;
+  }
+  if (!energy.rot_nodes.empty() || !energy.coherence.empty() || !energy.positions.empty() ||
+      !energy.terms.empty()) {
+    *error = "the local/global solver minimises the subspace ARAP energy alone; the layout "
+             "also has Eq. 17 or extra terms";
+    return false;
+  }
+  arap_ = energy.arap;
+  const Eigen::SparseMatrix<double>& q = arap_->system_matrix();
+  const int n = q.rows();
+  damping_.resize(n);
+  if (n == 0) return true;
+  const Eigen::VectorXd diagonal = q.diagonal();
+  const double floor = 1e-12 * std::max(diagonal.mean(), 1e-300);
+  damping_ = 1e-9 * diagonal.array() + floor;
+  Eigen::SparseMatrix<double> matrix = q;
+  for (int i = 0; i < n; ++i) matrix.coeffRef(i, i) += damping_[i];
+  factorization_.compute(matrix);
+  if (factorization_.info() != Eigen::Success) {
+    *error = "the subspace ARAP global step's matrix could not be factorised";
+    return false;
+  }
+  return true;
+}
+
+SolveSummary ArapLocalGlobalSolver::Solve(const Eigen::Affine3d& handle,
+                                          NodeTransforms* transforms) {
+  const auto start = std::chrono::steady_clock::now();
+  SolveSummary summary;
+  SubspaceArap::Slots u, v, rhs, next;
+  SubspaceArap::Rotations rotations;
+  arap_->Gather(*transforms, handle, &u);
+  arap_->FitRotations(u, &rotations);
+  double energy = arap_->Energy(u, rotations);
+  summary.initial_cost = energy;
+  summary.trace.push_back({0.0, energy});
+  summary.message = "iteration budget";
+  if (!std::isfinite(energy)) {
+    summary.failed = true;
+    summary.final_cost = energy;
+    summary.message = "the energy is not finite at the initial guess";
+    return summary;
+  }
+  arap_->Variables(u, &v);
+  for (int iteration = 0; iteration < stopping_.max_iterations && v.rows() > 0; ++iteration) {
+    arap_->GlobalRhs(u, rotations, &rhs);
+    rhs += damping_.asDiagonal() * v;
+    next = factorization_.solve(rhs);
+    ++summary.iterations;
+    const double step = (next - v).norm();
+    const double size = v.norm();
+    v = next;
+    arap_->SetVariables(v, &u);
+    arap_->FitRotations(u, &rotations);
+    const double previous = energy;
+    energy = arap_->Energy(u, rotations);
+    summary.trace.push_back({MillisecondsSince(start), energy});
+    if (!std::isfinite(energy)) {
+      summary.failed = true;
+      summary.message = "the energy is not finite";
+      break;
+    }
+    if (previous - energy <= stopping_.function_tolerance * previous) {
+      summary.converged = true;
+      summary.message = "function tolerance";
+      break;
+    }
+    if (step <= stopping_.parameter_tolerance * (size + stopping_.parameter_tolerance)) {
+      summary.converged = true;
+      summary.message = "parameter tolerance";
+      break;
+    }
+  }
+  summary.factorizations = 0;  // one per layout, in Setup
+  summary.final_cost = energy;
+  if (!summary.failed) arap_->Scatter(u, transforms);
+  return summary;
+}
+
+double ArapLocalGlobalSolver::Cost(const Eigen::Affine3d& handle,
+                                   const NodeTransforms& transforms) {
+  SubspaceArap::Slots u;
+  arap_->Gather(transforms, handle, &u);
+  return arap_->Cost(u);
+}
+
+}  // namespace msdeform

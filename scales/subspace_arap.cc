@@ -1,0 +1,561 @@
+#include "msdeform/scales/subspace_arap.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <utility>
+
+#include <Eigen/SVD>
+#include <glog/logging.h>
+
+namespace msdeform {
+
+const EnumNames<RotationClusters>& RotationClustersNames() {
+  static const EnumNames<RotationClusters> names = {{RotationClusters::kWeights, "weights"},
+                                                    {RotationClusters::kNodes, "nodes"},
+                                                    {RotationClusters::kVertices, "vertices"}};
+  return names;
+}
+
+const EnumNames<ArapConstraints>& ArapConstraintsNames() {
+  static const EnumNames<ArapConstraints> names = {{ArapConstraints::kExact, "exact"},
+                                                   {ArapConstraints::kSoft, "soft"}};
+  return names;
+}
+
+bool ArapOptions::Check(std::string* error) const {
+  if (num_clusters < 1) {
+    *error = "arap.num_clusters must be >= 1";
+    return false;
+  }
+  if (kmeans_iterations < 0) {
+    *error = "arap.kmeans_iterations must be >= 0";
+    return false;
+  }
+  if (!(soft_weight > 0.0) || !std::isfinite(soft_weight)) {
+    *error = "arap.soft_weight must be a finite weight > 0";
+    return false;
+  }
+  return true;
+}
+
+namespace {
+
+// A vertex's basis: (node or pseudo-node, 4 coefficients), at most k + 1.
+struct NodeCoefficient {
+  int node;
+  Eigen::Vector4d coefficient;
+};
+using SparseBasis = std::vector<NodeCoefficient>;
+
+// Adds scale * c to the entry of `node` in `basis` (a short list).
+void AddTo(SparseBasis* basis, int node, const Eigen::Vector4d& c) {
+  for (NodeCoefficient& entry : *basis) {
+    if (entry.node == node) {
+      entry.coefficient += c;
+      return;
+    }
+  }
+  basis->push_back({node, c});
+}
+
+// Symmetric 4x4 blocks of Q between nodes and pseudo-nodes, row by row.
+class BlockAccumulator {
+ public:
+  explicit BlockAccumulator(int num_nodes) : rows_(num_nodes) {}
+
+  // Q += scale * a b^T over the nodes of a and b.
+  void AddOuter(const SparseBasis& a, const SparseBasis& b, double scale) {
+    for (const NodeCoefficient& x : a) {
+      for (const NodeCoefficient& y : b) {
+        Block(x.node, y.node) += scale * x.coefficient * y.coefficient.transpose();
+      }
+    }
+  }
+
+  Eigen::SparseMatrix<double> ToSparse(int num_slots) const {
+    std::vector<Eigen::Triplet<double>> triplets;
+    for (int a = 0; a < static_cast<int>(rows_.size()); ++a) {
+      for (const auto& [b, block] : rows_[a]) {
+        for (int r = 0; r < 4; ++r) {
+          for (int c = 0; c < 4; ++c) {
+            if (block(r, c) != 0.0) triplets.emplace_back(4 * a + r, 4 * b + c, block(r, c));
+          }
+        }
+      }
+    }
+    Eigen::SparseMatrix<double> matrix(num_slots, num_slots);
+    matrix.setFromTriplets(triplets.begin(), triplets.end());
+    return matrix;
+  }
+
+ private:
+  Eigen::Matrix4d& Block(int a, int b) {
+    for (auto& entry : rows_[a]) {
+      if (entry.first == b) return entry.second;
+    }
+    rows_[a].emplace_back(b, Eigen::Matrix4d::Zero());
+    return rows_[a].back().second;
+  }
+
+  std::vector<std::vector<std::pair<int, Eigen::Matrix4d>>> rows_;
+};
+
+// R maximising tr(R^T S): U diag(1, 1, det(U V^T)) V^T.
+Eigen::Matrix3d BestRotation(const Eigen::Matrix3d& s) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(s, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d u = svd.matrixU();
+  if ((u * svd.matrixV().transpose()).determinant() < 0.0) u.col(2) *= -1.0;
+  return u * svd.matrixV().transpose();
+}
+
+// The heaviest node of v (the lowest slot on a tie).
+int HeaviestNode(const SkinningWeights& weights, int v) {
+  int best = weights.node(0, v);
+  double best_weight = weights.weight(0, v);
+  for (int s = 1; s < weights.k(); ++s) {
+    if (weights.weight(s, v) > best_weight) {
+      best_weight = weights.weight(s, v);
+      best = weights.node(s, v);
+    }
+  }
+  return best;
+}
+
+// Cluster labels 0..C-1 over `vertices` (sorted), by k-means on the skinning
+// weight vectors (FAST): initial centres at evenly spaced vertices of the
+// order by heaviest node, then Lloyd iterations where a vertex is compared
+// only with the centres that share one of its nodes.
+std::vector<int> WeightClusters(const SkinningWeights& weights, int num_nodes,
+                                const std::vector<int>& vertices, int num_clusters,
+                                int iterations) {
+  const int num_vertices = static_cast<int>(vertices.size());
+  const int count = std::min(num_clusters, num_vertices);
+  const int k = weights.k();
+  std::vector<int> order(vertices.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::vector<int> heaviest(vertices.size());
+  for (int i = 0; i < num_vertices; ++i) heaviest[i] = HeaviestNode(weights, vertices[i]);
+  std::stable_sort(order.begin(), order.end(),
+                   [&heaviest](int a, int b) { return heaviest[a] < heaviest[b]; });
+  std::vector<int> label(vertices.size(), 0);
+  // Centres: dense over the nodes, with the nodes each one is non-zero on.
+  Eigen::MatrixXd centre = Eigen::MatrixXd::Zero(num_nodes, count);
+  auto add_vertex = [&](int c, int i, double scale) {
+    for (int s = 0; s < k; ++s)
+      centre(weights.node(s, vertices[i]), c) += scale * weights.weight(s, vertices[i]);
+  };
+  for (int c = 0; c < count; ++c) {
+    const int i = order[static_cast<size_t>(
+        (static_cast<int64_t>(2 * c + 1) * num_vertices) / (2 * count))];
+    add_vertex(c, i, 1.0);
+  }
+  std::vector<std::vector<int>> clusters_of_node(num_nodes);
+  Eigen::VectorXd centre_norm(count);
+  std::vector<int> seen(count, -1);
+  for (int iteration = 0; iteration <= iterations; ++iteration) {
+    for (auto& list : clusters_of_node) list.clear();
+    for (int c = 0; c < count; ++c) {
+      centre_norm[c] = centre.col(c).squaredNorm();
+      for (int j = 0; j < num_nodes; ++j)
+        if (centre(j, c) != 0.0) clusters_of_node[j].push_back(c);
+    }
+    // Assignment (on the last pass, the final labels).
+    for (int i = 0; i < num_vertices; ++i) {
+      const int v = vertices[i];
+      double best = std::numeric_limits<double>::infinity();
+      int best_cluster = -1;
+      for (int s = 0; s < k; ++s) {
+        if (weights.weight(s, v) == 0.0) continue;
+        for (int c : clusters_of_node[weights.node(s, v)]) {
+          if (seen[c] == i) continue;
+          seen[c] = i;
+          double dot = 0.0;
+          for (int t = 0; t < k; ++t) dot += weights.weight(t, v) * centre(weights.node(t, v), c);
+          const double distance = centre_norm[c] - 2.0 * dot;
+          if (distance < best || (distance == best && c < best_cluster)) {
+            best = distance;
+            best_cluster = c;
+          }
+        }
+      }
+      if (best_cluster >= 0) label[i] = best_cluster;
+      std::fill(seen.begin(), seen.end(), -1);
+    }
+    if (iteration == iterations) break;
+    // Update: each centre the mean of its vertices (an empty one stays).
+    std::vector<int> size(count, 0);
+    for (int i = 0; i < num_vertices; ++i) ++size[label[i]];
+    for (int c = 0; c < count; ++c)
+      if (size[c] > 0) centre.col(c).setZero();
+    for (int i = 0; i < num_vertices; ++i) add_vertex(label[i], i, 1.0 / size[label[i]]);
+  }
+  return label;
+}
+
+}  // namespace
+
+std::shared_ptr<const SubspaceArap> SubspaceArap::Build(const SubspaceArapInput& input,
+                                                        const ArapOptions& options) {
+  CHECK(input.mesh && input.cotangent && input.graph && input.node_class && input.handles &&
+        input.still_vertices);
+  CHECK_GT(input.length_unit, 0.0);
+  const Mesh& mesh = *input.mesh;
+  const DeformationGraph& graph = *input.graph;
+  const SkinningWeights& weights = graph.weights;
+  const std::vector<NodeClass>& node_class = *input.node_class;
+  const VertexAdjacency& adjacency = input.cotangent->adjacency;
+  const std::vector<double>& cot = input.cotangent->weight;
+  const int num_vertices = mesh.num_vertices();
+  const int n = graph.num_nodes();
+  CHECK_EQ(static_cast<int>(node_class.size()), n);
+  CHECK_EQ(weights.num_vertices(), num_vertices);
+
+  std::shared_ptr<SubspaceArap> arap(new SubspaceArap());
+  arap->options_ = options;
+  arap->num_nodes_ = n;
+  arap->length_unit_ = input.length_unit;
+  arap->mesh_ = input.mesh;
+  arap->cotangent_ = input.cotangent;
+  arap->graph_ = input.graph;
+  const int handle_node = n, rest_node = n + 1;
+  const bool exact = options.constraints == ArapConstraints::kExact;
+  const std::vector<char>& still = *input.still_vertices;
+  auto is_still = [&still](int v) { return !still.empty() && still[v]; };
+
+  // How each vertex is formed.
+  arap->kind_.assign(num_vertices, VertexKind::kRest);
+  for (int v = 0; v < num_vertices; ++v) {
+    if (is_still(v)) continue;
+    for (int s = 0; s < weights.k(); ++s) {
+      if (weights.weight(s, v) != 0.0 && node_class[weights.node(s, v)] != NodeClass::kFixed) {
+        arap->kind_[v] = VertexKind::kSkinned;
+        break;
+      }
+    }
+  }
+  // Soft constraint terms: (vertex, pseudo-node it is pulled to).
+  std::vector<std::pair<int, int>> soft_terms;
+  for (int v : input.handles->moveable) {
+    if (is_still(v)) continue;
+    if (exact) {
+      arap->kind_[v] = VertexKind::kHandle;
+      arap->exact_moveable_.push_back(v);
+    } else {
+      soft_terms.emplace_back(v, handle_node);
+    }
+  }
+  for (int v : input.handles->fixed) {
+    if (is_still(v)) continue;
+    if (exact) {
+      arap->kind_[v] = VertexKind::kRest;
+      arap->exact_fixed_.push_back(v);
+    } else if (arap->kind_[v] == VertexKind::kSkinned) {
+      soft_terms.emplace_back(v, rest_node);
+    }
+  }
+
+  // Variables: 4 slots of a Totally Free node, 3 of a Half Free one.
+  arap->variable_of_slot_.assign(arap->num_slots(), -1);
+  for (int j = 0; j < n; ++j) {
+    const int count = node_class[j] == NodeClass::kTotallyFree ? 4
+                      : node_class[j] == NodeClass::kHalfFree  ? 3
+                                                               : 0;
+    for (int m = 0; m < count; ++m) {
+      arap->variable_of_slot_[4 * j + m] = static_cast<int>(arap->variable_slot_.size());
+      arap->variable_slot_.push_back(4 * j + m);
+    }
+  }
+
+  // Active vertices: those that can move and their neighbours.
+  std::vector<char> active(num_vertices, 0);
+  for (int v = 0; v < num_vertices; ++v) {
+    if (arap->kind_[v] == VertexKind::kRest) continue;
+    active[v] = 1;
+    for (int s = adjacency.offsets[v]; s < adjacency.offsets[v + 1]; ++s)
+      active[adjacency.neighbors[s]] = 1;
+  }
+  std::vector<int> active_vertices;
+  for (int v = 0; v < num_vertices; ++v)
+    if (active[v]) active_vertices.push_back(v);
+  arap->num_active_vertices_ = static_cast<int>(active_vertices.size());
+
+  // Rotation clusters over the active vertices.
+  std::vector<int> label(active_vertices.size());
+  switch (options.clusters) {
+    case RotationClusters::kVertices:
+      std::iota(label.begin(), label.end(), 0);
+      break;
+    case RotationClusters::kNodes:
+      for (size_t i = 0; i < active_vertices.size(); ++i)
+        label[i] = HeaviestNode(weights, active_vertices[i]);
+      break;
+    case RotationClusters::kWeights:
+      label = WeightClusters(weights, n, active_vertices, options.num_clusters,
+                             options.kmeans_iterations);
+      break;
+  }
+  // Compact labels, numbered by their first vertex.
+  {
+    std::vector<int> renumber;
+    std::vector<int> map(label.empty() ? 0 : *std::max_element(label.begin(), label.end()) + 1,
+                         -1);
+    for (int& l : label) {
+      if (map[l] < 0) map[l] = static_cast<int>(renumber.size()), renumber.push_back(l);
+      l = map[l];
+    }
+    const int num_clusters = static_cast<int>(renumber.size());
+    arap->cluster_of_vertex_.assign(num_vertices, -1);
+    for (size_t i = 0; i < active_vertices.size(); ++i)
+      arap->cluster_of_vertex_[active_vertices[i]] = label[i];
+    arap->cluster_offsets_.assign(num_clusters + 1, 0);
+    for (int l : label) ++arap->cluster_offsets_[l + 1];
+    std::partial_sum(arap->cluster_offsets_.begin(), arap->cluster_offsets_.end(),
+                     arap->cluster_offsets_.begin());
+    arap->cluster_vertices_.resize(active_vertices.size());
+    std::vector<int> fill(arap->cluster_offsets_.begin(), arap->cluster_offsets_.end() - 1);
+    for (size_t i = 0; i < active_vertices.size(); ++i)
+      arap->cluster_vertices_[fill[label[i]]++] = active_vertices[i];
+  }
+
+  // The bases of the vertices the spokes of active vertices reach.
+  auto basis_of = [&](int v) {
+    SparseBasis basis;
+    const Eigen::Vector3d x = mesh.vertices.col(v);
+    switch (arap->kind_[v]) {
+      case VertexKind::kHandle:
+        basis.push_back({handle_node, Eigen::Vector4d(x.x(), x.y(), x.z(), 1.0)});
+        break;
+      case VertexKind::kRest:
+        basis.push_back({rest_node, Eigen::Vector4d(x.x(), x.y(), x.z(), 1.0)});
+        break;
+      case VertexKind::kSkinned:
+        for (int s = 0; s < weights.k(); ++s) {
+          const double w = weights.weight(s, v);
+          if (w == 0.0) continue;
+          const int j = weights.node(s, v);
+          const Eigen::Vector3d offset = x - graph.positions.col(j);
+          AddTo(&basis, j, w * Eigen::Vector4d(offset.x(), offset.y(), offset.z(), 1.0));
+        }
+        break;
+    }
+    return basis;
+  };
+
+  // Q = sum over spokes (i, k) of active i of w (b_i - b_k)(b_i - b_k)^T
+  //   = sum_i [W_i b_i b_i^T - b_i c_i^T - c_i b_i^T] + sum_k omega_k b_k b_k^T,
+  // W_i = sum_k w_ik, c_i = sum_k w_ik b_k, omega_k = sum over active
+  // neighbours i of w_ik. K_c and C by cluster.
+  BlockAccumulator q(n + 2);
+  std::vector<double> omega(num_vertices, 0.0);
+  std::vector<int> local_of_node(n + 2, -1);
+  std::vector<int> local_nodes;
+  std::vector<Eigen::Matrix<double, 3, 4>> local_k;
+  arap->k_offsets_.assign(1, 0);
+  std::vector<Eigen::Vector3d> k_vectors;
+  for (int c = 0; c < arap->num_clusters(); ++c) {
+    for (int p = arap->cluster_offsets_[c]; p < arap->cluster_offsets_[c + 1]; ++p) {
+      const int i = arap->cluster_vertices_[p];
+      const SparseBasis bi = basis_of(i);
+      SparseBasis ci;
+      double wi = 0.0;
+      Eigen::Vector3d we = Eigen::Vector3d::Zero();
+      for (int s = adjacency.offsets[i]; s < adjacency.offsets[i + 1]; ++s) {
+        const int k = adjacency.neighbors[s];
+        const double w = cot[s];
+        if (w == 0.0) continue;
+        const Eigen::Vector3d e = mesh.vertices.col(i) - mesh.vertices.col(k);
+        wi += w;
+        we += w * e;
+        omega[k] += w;
+        arap->constant_ += w * e.squaredNorm();
+        for (const NodeCoefficient& entry : basis_of(k)) {
+          AddTo(&ci, entry.node, w * entry.coefficient);
+          // K_c -= w e b_k^T
+          int& local = local_of_node[entry.node];
+          if (local < 0) {
+            local = static_cast<int>(local_nodes.size());
+            local_nodes.push_back(entry.node);
+            local_k.push_back(Eigen::Matrix<double, 3, 4>::Zero());
+          }
+          local_k[local] -= w * e * entry.coefficient.transpose();
+        }
+      }
+      for (const NodeCoefficient& entry : bi) {
+        int& local = local_of_node[entry.node];
+        if (local < 0) {
+          local = static_cast<int>(local_nodes.size());
+          local_nodes.push_back(entry.node);
+          local_k.push_back(Eigen::Matrix<double, 3, 4>::Zero());
+        }
+        local_k[local] += we * entry.coefficient.transpose();
+      }
+      q.AddOuter(bi, bi, wi);
+      q.AddOuter(bi, ci, -1.0);
+      q.AddOuter(ci, bi, -1.0);
+    }
+    for (size_t l = 0; l < local_nodes.size(); ++l) {
+      for (int m = 0; m < 4; ++m) {
+        arap->k_slot_.push_back(4 * local_nodes[l] + m);
+        k_vectors.push_back(local_k[l].col(m));
+      }
+      local_of_node[local_nodes[l]] = -1;
+    }
+    local_nodes.clear();
+    local_k.clear();
+    arap->k_offsets_.push_back(static_cast<int>(arap->k_slot_.size()));
+  }
+  for (int v = 0; v < num_vertices; ++v) {
+    if (omega[v] == 0.0) continue;
+    const SparseBasis bv = basis_of(v);
+    q.AddOuter(bv, bv, omega[v]);
+  }
+  for (const auto& [v, target] : soft_terms) {
+    SparseBasis d = basis_of(v);
+    const Eigen::Vector3d x = mesh.vertices.col(v);
+    AddTo(&d, target, -Eigen::Vector4d(x.x(), x.y(), x.z(), 1.0));
+    q.AddOuter(d, d, options.soft_weight);
+  }
+  arap->k_vector_.resize(3, static_cast<int>(k_vectors.size()));
+  for (size_t e = 0; e < k_vectors.size(); ++e) arap->k_vector_.col(e) = k_vectors[e];
+
+  arap->q_ = q.ToSparse(arap->num_slots());
+  // Q_vv and Q_vk (rows: variables; columns: known slots).
+  std::vector<Eigen::Triplet<double>> vv, vk;
+  for (int col = 0; col < arap->q_.outerSize(); ++col) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(arap->q_, col); it; ++it) {
+      const int row_variable = arap->variable_of_slot_[it.row()];
+      if (row_variable < 0) continue;
+      const int col_variable = arap->variable_of_slot_[col];
+      if (col_variable >= 0) {
+        vv.emplace_back(row_variable, col_variable, it.value());
+      } else {
+        vk.emplace_back(row_variable, col, it.value());
+      }
+    }
+  }
+  const int nv = arap->num_slot_variables();
+  arap->q_vv_.resize(nv, nv);
+  arap->q_vv_.setFromTriplets(vv.begin(), vv.end());
+  arap->q_vk_.resize(nv, arap->num_slots());
+  arap->q_vk_.setFromTriplets(vk.begin(), vk.end());
+  return arap;
+}
+
+void SubspaceArap::Gather(const NodeTransforms& transforms, const Eigen::Affine3d& handle,
+                          Slots* u) const {
+  CHECK_EQ(transforms.num_nodes(), num_nodes_);
+  u->resize(num_slots(), 3);
+  for (int j = 0; j < num_nodes_; ++j) {
+    const auto r = transforms.rotation(j);
+    const Eigen::Vector3d t = transforms.translations.col(j) + graph_->positions.col(j);
+    u->block<3, 3>(4 * j, 0) = r.transpose();  // slot 4j + m, coordinate d: R(d, m)
+    u->row(4 * j + 3) = t.transpose();
+  }
+  const int h = 4 * num_nodes_;
+  u->block<3, 3>(h, 0) = handle.linear().transpose();
+  u->row(h + 3) = handle.translation().transpose();
+  u->block<3, 3>(h + 4, 0).setIdentity();
+  u->row(h + 7).setZero();
+}
+
+void SubspaceArap::Scatter(const Slots& u, NodeTransforms* transforms) const {
+  for (int slot : variable_slot_) {
+    const int j = slot / 4, m = slot % 4;
+    if (m < 3) {
+      transforms->rotation(j).col(m) = u.row(slot).transpose();
+    } else {
+      transforms->translations.col(j) = u.row(slot).transpose() - graph_->positions.col(j);
+    }
+  }
+}
+
+void SubspaceArap::Variables(const Slots& u, Slots* v) const {
+  v->resize(num_slot_variables(), 3);
+  for (int i = 0; i < num_slot_variables(); ++i) v->row(i) = u.row(variable_slot_[i]);
+}
+
+void SubspaceArap::SetVariables(const Slots& v, Slots* u) const {
+  for (int i = 0; i < num_slot_variables(); ++i) u->row(variable_slot_[i]) = v.row(i);
+}
+
+void SubspaceArap::FitRotations(const Slots& u, Rotations* rotations) const {
+  rotations->resize(num_clusters());
+  for (int c = 0; c < num_clusters(); ++c) {
+    Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
+    for (int e = k_offsets_[c]; e < k_offsets_[c + 1]; ++e)
+      s.noalias() += u.row(k_slot_[e]).transpose() * k_vector_.col(e).transpose();
+    (*rotations)[c] = BestRotation(s);
+  }
+}
+
+double SubspaceArap::Energy(const Slots& u, const Rotations& rotations) const {
+  const Slots qu = q_ * u;
+  double energy = u.cwiseProduct(qu).sum() + constant_;
+  for (int c = 0; c < num_clusters(); ++c) {
+    Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
+    for (int e = k_offsets_[c]; e < k_offsets_[c + 1]; ++e)
+      s.noalias() += u.row(k_slot_[e]).transpose() * k_vector_.col(e).transpose();
+    energy -= 2.0 * (rotations[c].cwiseProduct(s)).sum();
+  }
+  return 0.5 * energy / (length_unit_ * length_unit_);
+}
+
+double SubspaceArap::Cost(const Slots& u) const {
+  Rotations rotations;
+  FitRotations(u, &rotations);
+  return Energy(u, rotations);
+}
+
+void SubspaceArap::GlobalRhs(const Slots& u, const Rotations& rotations, Slots* rhs) const {
+  *rhs = -(q_vk_ * u);
+  for (int c = 0; c < num_clusters(); ++c) {
+    for (int e = k_offsets_[c]; e < k_offsets_[c + 1]; ++e) {
+      const int variable = variable_of_slot_[k_slot_[e]];
+      if (variable < 0) continue;
+      rhs->row(variable) += (rotations[c] * k_vector_.col(e)).transpose();
+    }
+  }
+}
+
+std::vector<SubspaceArap::BasisEntry> SubspaceArap::Basis(int vertex) const {
+  std::vector<BasisEntry> basis;
+  const Eigen::Vector3d x = mesh_->vertices.col(vertex);
+  const Eigen::Vector4d homogeneous(x.x(), x.y(), x.z(), 1.0);
+  switch (kind_[vertex]) {
+    case VertexKind::kHandle:
+      basis.push_back({4 * num_nodes_, homogeneous});
+      break;
+    case VertexKind::kRest:
+      basis.push_back({4 * num_nodes_ + 4, homogeneous});
+      break;
+    case VertexKind::kSkinned: {
+      const SkinningWeights& weights = graph_->weights;
+      for (int s = 0; s < weights.k(); ++s) {
+        const double w = weights.weight(s, vertex);
+        if (w == 0.0) continue;
+        const int j = weights.node(s, vertex);
+        const Eigen::Vector3d offset = x - graph_->positions.col(j);
+        const Eigen::Vector4d c = w * Eigen::Vector4d(offset.x(), offset.y(), offset.z(), 1.0);
+        auto it = std::find_if(basis.begin(), basis.end(),
+                               [j](const BasisEntry& e) { return e.slot == 4 * j; });
+        if (it != basis.end()) {
+          it->coefficient += c;
+        } else {
+          basis.push_back({4 * j, c});
+        }
+      }
+      break;
+    }
+  }
+  return basis;
+}
+
+std::vector<int> SubspaceArap::ClusterVertices(int c) const {
+  return std::vector<int>(cluster_vertices_.begin() + cluster_offsets_[c],
+                          cluster_vertices_.begin() + cluster_offsets_[c + 1]);
+}
+
+}  // namespace msdeform

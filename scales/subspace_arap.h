@@ -1,0 +1,184 @@
+// The mesh's own ARAP energy over the selected graph's subspace (`--energy=arap`;
+// docs/method.md §9): the deformed vertices are the graph's skinning (Eq. 9),
+// linear in the free nodes' (R_j, t_j), and the energy is the cotangent ARAP
+// energy of the whole mesh (core/cotangent_weights.h) with one best rotation
+// per cluster of vertices instead of Eq. 17. FAST (Jacobson et al. 2012)
+// minimises it over a skinning subspace; here the subspace is the one the
+// multi-scale method picks from the handle layout, with its node classes
+// (Totally Free: R and t; Half Free: R; Fixed: none).
+//
+// The energy, with x'_i the deformed vertices and c(i) the cluster of i:
+//   E = 1/2 sum_i sum_{k in N(i)} w_ik |(x'_i - x'_k) - R_c(i) (x_i - x_k)|^2 / unit^2
+//     (+ 1/2 soft_weight sum |x'_i - q_i|^2 / unit^2 over the handle and fixed
+//        vertices when the constraints are soft),
+// minimised over the free nodes and the cluster rotations.
+//
+// Kronecker form. With t'_j = g_j + t_j, coordinate d of a skinned vertex is
+//   x'_i[d] = sum_j w_ij [R_j(d, :), t'_j[d]] . [x_i - g_j; 1],
+// the same coefficients b_i (4 per node) for d = 0, 1, 2. So every column
+// ("slot") of the unknowns is shared by the three coordinates: slot 4j + m
+// holds R_j(d, m) (m < 3) or t'_j[d] (m = 3) in coordinate d. Two pseudo-nodes
+// complete it: the handle (slots 4n..4n+3: [A_H(d, :), t_H[d]], coefficients
+// [x_i; 1]) and the rest pose (slots 4n+4..4n+7: [e_d, 0]). With exact
+// constraints a moveable-handle vertex is the handle's pseudo-node and a
+// fixed vertex the rest's: both are constants outside the subspace, exact by
+// construction. Per coordinate d, with u_d the vector of all slots,
+//   2 unit^2 E = sum_d u_d^T Q u_d - 2 sum_c tr(R_c^T S_c) + C,
+//   S_c(d, :) = (K_c u_d)^T,  S_c = sum_{i in c} sum_k w_ik (x'_i - x'_k)(x_i - x_k)^T,
+// Q, K_c and C fixed per layout. A frame touches only these (the local step
+// fits R_c = polar(S_c); the global step solves Q_vv v_d = sum_c K_c^T R_c(d, :)^T
+// - Q_vk k_d over the variable slots v with one factorisation per layout),
+// then skins the mesh once: its cost does not grow with the vertex count.
+//
+// Only "active" vertices enter (those that can move, and their neighbours):
+// every other vertex's spokes are rest edges with R = I and add 0.
+
+#ifndef MSDEFORM_SCALES_SUBSPACE_ARAP_H_
+#define MSDEFORM_SCALES_SUBSPACE_ARAP_H_
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <Eigen/SparseCore>
+
+#include "msdeform/core/cotangent_weights.h"
+#include "msdeform/core/deformation_graph.h"
+#include "msdeform/core/handles.h"
+#include "msdeform/core/mesh.h"
+#include "msdeform/core/option_table.h"
+#include "msdeform/scales/scale_selection.h"
+
+namespace msdeform {
+
+// How the active vertices share rotations: k-means on the skinning weights
+// (FAST), one cluster per node's support (each vertex with its heaviest
+// node), or one rotation per vertex (the ARAP energy as metrics measure it).
+enum class RotationClusters { kWeights, kNodes, kVertices };
+// Handle and fixed vertices: constants outside the subspace (exact), or
+// skinned and pulled by soft position terms.
+enum class ArapConstraints { kExact, kSoft };
+
+const EnumNames<RotationClusters>& RotationClustersNames();
+const EnumNames<ArapConstraints>& ArapConstraintsNames();
+
+struct ArapOptions {
+  RotationClusters clusters = RotationClusters::kWeights;
+  // kWeights: clusters over the active vertices (fewer when there are fewer
+  // active vertices).
+  int num_clusters = 300;
+  // kWeights: Lloyd iterations of the k-means.
+  int kmeans_iterations = 8;
+  ArapConstraints constraints = ArapConstraints::kExact;
+  // kSoft: weight of |x'_i - q_i|^2 against the cotangent-weighted spokes.
+  double soft_weight = 1000.0;
+
+  bool Check(std::string* error) const;  // messages name the field
+};
+
+// What one layout's subspace energy is built from; pointers stay valid
+// while Build runs.
+struct SubspaceArapInput {
+  const Mesh* mesh = nullptr;
+  const CotangentWeights* cotangent = nullptr;
+  const DeformationGraph* graph = nullptr;  // connected: weights and positions
+  const std::vector<NodeClass>* node_class = nullptr;
+  const HandleLayout* handles = nullptr;
+  const std::vector<char>* still_vertices = nullptr;  // per vertex, or empty
+  double length_unit = 1.0;                            // > 0
+};
+
+class SubspaceArap {
+ public:
+  // Per coordinate: one column per slot, 3 columns (d = 0, 1, 2).
+  using Slots = Eigen::Matrix<double, Eigen::Dynamic, 3>;
+  using Rotations = std::vector<Eigen::Matrix3d>;
+
+  static std::shared_ptr<const SubspaceArap> Build(const SubspaceArapInput& input,
+                                                   const ArapOptions& options);
+
+  const ArapOptions& options() const { return options_; }
+  int num_nodes() const { return num_nodes_; }
+  int num_slots() const { return 4 * num_nodes_ + 8; }
+  // Variable slots per coordinate (4 a Totally Free node, 3 a Half Free one);
+  // the solve has 3 times as many variables.
+  int num_slot_variables() const { return static_cast<int>(variable_slot_.size()); }
+  int num_variables() const { return 3 * num_slot_variables(); }
+  int num_clusters() const { return static_cast<int>(cluster_offsets_.size()) - 1; }
+  int num_active_vertices() const { return num_active_vertices_; }
+  // Per mesh vertex: its rotation cluster, or -1 outside the active set.
+  const std::vector<int>& cluster_of_vertex() const { return cluster_of_vertex_; }
+  // The vertices the exact constraints set (moveable: the handle transform
+  // times rest; fixed: rest), outside still components. Empty when soft.
+  const std::vector<int>& exact_moveable() const { return exact_moveable_; }
+  const std::vector<int>& exact_fixed() const { return exact_fixed_; }
+  // The slot of each variable, ascending.
+  const std::vector<int>& variable_slots() const { return variable_slot_; }
+
+  // u at `transforms` (Fixed nodes and Half Free translations from it, as
+  // the layout holds them) with the handle at `handle`.
+  void Gather(const NodeTransforms& transforms, const Eigen::Affine3d& handle, Slots* u) const;
+  // Writes the variable slots of u into *transforms (R_j rows, t_j = t'_j - g_j).
+  void Scatter(const Slots& u, NodeTransforms* transforms) const;
+  // The local step: R_c maximising tr(R_c^T S_c) (no reflection).
+  void FitRotations(const Slots& u, Rotations* rotations) const;
+  // The energy (1/2, over unit^2, as above) at u with the given rotations.
+  double Energy(const Slots& u, const Rotations& rotations) const;
+  // Energy at u with the best rotations.
+  double Cost(const Slots& u) const;
+  // The global step's right-hand side over the variable slots:
+  // sum_c K_c,v^T R_c(d, :)^T - Q_vk k_d, one column per coordinate.
+  void GlobalRhs(const Slots& u, const Rotations& rotations, Slots* rhs) const;
+  // Q_vv: the global step's matrix (per coordinate), lower and upper parts.
+  const Eigen::SparseMatrix<double>& system_matrix() const { return q_vv_; }
+  // The variable values of u, one row per variable slot.
+  void Variables(const Slots& u, Slots* v) const;
+  void SetVariables(const Slots& v, Slots* u) const;
+
+  // The slots a vertex's deformed position x'_i = sum b . u (per coordinate)
+  // reads: (first slot of a node or pseudo-node, 4 coefficients).
+  struct BasisEntry {
+    int slot;
+    Eigen::Vector4d coefficient;
+  };
+  std::vector<BasisEntry> Basis(int vertex) const;
+  // The vertices of cluster c.
+  std::vector<int> ClusterVertices(int c) const;
+  double length_unit() const { return length_unit_; }
+  const CotangentWeights& cotangent() const { return *cotangent_; }
+
+ private:
+  SubspaceArap() = default;
+
+  ArapOptions options_;
+  int num_nodes_ = 0;
+  double length_unit_ = 1.0;
+  int num_active_vertices_ = 0;
+  // Per vertex: how its position is formed (see Basis).
+  enum class VertexKind : char { kSkinned, kHandle, kRest };
+  std::vector<VertexKind> kind_;
+  const Mesh* mesh_ = nullptr;  // the precompute's, outlives the layout
+  const CotangentWeights* cotangent_ = nullptr;
+  const DeformationGraph* graph_ = nullptr;
+  std::vector<int> cluster_of_vertex_;
+  std::vector<int> cluster_offsets_;   // clusters' vertices in cluster_vertices_
+  std::vector<int> cluster_vertices_;
+  std::vector<int> exact_moveable_, exact_fixed_;
+  std::vector<int> variable_slot_;     // per variable
+  std::vector<int> variable_of_slot_;  // per slot, -1 when known
+  // Q over every slot (symmetric, both halves) and its variable block.
+  Eigen::SparseMatrix<double> q_;
+  Eigen::SparseMatrix<double> q_vv_;
+  Eigen::SparseMatrix<double> q_vk_;  // variable rows, known columns (others 0)
+  // K_c as (slot, 3-vector) entries, clusters in k_offsets_.
+  std::vector<int> k_offsets_;
+  std::vector<int> k_slot_;
+  Eigen::Matrix3Xd k_vector_;
+  double constant_ = 0.0;  // C
+};
+
+}  // namespace msdeform
+
+#endif  // MSDEFORM_SCALES_SUBSPACE_ARAP_H_
