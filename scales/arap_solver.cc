@@ -45,8 +45,7 @@ SolveSummary ArapLocalGlobalSolver::Solve(const Eigen::Affine3d& handle,
   SubspaceArap::Slots u, v, rhs, next;
   SubspaceArap::Rotations rotations;
   arap_->Gather(*transforms, handle, &u);
-  arap_->FitRotations(u, &rotations);
-  double energy = arap_->Energy(u, rotations);
+  double energy = arap_->EnergyFromTrace(u, arap_->FitRotations(u, &rotations));
   summary.initial_cost = energy;
   summary.trace.push_back({0.0, energy});
   summary.message = "iteration budget";
@@ -66,9 +65,8 @@ SolveSummary ArapLocalGlobalSolver::Solve(const Eigen::Affine3d& handle,
     const double size = v.norm();
     v = next;
     arap_->SetVariables(v, &u);
-    arap_->FitRotations(u, &rotations);
     const double previous = energy;
-    energy = arap_->Energy(u, rotations);
+    energy = arap_->EnergyFromTrace(u, arap_->FitRotations(u, &rotations));
     summary.trace.push_back({MillisecondsSince(start), energy});
     if (!std::isfinite(energy)) {
       summary.failed = true;

@@ -7,7 +7,7 @@
 #include <numeric>
 #include <utility>
 
-#include <Eigen/SVD>
+#include <Eigen/Eigenvalues>
 #include <glog/logging.h>
 
 namespace msdeform {
@@ -103,12 +103,33 @@ class BlockAccumulator {
   std::vector<std::vector<std::pair<int, Eigen::Matrix4d>>> rows_;
 };
 
-// R maximising tr(R^T S): U diag(1, 1, det(U V^T)) V^T.
+// R maximising tr(R^T S) over rotations: U diag(1, 1, det(U V^T)) V^T for
+// S = U Sigma V^T. From the eigenvectors v1, v2 of S^T S with the two
+// largest eigenvalues (closed form, Eigen's computeDirect): u1 = S v1 / |S v1|,
+// u2 the unit part of S v2 orthogonal to u1, and R = u1 v1^T + u2 v2^T +
+// (u1 x u2)(v1 x v2)^T, a rotation by construction, which picks the sign of
+// the third direction as the formula above does. A rank-one S (collinear
+// spokes) completes u2 and v2 with any orthonormal pair; S = 0 gives I.
 Eigen::Matrix3d BestRotation(const Eigen::Matrix3d& s) {
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(s, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d u = svd.matrixU();
-  if ((u * svd.matrixV().transpose()).determinant() < 0.0) u.col(2) *= -1.0;
-  return u * svd.matrixV().transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
+  eigen.computeDirect(s.transpose() * s);
+  const Eigen::Vector3d v1 = eigen.eigenvectors().col(2);
+  Eigen::Vector3d v2 = eigen.eigenvectors().col(1);
+  v2 = (v2 - v2.dot(v1) * v1).normalized();
+  Eigen::Vector3d u1 = s * v1;
+  const double n1 = u1.norm();
+  if (!(n1 > 0.0)) return Eigen::Matrix3d::Identity();
+  u1 /= n1;
+  Eigen::Vector3d u2 = s * v2;
+  u2 -= u2.dot(u1) * u1;
+  const double n2 = u2.norm();
+  if (n2 > 1e-12 * n1) {
+    u2 /= n2;
+  } else {
+    // Rank one: any unit vector orthogonal to u1.
+    u2 = u1.unitOrthogonal();
+  }
+  return u1 * v1.transpose() + u2 * v2.transpose() + u1.cross(u2) * v1.cross(v2).transpose();
 }
 
 // The heaviest node of v (the lowest slot on a tie).
@@ -125,53 +146,59 @@ int HeaviestNode(const SkinningWeights& weights, int v) {
 }
 
 // Cluster labels 0..C-1 over `vertices` (sorted), by k-means on the skinning
-// weight vectors (FAST): initial centres at evenly spaced vertices of the
-// order by heaviest node, then Lloyd iterations where a vertex is compared
-// only with the centres that share one of its nodes.
+// weight vectors (FAST). The Lloyd iterations run on a sample of about
+// 8 C vertices (every stride-th), with initial centres at evenly spaced
+// sample vertices of the order by heaviest node; a vertex is compared only
+// with the centres that share one of its nodes. A last pass assigns every
+// vertex to its nearest centre.
 std::vector<int> WeightClusters(const SkinningWeights& weights, int num_nodes,
                                 const std::vector<int>& vertices, int num_clusters,
                                 int iterations) {
   const int num_vertices = static_cast<int>(vertices.size());
   const int count = std::min(num_clusters, num_vertices);
   const int k = weights.k();
-  std::vector<int> order(vertices.size());
+  const int stride = std::max(1, num_vertices / (8 * count));
+  std::vector<int> sample;
+  for (int i = 0; i < num_vertices; i += stride) sample.push_back(vertices[i]);
+  const int num_sample = static_cast<int>(sample.size());
+  std::vector<int> order(sample.size());
   std::iota(order.begin(), order.end(), 0);
-  std::vector<int> heaviest(vertices.size());
-  for (int i = 0; i < num_vertices; ++i) heaviest[i] = HeaviestNode(weights, vertices[i]);
+  std::vector<int> heaviest(sample.size());
+  for (int i = 0; i < num_sample; ++i) heaviest[i] = HeaviestNode(weights, sample[i]);
   std::stable_sort(order.begin(), order.end(),
                    [&heaviest](int a, int b) { return heaviest[a] < heaviest[b]; });
-  std::vector<int> label(vertices.size(), 0);
-  // Centres: dense over the nodes, with the nodes each one is non-zero on.
+  // Centres: dense over the nodes, with the clusters each node is non-zero in.
   Eigen::MatrixXd centre = Eigen::MatrixXd::Zero(num_nodes, count);
-  auto add_vertex = [&](int c, int i, double scale) {
-    for (int s = 0; s < k; ++s)
-      centre(weights.node(s, vertices[i]), c) += scale * weights.weight(s, vertices[i]);
+  auto add_vertex = [&](int c, int v, double scale) {
+    for (int s = 0; s < k; ++s) centre(weights.node(s, v), c) += scale * weights.weight(s, v);
   };
   for (int c = 0; c < count; ++c) {
     const int i = order[static_cast<size_t>(
-        (static_cast<int64_t>(2 * c + 1) * num_vertices) / (2 * count))];
-    add_vertex(c, i, 1.0);
+        (static_cast<int64_t>(2 * c + 1) * num_sample) / (2 * count))];
+    add_vertex(c, sample[i], 1.0);
   }
   std::vector<std::vector<int>> clusters_of_node(num_nodes);
   Eigen::VectorXd centre_norm(count);
   std::vector<int> seen(count, -1);
-  for (int iteration = 0; iteration <= iterations; ++iteration) {
-    for (auto& list : clusters_of_node) list.clear();
+  int stamp = 0;
+  // Nearest centre of each of `list` into `label` (kept where no centre shares a node).
+  auto assign = [&](const std::vector<int>& list, std::vector<int>* label) {
+    for (auto& nodes : clusters_of_node) nodes.clear();
     for (int c = 0; c < count; ++c) {
       centre_norm[c] = centre.col(c).squaredNorm();
       for (int j = 0; j < num_nodes; ++j)
         if (centre(j, c) != 0.0) clusters_of_node[j].push_back(c);
     }
-    // Assignment (on the last pass, the final labels).
-    for (int i = 0; i < num_vertices; ++i) {
-      const int v = vertices[i];
+    for (size_t i = 0; i < list.size(); ++i) {
+      const int v = list[i];
+      ++stamp;
       double best = std::numeric_limits<double>::infinity();
       int best_cluster = -1;
       for (int s = 0; s < k; ++s) {
         if (weights.weight(s, v) == 0.0) continue;
         for (int c : clusters_of_node[weights.node(s, v)]) {
-          if (seen[c] == i) continue;
-          seen[c] = i;
+          if (seen[c] == stamp) continue;
+          seen[c] = stamp;
           double dot = 0.0;
           for (int t = 0; t < k; ++t) dot += weights.weight(t, v) * centre(weights.node(t, v), c);
           const double distance = centre_norm[c] - 2.0 * dot;
@@ -181,17 +208,22 @@ std::vector<int> WeightClusters(const SkinningWeights& weights, int num_nodes,
           }
         }
       }
-      if (best_cluster >= 0) label[i] = best_cluster;
-      std::fill(seen.begin(), seen.end(), -1);
+      if (best_cluster >= 0) (*label)[i] = best_cluster;
     }
-    if (iteration == iterations) break;
-    // Update: each centre the mean of its vertices (an empty one stays).
+  };
+  std::vector<int> sample_label(sample.size(), 0);
+  for (int iteration = 0; iteration < iterations; ++iteration) {
+    assign(sample, &sample_label);
+    // Each centre the mean of its sample vertices (an empty one stays).
     std::vector<int> size(count, 0);
-    for (int i = 0; i < num_vertices; ++i) ++size[label[i]];
+    for (int i = 0; i < num_sample; ++i) ++size[sample_label[i]];
     for (int c = 0; c < count; ++c)
       if (size[c] > 0) centre.col(c).setZero();
-    for (int i = 0; i < num_vertices; ++i) add_vertex(label[i], i, 1.0 / size[label[i]]);
+    for (int i = 0; i < num_sample; ++i)
+      add_vertex(sample_label[i], sample[i], 1.0 / size[sample_label[i]]);
   }
+  std::vector<int> label(vertices.size(), 0);
+  assign(vertices, &label);
   return label;
 }
 
@@ -281,6 +313,13 @@ std::shared_ptr<const SubspaceArap> SubspaceArap::Build(const SubspaceArapInput&
   for (int v = 0; v < num_vertices; ++v)
     if (active[v]) active_vertices.push_back(v);
   arap->num_active_vertices_ = static_cast<int>(active_vertices.size());
+  // Positions relative to the active vertices' centroid: the expanded energy
+  // (u^T Q u - 2 tr + C) loses about 1e-16 of |u|^2 Q, so the slots are kept
+  // as small as the moving part allows, wherever the mesh sits.
+  arap->origin_.setZero();
+  for (int v : active_vertices) arap->origin_ += mesh.vertices.col(v);
+  if (!active_vertices.empty()) arap->origin_ /= static_cast<double>(active_vertices.size());
+  const Eigen::Vector3d origin = arap->origin_;
 
   // Rotation clusters over the active vertices.
   std::vector<int> label(active_vertices.size());
@@ -323,7 +362,7 @@ std::shared_ptr<const SubspaceArap> SubspaceArap::Build(const SubspaceArapInput&
   // The bases of the vertices the spokes of active vertices reach.
   auto basis_of = [&](int v) {
     SparseBasis basis;
-    const Eigen::Vector3d x = mesh.vertices.col(v);
+    const Eigen::Vector3d x = mesh.vertices.col(v) - origin;
     switch (arap->kind_[v]) {
       case VertexKind::kHandle:
         basis.push_back({handle_node, Eigen::Vector4d(x.x(), x.y(), x.z(), 1.0)});
@@ -336,19 +375,35 @@ std::shared_ptr<const SubspaceArap> SubspaceArap::Build(const SubspaceArapInput&
           const double w = weights.weight(s, v);
           if (w == 0.0) continue;
           const int j = weights.node(s, v);
-          const Eigen::Vector3d offset = x - graph.positions.col(j);
+          const Eigen::Vector3d offset = mesh.vertices.col(v) - graph.positions.col(j);
           AddTo(&basis, j, w * Eigen::Vector4d(offset.x(), offset.y(), offset.z(), 1.0));
         }
         break;
     }
     return basis;
   };
+  // Each basis once: the active vertices' and their neighbours'.
+  std::vector<int> basis_index(num_vertices, -1);
+  std::vector<SparseBasis> bases;
+  auto cached_basis = [&](int v) -> const SparseBasis& {
+    if (basis_index[v] < 0) {
+      basis_index[v] = static_cast<int>(bases.size());
+      bases.push_back(basis_of(v));
+    }
+    return bases[basis_index[v]];
+  };
+  for (int v : active_vertices) {
+    cached_basis(v);
+    for (int s = adjacency.offsets[v]; s < adjacency.offsets[v + 1]; ++s)
+      cached_basis(adjacency.neighbors[s]);
+  }
 
   // Q = sum over spokes (i, k) of active i of w (b_i - b_k)(b_i - b_k)^T
   //   = sum_i [W_i b_i b_i^T - b_i c_i^T - c_i b_i^T] + sum_k omega_k b_k b_k^T,
   // W_i = sum_k w_ik, c_i = sum_k w_ik b_k, omega_k = sum over active
   // neighbours i of w_ik. K_c and C by cluster.
   BlockAccumulator q(n + 2);
+  BlockAccumulator cross(n + 2);  // sum_i -b_i c_i^T; Q gets it and its transpose
   std::vector<double> omega(num_vertices, 0.0);
   std::vector<int> local_of_node(n + 2, -1);
   std::vector<int> local_nodes;
@@ -358,7 +413,7 @@ std::shared_ptr<const SubspaceArap> SubspaceArap::Build(const SubspaceArapInput&
   for (int c = 0; c < arap->num_clusters(); ++c) {
     for (int p = arap->cluster_offsets_[c]; p < arap->cluster_offsets_[c + 1]; ++p) {
       const int i = arap->cluster_vertices_[p];
-      const SparseBasis bi = basis_of(i);
+      const SparseBasis& bi = cached_basis(i);
       SparseBasis ci;
       double wi = 0.0;
       Eigen::Vector3d we = Eigen::Vector3d::Zero();
@@ -371,7 +426,7 @@ std::shared_ptr<const SubspaceArap> SubspaceArap::Build(const SubspaceArapInput&
         we += w * e;
         omega[k] += w;
         arap->constant_ += w * e.squaredNorm();
-        for (const NodeCoefficient& entry : basis_of(k)) {
+        for (const NodeCoefficient& entry : cached_basis(k)) {
           AddTo(&ci, entry.node, w * entry.coefficient);
           // K_c -= w e b_k^T
           int& local = local_of_node[entry.node];
@@ -393,8 +448,7 @@ std::shared_ptr<const SubspaceArap> SubspaceArap::Build(const SubspaceArapInput&
         local_k[local] += we * entry.coefficient.transpose();
       }
       q.AddOuter(bi, bi, wi);
-      q.AddOuter(bi, ci, -1.0);
-      q.AddOuter(ci, bi, -1.0);
+      cross.AddOuter(bi, ci, -1.0);  // and its transpose, added below
     }
     for (size_t l = 0; l < local_nodes.size(); ++l) {
       for (int m = 0; m < 4; ++m) {
@@ -409,19 +463,22 @@ std::shared_ptr<const SubspaceArap> SubspaceArap::Build(const SubspaceArapInput&
   }
   for (int v = 0; v < num_vertices; ++v) {
     if (omega[v] == 0.0) continue;
-    const SparseBasis bv = basis_of(v);
+    const SparseBasis& bv = cached_basis(v);
     q.AddOuter(bv, bv, omega[v]);
   }
   for (const auto& [v, target] : soft_terms) {
     SparseBasis d = basis_of(v);
-    const Eigen::Vector3d x = mesh.vertices.col(v);
+    const Eigen::Vector3d x = mesh.vertices.col(v) - origin;
     AddTo(&d, target, -Eigen::Vector4d(x.x(), x.y(), x.z(), 1.0));
     q.AddOuter(d, d, options.soft_weight);
   }
   arap->k_vector_.resize(3, static_cast<int>(k_vectors.size()));
   for (size_t e = 0; e < k_vectors.size(); ++e) arap->k_vector_.col(e) = k_vectors[e];
 
-  arap->q_ = q.ToSparse(arap->num_slots());
+  {
+    const Eigen::SparseMatrix<double> x = cross.ToSparse(arap->num_slots());
+    arap->q_ = q.ToSparse(arap->num_slots()) + x + Eigen::SparseMatrix<double>(x.transpose());
+  }
   // Q_vv and Q_vk (rows: variables; columns: known slots).
   std::vector<Eigen::Triplet<double>> vv, vk;
   for (int col = 0; col < arap->q_.outerSize(); ++col) {
@@ -450,13 +507,15 @@ void SubspaceArap::Gather(const NodeTransforms& transforms, const Eigen::Affine3
   u->resize(num_slots(), 3);
   for (int j = 0; j < num_nodes_; ++j) {
     const auto r = transforms.rotation(j);
-    const Eigen::Vector3d t = transforms.translations.col(j) + graph_->positions.col(j);
+    const Eigen::Vector3d t =
+        transforms.translations.col(j) + (graph_->positions.col(j) - origin_);
     u->block<3, 3>(4 * j, 0) = r.transpose();  // slot 4j + m, coordinate d: R(d, m)
     u->row(4 * j + 3) = t.transpose();
   }
   const int h = 4 * num_nodes_;
   u->block<3, 3>(h, 0) = handle.linear().transpose();
-  u->row(h + 3) = handle.translation().transpose();
+  // x' - o = A (x - o) + (A o + t - o).
+  u->row(h + 3) = (handle.linear() * origin_ + handle.translation() - origin_).transpose();
   u->block<3, 3>(h + 4, 0).setIdentity();
   u->row(h + 7).setZero();
 }
@@ -467,7 +526,8 @@ void SubspaceArap::Scatter(const Slots& u, NodeTransforms* transforms) const {
     if (m < 3) {
       transforms->rotation(j).col(m) = u.row(slot).transpose();
     } else {
-      transforms->translations.col(j) = u.row(slot).transpose() - graph_->positions.col(j);
+      transforms->translations.col(j) =
+          u.row(slot).transpose() - (graph_->positions.col(j) - origin_);
     }
   }
 }
@@ -481,32 +541,39 @@ void SubspaceArap::SetVariables(const Slots& v, Slots* u) const {
   for (int i = 0; i < num_slot_variables(); ++i) u->row(variable_slot_[i]) = v.row(i);
 }
 
-void SubspaceArap::FitRotations(const Slots& u, Rotations* rotations) const {
+Eigen::Matrix3d SubspaceArap::Covariance(const Slots& u, int c) const {
+  Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
+  for (int e = k_offsets_[c]; e < k_offsets_[c + 1]; ++e)
+    s.noalias() += u.row(k_slot_[e]).transpose() * k_vector_.col(e).transpose();
+  return s;
+}
+
+double SubspaceArap::FitRotations(const Slots& u, Rotations* rotations) const {
   rotations->resize(num_clusters());
+  double sum = 0.0;
   for (int c = 0; c < num_clusters(); ++c) {
-    Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
-    for (int e = k_offsets_[c]; e < k_offsets_[c + 1]; ++e)
-      s.noalias() += u.row(k_slot_[e]).transpose() * k_vector_.col(e).transpose();
+    const Eigen::Matrix3d s = Covariance(u, c);
     (*rotations)[c] = BestRotation(s);
+    sum += (*rotations)[c].cwiseProduct(s).sum();
   }
+  return sum;
+}
+
+double SubspaceArap::EnergyFromTrace(const Slots& u, double trace) const {
+  const Slots qu = q_ * u;
+  return 0.5 * (u.cwiseProduct(qu).sum() - 2.0 * trace + constant_) /
+         (length_unit_ * length_unit_);
 }
 
 double SubspaceArap::Energy(const Slots& u, const Rotations& rotations) const {
-  const Slots qu = q_ * u;
-  double energy = u.cwiseProduct(qu).sum() + constant_;
-  for (int c = 0; c < num_clusters(); ++c) {
-    Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
-    for (int e = k_offsets_[c]; e < k_offsets_[c + 1]; ++e)
-      s.noalias() += u.row(k_slot_[e]).transpose() * k_vector_.col(e).transpose();
-    energy -= 2.0 * (rotations[c].cwiseProduct(s)).sum();
-  }
-  return 0.5 * energy / (length_unit_ * length_unit_);
+  double trace = 0.0;
+  for (int c = 0; c < num_clusters(); ++c) trace += rotations[c].cwiseProduct(Covariance(u, c)).sum();
+  return EnergyFromTrace(u, trace);
 }
 
 double SubspaceArap::Cost(const Slots& u) const {
   Rotations rotations;
-  FitRotations(u, &rotations);
-  return Energy(u, rotations);
+  return EnergyFromTrace(u, FitRotations(u, &rotations));
 }
 
 void SubspaceArap::GlobalRhs(const Slots& u, const Rotations& rotations, Slots* rhs) const {
@@ -523,7 +590,8 @@ void SubspaceArap::GlobalRhs(const Slots& u, const Rotations& rotations, Slots* 
 std::vector<SubspaceArap::BasisEntry> SubspaceArap::Basis(int vertex) const {
   std::vector<BasisEntry> basis;
   const Eigen::Vector3d x = mesh_->vertices.col(vertex);
-  const Eigen::Vector4d homogeneous(x.x(), x.y(), x.z(), 1.0);
+  const Eigen::Vector3d centred = x - origin_;
+  const Eigen::Vector4d homogeneous(centred.x(), centred.y(), centred.z(), 1.0);
   switch (kind_[vertex]) {
     case VertexKind::kHandle:
       basis.push_back({4 * num_nodes_, homogeneous});

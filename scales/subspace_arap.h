@@ -122,8 +122,13 @@ class SubspaceArap {
   void Gather(const NodeTransforms& transforms, const Eigen::Affine3d& handle, Slots* u) const;
   // Writes the variable slots of u into *transforms (R_j rows, t_j = t'_j - g_j).
   void Scatter(const Slots& u, NodeTransforms* transforms) const;
-  // The local step: R_c maximising tr(R_c^T S_c) (no reflection).
-  void FitRotations(const Slots& u, Rotations* rotations) const;
+  // S_c at u.
+  Eigen::Matrix3d Covariance(const Slots& u, int c) const;
+  // The local step: R_c maximising tr(R_c^T S_c) (no reflection). Returns
+  // sum_c tr(R_c^T S_c), for EnergyFromTrace.
+  double FitRotations(const Slots& u, Rotations* rotations) const;
+  // The energy at u given sum_c tr(R_c^T S_c).
+  double EnergyFromTrace(const Slots& u, double trace) const;
   // The energy (1/2, over unit^2, as above) at u with the given rotations.
   double Energy(const Slots& u, const Rotations& rotations) const;
   // Energy at u with the best rotations.
@@ -147,6 +152,10 @@ class SubspaceArap {
   // The vertices of cluster c.
   std::vector<int> ClusterVertices(int c) const;
   double length_unit() const { return length_unit_; }
+  // The origin of the slots' positions (the active vertices' centroid): a
+  // vertex's sum_b b . u is x'_i - origin(), slot 4j + 3 holds
+  // g_j + t_j - origin(), and the handle's holds A origin + t - origin.
+  const Eigen::Vector3d& origin() const { return origin_; }
   const CotangentWeights& cotangent() const { return *cotangent_; }
 
  private:
@@ -155,6 +164,7 @@ class SubspaceArap {
   ArapOptions options_;
   int num_nodes_ = 0;
   double length_unit_ = 1.0;
+  Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
   int num_active_vertices_ = 0;
   // Per vertex: how its position is formed (see Basis).
   enum class VertexKind : char { kSkinned, kHandle, kRest };
