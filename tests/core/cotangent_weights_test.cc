@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <random>
 #include <utility>
 #include <vector>
 
@@ -148,6 +149,39 @@ std::map<std::pair<int, int>, double> PreviousMetricsWeights(const Mesh& rest) {
 Mesh ThreeFacesOnOneEdge() {
   return MakeMesh({{0, 0, 0}, {1, 0, 0}, {0.3, 1, 0}, {0.6, -0.7, 0.2}, {0.4, 0.1, 1.3}},
                   {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
+}
+
+// Fans of four faces on edge 0-1 with random apexes: where the sum of an
+// edge's four halves in face order differs in its last bits from their sum
+// in ascending order, the weight is the latter, as the metrics' formula had
+// it, whatever the order of the faces.
+TEST(CotangentWeightsTest, ManyFacesOnAnEdgeSumInAscendingOrder) {
+  std::mt19937 rng(1993);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  int order_sensitive = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<Eigen::Vector3d> vertices = {{0, 0, 0}, {1, 0, 0}};
+    std::vector<Eigen::Vector3i> faces;
+    for (int f = 0; f < 4; ++f) {
+      vertices.emplace_back(uniform(rng), uniform(rng), uniform(rng));
+      faces.emplace_back(f % 2 ? 1 : 0, f % 2 ? 0 : 1, 2 + f);
+    }
+    const Mesh mesh = MakeMesh(vertices, faces);
+    // The halves at the apexes, summed in face order.
+    double face_order = 0.0;
+    std::vector<double> halves;
+    for (int f = 0; f < 4; ++f) {
+      const Eigen::Vector3d a = mesh.vertices.col(faces[f][0]) - mesh.vertices.col(2 + f);
+      const Eigen::Vector3d b = mesh.vertices.col(faces[f][1]) - mesh.vertices.col(2 + f);
+      const double cross = a.cross(b).norm();
+      halves.push_back(0.5 * (cross > 0.0 ? a.dot(b) / cross : 0.0));
+      face_order += halves.back();
+    }
+    const double expected = PreviousMetricsWeights(mesh).at({0, 1});
+    if (std::max(face_order, 0.0) != expected) ++order_sensitive;
+    EXPECT_EQ(Weight(ComputeCotangentWeights(mesh), 0, 1), expected) << "trial " << trial;
+  }
+  EXPECT_GT(order_sensitive, 0);
 }
 
 // Symmetric, >= 0, one weight per undirected edge, and bit for bit the
