@@ -60,9 +60,10 @@ TEST(CotangentWeightsTest, RightIsoscelesTriangle) {
 // angles, w = (cot 60 + cot 60) / 2 = 1 / sqrt(3), whatever the edge length.
 TEST(CotangentWeightsTest, RegularTetrahedron) {
   const double scale = 2.5;
-  const Mesh mesh = MakeMesh({scale * Eigen::Vector3d(1, 1, 1), scale * Eigen::Vector3d(1, -1, -1),
-                              scale * Eigen::Vector3d(-1, 1, -1), scale * Eigen::Vector3d(-1, -1, 1)},
-                             {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}});
+  const Mesh mesh =
+      MakeMesh({scale * Eigen::Vector3d(1, 1, 1), scale * Eigen::Vector3d(1, -1, -1),
+                scale * Eigen::Vector3d(-1, 1, -1), scale * Eigen::Vector3d(-1, -1, 1)},
+               {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}});
   const CotangentWeights weights = ComputeCotangentWeights(mesh);
   ASSERT_EQ(NumEdges(weights), 6);
   for (int i = 0; i < 4; ++i) {
@@ -79,7 +80,8 @@ TEST(CotangentWeightsTest, RegularTetrahedron) {
 // tangent b / a, w = a / (2b). The other two sides likewise.
 TEST(CotangentWeightsTest, FlatRectangleSplitInTwo) {
   for (const auto& [a, b] : {std::pair<double, double>{1.0, 1.0}, {2.0, 1.0}}) {
-    const Mesh mesh = MakeMesh({{0, 0, 0}, {a, 0, 0}, {a, b, 0}, {0, b, 0}}, {{0, 1, 2}, {0, 2, 3}});
+    const Mesh mesh =
+        MakeMesh({{0, 0, 0}, {a, 0, 0}, {a, b, 0}, {0, b, 0}}, {{0, 1, 2}, {0, 2, 3}});
     const CotangentWeights weights = ComputeCotangentWeights(mesh);
     ASSERT_EQ(NumEdges(weights), 5);
     EXPECT_NEAR(Weight(weights, 0, 2), 0.0, 1e-15);
@@ -121,7 +123,8 @@ std::map<std::pair<int, int>, double> PreviousMetricsWeights(const Mesh& rest) {
   std::vector<std::pair<std::pair<int, int>, double>> corner_weights;
   for (int f = 0; f < rest.num_faces(); ++f) {
     for (int c = 0; c < 3; ++c) {
-      const int i = rest.faces(c, f), j = rest.faces((c + 1) % 3, f), k = rest.faces((c + 2) % 3, f);
+      const int i = rest.faces(c, f), j = rest.faces((c + 1) % 3, f),
+                k = rest.faces((c + 2) % 3, f);
       const Eigen::Vector3d a = rest.vertices.col(j) - rest.vertices.col(i);
       const Eigen::Vector3d b = rest.vertices.col(k) - rest.vertices.col(i);
       const double cross = a.cross(b).norm();
