@@ -8,8 +8,8 @@
 //   --mode=edit --scenario=S --out=F.json [--method=...] [ablations]
 //       One edit (ablations, as msdeform's: --keep_left_out_terms,
 //       --fix_fixed_handle_nodes, --rigidity, --half_free, --border,
-//       --hold_fixed_vertices, --pin_fixed_region, --split_cells; all
-//       recorded in F.json): handle and watch
+//       --hold_fixed_vertices, --pin_fixed_region, --split_cells, and
+//       --energy with its --arap_* options; all recorded in F.json): handle and watch
 //       vertices, e' and class of every DG1 node, the size of group 1, the
 //       selected scale's nodes/edges/classes, per-vertex displacement; the
 //       deformed mesh is written to F with extension .off.
@@ -39,6 +39,7 @@
 #include "msdeform/scales/deformer_flags.h"
 #include "msdeform/scales/rigidity.h"
 #include "msdeform/scales/scale_selection.h"
+#include "msdeform/scales/subspace_arap.h"
 
 DEFINE_string(mode, "edit", "[input] graphs, edit or nodes_vs_p.");
 DEFINE_string(mesh, "", "[input] Mesh (graphs mode; overrides the scenario's mesh otherwise).");
@@ -200,6 +201,12 @@ bool RunEdit(std::string* error) {
   out["hold_fixed_vertices"] = options.hold_fixed_vertices;
   out["pin_fixed_region"] = options.selection.pin_fixed_region;
   out["split_cells"] = options.lattice.split_cells;
+  out["energy"] = EnergyName(options.energy);
+  if (options.energy == Energy::kArap) {
+    out["arap_clusters"] = RotationClustersNames().Name(options.arap.clusters);
+    out["arap_num_clusters"] = options.arap.num_clusters;
+    out["arap_constraints"] = ArapConstraintsNames().Name(options.arap.constraints);
+  }
   out["deformed_mesh"] = mesh_out.filename().string();
   out["vertices"] = mesh.num_vertices();
   out["diag"] = deformer.diagonal();

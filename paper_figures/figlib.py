@@ -202,6 +202,30 @@ def lut_viridis():
     return lut
 
 
+def handle_lut():
+    lut = vtk.vtkLookupTable()
+    lut.SetNumberOfTableValues(3)
+    lut.Build()
+    for i, c in enumerate((MESH_GREY, FIXED, MOVEABLE)):
+        lut.SetTableValue(i, c[0], c[1], c[2], 1.0)
+    return lut
+
+
+def handle_scalars(d, n):
+    s = np.zeros(n)
+    s[np.asarray(d["fixed"], dtype=int)] = 1
+    s[np.asarray(d["moveable"], dtype=int)] = 2
+    return s
+
+
+def handles_mesh_actor(d, V, F, opacity=1.0):
+    """Mesh with fixed handles blue and the moveable handle red."""
+    lut = handle_lut()
+    a = mesh_actor(V, F, scalars=handle_scalars(d, len(V)), lut=lut, rng=(0, 2), opacity=opacity)
+    a.GetMapper().InterpolateScalarsBeforeMappingOff()
+    return a
+
+
 def text(renderer, s, size=18, pos=(0.02, 0.94), color=(0, 0, 0), bold=True):
     t = vtk.vtkTextActor()
     t.SetInput(s)

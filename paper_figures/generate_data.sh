@@ -125,6 +125,24 @@ if [ -f "$EXP/camel_hoof_lift_free_leg.json" ]; then
     --static_nodes=220 --scenario="$EXP/camel_hoof_lift_free_leg.json"
 fi
 
+# The energy figure: experiments' camel_hoof_lift_free_leg (its 30 frames, as in table 2) with
+# the multi-scale method minimising Eq. 17 (--energy=ed) and the mesh's ARAP energy in the
+# selected graph's subspace (--energy=arap), each named explicitly, and CGAL's ARAP (20
+# iterations a frame, table 2's cgal_arap) through msdeform, which runs every registered method.
+if [ -f "$EXP/camel_hoof_lift_free_leg.json" ]; then
+  for e in ed arap; do
+    run "$D/edit_camel_hoof_lift_free_leg_energy_$e.json" --mode=edit --energy=$e \
+      --scenario="$EXP/camel_hoof_lift_free_leg.json"
+  done
+  CLI="${MSDEFORM_BIN:-$(dirname "$BIN")/msdeform}"
+  cgal="$D/cgal_arap_camel_hoof_lift_free_leg.off"
+  if [ -x "$CLI" ] && { [ ! -s "$cgal" ] || [ "${FORCE:-0}" = 1 ]; }; then
+    echo "generate_data: $(basename "$cgal")"
+    "$CLI" --method=cgal_arap --scenario="$EXP/camel_hoof_lift_free_leg.json" --out="$cgal" \
+      --report="${cgal%.off}.report.json" --overwrite >/dev/null
+  fi
+fi
+
 # Chart: optimised nodes against P.
 run "$D/nodes_vs_p_armadillo_claw.json" --mode=nodes_vs_p \
   --scenario="$ROOT/data/scenarios/armadillo_claw.json" --p_values=25,50,100,200,400,800,1600

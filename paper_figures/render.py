@@ -11,9 +11,11 @@ import numpy as np
 import vtk
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from figlib import (DATA, FIXED, MESH_GREY, MOVEABLE, OUT, ROOT, arap_energy_per_vertex,
-                    camera_for, cubes_actor, edit_metrics, group1_stats, lines_actor, load_json,
-                    lut_viridis, mesh_actor, read_off, render_panels, spheres_actor)
+from energy_figure import fig_energy  # noqa: E402
+from figlib import (DATA, FIXED, MOVEABLE, OUT, ROOT, arap_energy_per_vertex,
+                    camera_for, cubes_actor, edit_metrics, group1_stats, handles_mesh_actor,
+                    lines_actor, load_json, lut_viridis, mesh_actor, read_off, render_panels,
+                    spheres_actor)
 
 MESHES = os.path.join(ROOT, "data", "meshes")
 _mesh_cache = {}
@@ -32,30 +34,6 @@ def edit(name):
     V, F = mesh(mesh_name)
     Vd, _ = read_off(os.path.join(DATA, d["deformed_mesh"]))
     return d, V, F, Vd
-
-
-def handle_lut():
-    lut = vtk.vtkLookupTable()
-    lut.SetNumberOfTableValues(3)
-    lut.Build()
-    for i, c in enumerate((MESH_GREY, FIXED, MOVEABLE)):
-        lut.SetTableValue(i, c[0], c[1], c[2], 1.0)
-    return lut
-
-
-def handle_scalars(d, n):
-    s = np.zeros(n)
-    s[np.asarray(d["fixed"], dtype=int)] = 1
-    s[np.asarray(d["moveable"], dtype=int)] = 2
-    return s
-
-
-def handles_mesh_actor(d, V, F, opacity=1.0):
-    """Mesh with fixed handles blue and the moveable handle red."""
-    lut = handle_lut()
-    a = mesh_actor(V, F, scalars=handle_scalars(d, len(V)), lut=lut, rng=(0, 2), opacity=opacity)
-    a.GetMapper().InterpolateScalarsBeforeMappingOff()
-    return a
 
 
 HANDLE_LEGEND = [("blue: fixed handles, red: moveable handle", (0.02, 0.06), 13)]
@@ -493,6 +471,6 @@ if __name__ == "__main__":
     os.makedirs(OUT, exist_ok=True)
     only = sys.argv[1:]
     for f in (fig2_lattice, fig3_graphs, fig4_rigidity, fig5_ablation, fig6_fig8, fig7_leakage,
-              fig_leg_edits, fig_free_limb):
+              fig_leg_edits, fig_free_limb, fig_energy):
         if not only or f.__name__ in only:
             f()

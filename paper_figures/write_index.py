@@ -10,6 +10,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from figlib import DATA, OUT, ROOT, edit_metrics, group1_stats, read_off  # noqa: E402
+import energy_figure  # noqa: E402
 
 _meshes = {}
 
@@ -445,6 +446,7 @@ def main():
          leg_caption()),
         ("fig_free_limb.png", "A hoof lifted beside a free leg that touches it: the untouched "
          "leg before and after", free_limb_caption()),
+        (energy_figure.PNG, energy_figure.TITLE, energy_figure.energy_caption()),
         ("chart_frame_time.png", "Median frame time against vertex count (log-log)",
          ("Left: the armadillo at 26K, 104K and 416K vertices (Loop subdivision) with the "
           "default claw edit, from docs/performance.md (bench/performance_table.sh: 30 frames, "
