@@ -7,6 +7,7 @@
 //   build/experiments/msdeform_experiments --solver_lab    # solvers.{csv,md}, solver_traces.csv
 //   build/experiments/msdeform_experiments --solver_lab --quick --out_dir=/tmp/lab
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -100,6 +101,10 @@ bool ParseEnergies(const std::string& list, std::vector<Energy>* energies, std::
     if (!EnergyNames().Parse(name, &energy)) {
       *error = "--energies: unknown energy '" + name + "' (expected " +
                EnergyNames().Expected() + ")";
+      return false;
+    }
+    if (std::find(energies->begin(), energies->end(), energy) != energies->end()) {
+      *error = "--energies: '" + name + "' is given twice";
       return false;
     }
     energies->push_back(energy);
