@@ -4,6 +4,7 @@
 //
 //   build/experiments/msdeform_experiments                 # the full run
 //   build/experiments/msdeform_experiments --quick --out_dir=/tmp/quick
+//   build/experiments/msdeform_experiments --energies=ed   # the graph methods with Eq. 17 only
 //   build/experiments/msdeform_experiments --solver_lab    # solvers.{csv,md}, solver_traces.csv
 //   build/experiments/msdeform_experiments --solver_lab --quick --out_dir=/tmp/lab
 
@@ -49,7 +50,7 @@ DEFINE_bool(solver_lab, false,
             "solver_traces.csv; experiments/solver_lab.h). The solver flags are the lab's.");
 DEFINE_string(variants, "",
               "[solver] Solver lab: comma-separated variant names (default: all, e.g. gn_lagged, "
-              "gn_exact, ceres_lm_eigen_sparse).");
+              "gn_exact, ceres_lm_eigen_sparse, arap_local_global).");
 DEFINE_string(methods, "",
               "[method] Comma-separated methods of table 2, any registered one: multiscale, "
               "static, static_dense, cgal_arap, cgal_sr_arap, fastlsm (default: all; "
