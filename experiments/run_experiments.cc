@@ -4,9 +4,11 @@
 //
 //   build/experiments/msdeform_experiments                 # the full run
 //   build/experiments/msdeform_experiments --quick --out_dir=/tmp/quick
+//   build/experiments/msdeform_experiments --energies=ed   # the graph methods with Eq. 17 only
 //   build/experiments/msdeform_experiments --solver_lab    # solvers.{csv,md}, solver_traces.csv
 //   build/experiments/msdeform_experiments --solver_lab --quick --out_dir=/tmp/lab
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -48,11 +50,16 @@ DEFINE_bool(solver_lab, false,
             "solver_traces.csv; experiments/solver_lab.h). The solver flags are the lab's.");
 DEFINE_string(variants, "",
               "[solver] Solver lab: comma-separated variant names (default: all, e.g. gn_lagged, "
-              "gn_exact, ceres_lm_eigen_sparse).");
+              "gn_exact, ceres_lm_eigen_sparse, arap_local_global).");
 DEFINE_string(methods, "",
               "[method] Comma-separated methods of table 2, any registered one: multiscale, "
               "static, static_dense, cgal_arap, cgal_sr_arap, fastlsm (default: all; "
               "methods/registry.h).");
+DEFINE_string(energies, "ed,arap",
+              "[method] Comma-separated energies that multiscale, static and static_dense run "
+              "with in table 2, one row each: ed (Eq. 17), arap (the subspace ARAP energy, "
+              "scales/subspace_arap.h). The other methods run once; the ablations add their "
+              "energy_arap and arap_* rows either way.");
 DEFINE_string(reference_method, "cgal_arap",
               "[method] The method whose final mesh is the reference of arap_distance_rel "
               "(empty: none).");
@@ -77,7 +84,46 @@ void PrintLine(const std::string& line) {
   std::fflush(stdout);
 }
 
+// The runner sets the energy per row (--energies) and the lab per variant:
+// --energy given with either is an error.
+bool CheckNoEnergyFlag(const std::string& instead, std::string* error) {
+  gflags::CommandLineFlagInfo info;
+  if (gflags::GetCommandLineFlagInfo("energy", &info) && !info.is_default) {
+    *error = "--energy: " + instead;
+    return false;
+  }
+  return true;
+}
+
+bool ParseEnergies(const std::string& list, std::vector<Energy>* energies, std::string* error) {
+  energies->clear();
+  for (const std::string& name : SplitNames(list)) {
+    Energy energy;
+    if (!EnergyNames().Parse(name, &energy)) {
+      *error = "--energies: unknown energy '" + name + "' (expected " +
+               EnergyNames().Expected() + ")";
+      return false;
+    }
+    if (std::find(energies->begin(), energies->end(), energy) != energies->end()) {
+      *error = "--energies: '" + name + "' is given twice";
+      return false;
+    }
+    energies->push_back(energy);
+  }
+  if (energies->empty()) {
+    *error = "--energies: give at least one of " + EnergyNames().Expected();
+    return false;
+  }
+  return true;
+}
+
 bool FillOptions(RunnerOptions* options, std::string* error) {
+  if (!CheckNoEnergyFlag("the tables run each energy of --energies side by side (drop the "
+                         "flag; --energies=arap runs one)",
+                         error) ||
+      !ParseEnergies(FLAGS_energies, &options->energies, error)) {
+    return false;
+  }
   options->scenario_dir =
       FLAGS_scenarios.empty() ? SourceTreePath("experiments/scenarios") : FLAGS_scenarios;
   options->out_dir = FLAGS_out_dir;
@@ -114,7 +160,12 @@ bool CheckNoSolverFlags(std::string* error) {
 }
 
 bool FillLabOptions(SolverLabOptions* options, std::string* error) {
-  if (!CheckNoSolverFlags(error)) return false;
+  if (!CheckNoSolverFlags(error) ||
+      !CheckNoEnergyFlag("the solver lab sets the energy per variant (drop the flag; "
+                         "--variants picks variants, e.g. arap_local_global)",
+                         error)) {
+    return false;
+  }
   options->scenario_dir =
       FLAGS_scenarios.empty() ? SourceTreePath("experiments/scenarios") : FLAGS_scenarios;
   options->out_dir = FLAGS_out_dir;
@@ -145,7 +196,7 @@ static int Main(int argc, char** argv) {
   }
   const std::string usage =
       "msdeform_experiments [--quick] [--out_dir=DIR] [--scenarios=DIR] [--only=a,b] "
-      "[--frames=N] [--threads=N] [any msdeform method, solver or ablation flag]\n"
+      "[--energies=ed,arap] [--frames=N] [--threads=N] [any msdeform method, solver or ablation flag]\n"
       "the solver lab: msdeform_experiments --solver_lab [--quick] [--out_dir=DIR] [--only=a,b] "
       "[--variants=a,b] [--large_meshes=false] [--frames=N] [--threads=N]";
   if (msdeform::HandleHelpRequest(argc, argv, usage, std::cout)) return 0;

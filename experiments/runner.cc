@@ -57,6 +57,19 @@ std::string Int(long long value) { return std::to_string(value); }
 
 }  // namespace
 
+bool IsGraphMethod(const std::string& method) {
+  Method graph_method;
+  return ParseMethod(method, &graph_method);
+}
+
+std::string MinimisedEnergy(const std::string& method, const MethodOptions& options) {
+  if (IsGraphMethod(method)) return EnergyName(options.deformer.energy);
+  if (method == "cgal_arap") return "arap";
+  if (method == "cgal_sr_arap") return "sr_arap";
+  if (method == "fastlsm") return "shape_matching";
+  return "-";
+}
+
 bool RunMethod(const ExperimentScenario& scenario, const std::string& method_name,
                const MethodOptions& options, const std::string& label,
                const Eigen::Matrix3Xd* reference, RunResult* result, Eigen::Matrix3Xd* deformed,
@@ -65,6 +78,7 @@ bool RunMethod(const ExperimentScenario& scenario, const std::string& method_nam
   *result = RunResult();
   result->scenario = scenario.name;
   result->method = label;
+  result->energy = MinimisedEnergy(method_name, options);
   std::unique_ptr<EditingMethod> method = CreateMethod(method_name, error);
   if (method == nullptr || !method->Precompute(scenario.mesh, options, error) ||
       !method->SetHandles(scenario.layout, error)) {
@@ -175,6 +189,16 @@ bool RunnerOptions::Check(std::string* error) const {
     *error = "threads must be >= 1";
     return false;
   }
+  if (energies.empty()) {
+    *error = "energies: give at least one of " + EnergyNames().Expected();
+    return false;
+  }
+  for (size_t i = 0; i < energies.size(); ++i) {
+    if (std::find(energies.begin(), energies.begin() + i, energies[i]) != energies.begin() + i) {
+      *error = std::string("energies: '") + EnergyName(energies[i]) + "' is given twice";
+      return false;
+    }
+  }
   for (const std::string& method : methods) {
     if (!IsMethodName(method)) {
       *error = "methods: unknown method '" + method + "' (expected " + MethodNameList() + ")";
@@ -241,12 +265,34 @@ std::vector<Variant> Ablations() {
       // equal handle error.
       {"w_con_1e3", [](DeformerOptions* o) { o->w_con = 1e3; }},
       {"w_con_1e4", [](DeformerOptions* o) { o->w_con = 1e4; }},
+      // The subspace ARAP energy (--energy=arap, scales/subspace_arap.h) on
+      // the default, then one of its options changed each: the rotation
+      // clusters (default: k-means on the skinning weights) and the handle
+      // and fixed vertices (default: exact).
+      {"energy_arap", [](DeformerOptions* o) { o->energy = Energy::kArap; }},
+      {"arap_clusters_nodes",
+       [](DeformerOptions* o) {
+         o->energy = Energy::kArap;
+         o->arap.clusters = RotationClusters::kNodes;
+       }},
+      {"arap_clusters_vertices",
+       [](DeformerOptions* o) {
+         o->energy = Energy::kArap;
+         o->arap.clusters = RotationClusters::kVertices;
+       }},
+      {"arap_soft_constraints",
+       [](DeformerOptions* o) {
+         o->energy = Energy::kArap;
+         o->arap.constraints = ArapConstraints::kSoft;
+       }},
   };
 }
 
 std::string Describe(const RunResult& r) {
   std::ostringstream line;
-  line << r.method << " " << FormatNumber(r.frame_ms, 3) << " ms/frame ("
+  line << r.method;
+  if (IsGraphMethod(r.method)) line << "/" << r.energy;
+  line << " " << FormatNumber(r.frame_ms, 3) << " ms/frame ("
        << r.nodes_optimized << " nodes)";
   return line.str();
 }
@@ -304,7 +350,7 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
                {},
                {}};
   Table table2{"Table 2: multi-scale against the single static graphs, CGAL's ARAP and SR-ARAP, and FastLSM",
-               {"scenario", "method", "vertices", "nodes_optimized", "variables", "frame_ms",
+               {"scenario", "method", "energy", "vertices", "nodes_optimized", "variables", "frame_ms",
                 "solve_ms", "skin_ms", "setup_ms", "iterations", "unconverged_frames",
                 "handle_rms_rel", "fixed_max_rel", "arap_energy", "arap_energy_joint", "strain",
                 "leakage_rel", "leakage_max_rel", "orthogonality", "arap_distance_rel",
@@ -312,14 +358,14 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
                {},
                {}};
   Table ablations{"Ablations (docs/method.md §7; paper Fig. 5 and 7)",
-                  {"scenario", "variant", "selected_scale", "nodes_optimized", "variables",
+                  {"scenario", "variant", "energy", "selected_scale", "nodes_optimized", "variables",
                    "frame_ms", "iterations", "handle_rms_rel", "fixed_max_rel", "arap_energy",
                    "arap_energy_joint", "strain", "leakage_rel", "leakage_max_rel",
                    "orthogonality", "arap_distance_rel"},
                   {},
                   {}};
   auto add_table2 = [&](const RunResult& r) {
-    table2.AddRow({r.scenario, r.method, Int(r.vertices), Int(r.nodes_optimized),
+    table2.AddRow({r.scenario, r.method, r.energy, Int(r.vertices), Int(r.nodes_optimized),
                    Int(r.variables), FormatNumber(r.frame_ms), FormatNumber(r.solve_ms),
                    FormatNumber(r.skin_ms), FormatNumber(r.setup_ms),
                    FormatNumber(r.iterations_median), Int(r.unconverged_frames),
@@ -359,36 +405,44 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
     const Eigen::Matrix3Xd* reference = run_reference ? &reference_result : nullptr;
     for (const std::string& method : MethodNames()) {
       if (!Contains(methods, method)) continue;
-      RunResult r;
-      if (method == options.reference_method) {
-        r = reference_row;
-      } else if (!RunMethod(scenario, method, method_base, method, reference, &r, nullptr,
-                            error)) {
-        return false;
-      }
-      if (options.time_other_backend && Contains(options.other_backend_methods, method)) {
-        MethodOptions other_options = method_base;
-        other_options.deformer.backend =
-            base.backend == Solver::kCeres ? Solver::kGaussNewton : Solver::kCeres;
-        RunResult other;
-        if (!RunMethod(scenario, method, other_options, method, nullptr, &other, nullptr,
-                       error)) {
+      // The graph methods once per energy, the others once.
+      const std::vector<Energy> row_energies =
+          IsGraphMethod(method) ? options.energies : std::vector<Energy>{base.energy};
+      for (const Energy energy : row_energies) {
+        MethodOptions run_options = method_base;
+        run_options.deformer.energy = energy;
+        RunResult r;
+        if (method == options.reference_method && energy == base.energy) {
+          r = reference_row;
+        } else if (!RunMethod(scenario, method, run_options, method, reference, &r, nullptr,
+                              error)) {
           return false;
         }
-        r.other_backend_frame_ms = other.frame_ms;
-      }
-      add_table2(r);
-      line << " " << Describe(r) << ";";
-      if (method == options.table1_method) {
-        line << " [scale " << r.selected_scale << "/" << r.num_scales << ", "
-             << r.shared_cells << " particles shared by handle and fixed]";
-        table1.AddRow({fs::path(scenario.mesh_path).stem().string(), r.scenario,
-                       Int(r.vertices), Int(r.faces), FormatNumber(r.cell_width),
-                       Int(r.particles), Int(r.dg1_nodes), Int(r.num_scales),
-                       FormatNumber(r.precompute_ms), FormatNumber(r.rigidity_ms),
-                       FormatNumber(r.setup_ms), Int(r.selected_scale), Int(r.graph_nodes),
-                       Int(r.totally_free), Int(r.half_free), Int(r.nodes_optimized),
-                       Int(r.variables), FormatNumber(r.frame_ms)});
+        if (options.time_other_backend && Contains(options.other_backend_methods, method) &&
+            energy == Energy::kEd) {
+          MethodOptions other_options = run_options;
+          other_options.deformer.backend =
+              base.backend == Solver::kCeres ? Solver::kGaussNewton : Solver::kCeres;
+          RunResult other;
+          if (!RunMethod(scenario, method, other_options, method, nullptr, &other, nullptr,
+                         error)) {
+            return false;
+          }
+          r.other_backend_frame_ms = other.frame_ms;
+        }
+        add_table2(r);
+        line << " " << Describe(r) << ";";
+        if (method == options.table1_method && energy == row_energies.front()) {
+          line << " [scale " << r.selected_scale << "/" << r.num_scales << ", "
+               << r.shared_cells << " particles shared by handle and fixed]";
+          table1.AddRow({fs::path(scenario.mesh_path).stem().string(), r.scenario,
+                         Int(r.vertices), Int(r.faces), FormatNumber(r.cell_width),
+                         Int(r.particles), Int(r.dg1_nodes), Int(r.num_scales),
+                         FormatNumber(r.precompute_ms), FormatNumber(r.rigidity_ms),
+                         FormatNumber(r.setup_ms), Int(r.selected_scale), Int(r.graph_nodes),
+                         Int(r.totally_free), Int(r.half_free), Int(r.nodes_optimized),
+                         Int(r.variables), FormatNumber(r.frame_ms)});
+        }
       }
     }
 
@@ -399,7 +453,7 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
         variant.apply(&run_options);
         RunResult r;
         if (!RunDeformer(scenario, run_options, variant.name, reference, &r, error)) return false;
-        ablations.AddRow({r.scenario, r.method, Int(r.selected_scale), Int(r.nodes_optimized),
+        ablations.AddRow({r.scenario, r.method, r.energy, Int(r.selected_scale), Int(r.nodes_optimized),
                           Int(r.variables), FormatNumber(r.frame_ms),
                           FormatNumber(r.iterations_median), FormatNumber(r.handle_rms_rel),
                           FormatNumber(r.fixed_max_rel), FormatNumber(r.arap_energy),
@@ -422,7 +476,10 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
            << options.cgal.iterations << " iterations per frame, FastLSM "
            << options.fastlsm.steps_per_frame << " steps per frame (r = "
            << options.fastlsm.region_half_width << ", damping " << options.fastlsm.damping
-           << "), seed " << base.graph.seed;
+           << "), seed " << base.graph.seed << ", graph methods with energies";
+  for (size_t i = 0; i < options.energies.size(); ++i) {
+    settings << (i == 0 ? " " : ", ") << EnergyName(options.energies[i]);
+  }
   std::vector<std::string> header = ProvenanceLines();
   header.push_back(settings.str());
   // Every setting that changes a number: the base options each row starts
@@ -435,9 +492,18 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
       "diagonal; arap_energy is the cotangent ARAP energy over the rest edge energy "
       "(experiments/metrics.h); arap_energy_joint is the same over the vertices within 5% of the "
       "diagonal (along edges) of the fixed region. Empty cells: not applicable.";
+  table1.notes.push_back(std::string("The run of table 2 with energy ") +
+                         EnergyName(options.energies.front()) + ".");
   table1.notes.push_back("nodes_optimized = Totally + Half Free nodes of the selected scale; "
                          "variables = 12 per Totally Free + 9 per Half Free node.");
   table2.notes.push_back(units);
+  table2.notes.push_back(
+      "energy: what the row minimised. multiscale, static and static_dense run once per energy: "
+      "ed (Eq. 17, the paper's) and arap (the mesh's cotangent ARAP energy over the selected "
+      "graph's subspace, --energy=arap, scales/subspace_arap.h); cgal_arap: arap (the same "
+      "energy, one rotation per vertex, every non-fixed vertex free); cgal_sr_arap: sr_arap "
+      "(ARAP with rotation smoothing); fastlsm: shape_matching (lattice shape matching, no "
+      "energy minimised). other_backend_frame_ms: energy ed only (Ceres does not run arap).");
   table2.notes.push_back("cgal_arap: nodes_optimized = ROI vertices (all but the fixed), "
                          "variables = 3 per ROI vertex; setup_ms = conversion + factorisation; "
                          "precompute_ms and rigidity_ms = 0 (it has neither step). cgal_sr_arap: "
@@ -450,6 +516,10 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
                          "the shape-matching estimate in SetHandles (multiscale only); setup_ms = "
                          "the rest of SetHandles (scale selection, classes, problem).");
   ablations.notes.push_back(units);
+  ablations.notes.push_back(
+      "energy: the variants before energy_arap change the default with energy ed; energy_arap "
+      "is the default with --energy=arap, and the arap_* variants change one option of it "
+      "(--arap_clusters=nodes or vertices, --arap_constraints=soft).");
   for (const auto& [stem, table] :
        {std::make_pair("table1", &table1), std::make_pair("table2", &table2),
         std::make_pair("ablations", &ablations)}) {

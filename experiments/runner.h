@@ -4,8 +4,9 @@
 // FastLSM), all run through the one interface, then the ablations (docs/method.md §7), written as tables
 // (experiments/results/README.md explains them):
 //   table1      per model: lattice, graphs, scale, optimised nodes, times
-//   table2      per scenario x method: size, time, accuracy, distortion, leakage
-//   ablations   per ablation scenario x variant
+//   table2      per scenario x method x energy: size, time, accuracy, distortion,
+//               leakage (the graph methods once per energy of RunnerOptions::energies)
+//   ablations   per ablation scenario x variant, with the energy each minimises
 // The solver variants have their own lab (experiments/solver_lab.h).
 //
 //   RunnerOptions options;  // defaults: the full run
@@ -31,6 +32,7 @@ namespace msdeform {
 struct RunResult {
   std::string scenario;
   std::string method;  // a registered method (methods/registry.h) or a variant name
+  std::string energy;  // what the method minimised (MinimisedEnergy)
   int vertices = 0;
   int faces = 0;
   double diagonal = 0.0;
@@ -79,6 +81,20 @@ struct RunResult {
   double wall_ms = 0.0;
 };
 
+// True for the methods that run the Deformer (multiscale, static,
+// static_dense): those that take DeformerOptions::energy.
+bool IsGraphMethod(const std::string& method);
+
+// The energy a method minimises, the tables' `energy` cell: the graph
+// methods' DeformerOptions::energy ("ed": Eq. 17; "arap": the mesh's
+// cotangent ARAP energy over the graph's subspace, scales/subspace_arap.h);
+// "arap" for cgal_arap (the same cotangent ARAP energy, one rotation per
+// vertex, every non-fixed vertex free), "sr_arap" for cgal_sr_arap (ARAP
+// with CGAL's rotation smoothing), "shape_matching" for fastlsm (lattice
+// shape matching, not an energy minimised by a solver); "-" for a method
+// not listed here.
+std::string MinimisedEnergy(const std::string& method, const MethodOptions& options);
+
 // Runs the registered method `method` with `options` over the scenario's drag
 // path through the method interface and measures it. `label` names the row
 // (the method or a variant). `reference`, when not null, is the reference
@@ -116,13 +132,18 @@ struct RunnerOptions {
   // Methods of table 2, any registered names (empty: every registered
   // method). Rows follow the registry's order.
   std::vector<std::string> methods;
+  // The energies the graph methods of table 2 run with, side by side (one
+  // row each, in this order; deformer.energy is set per row). The other
+  // methods run once. Table 1 takes the first energy's run.
+  std::vector<Energy> energies = {Energy::kEd, Energy::kArap};
   // The method whose final mesh is the reference of arap_distance_rel (run
   // first when it is among `methods`; empty: none).
   std::string reference_method = "cgal_arap";
   // The method of table 1 (one row per scenario when it is run).
   std::string table1_method = "multiscale";
   // Also time these methods with the other backend of options.deformer
-  // (other_backend_frame_ms) when time_other_backend.
+  // (other_backend_frame_ms) when time_other_backend, on the energy ed only
+  // (the Ceres backend does not run energy arap).
   bool time_other_backend = true;
   std::vector<std::string> other_backend_methods = {"multiscale", "static"};
   // Scenarios of the ablation table (full run); camel_hoof_lift_free_leg is
@@ -131,8 +152,9 @@ struct RunnerOptions {
                                                 "man_leg_lift", "cactus", "cylinder_bend",
                                                 "armadillo_hand_drag", "camel_hoof_drag",
                                                 "camel_hoof_lift_free_leg"};
-  // Base deformer settings (seed, lattice, ...); method and ablation switches
-  // are set per run.
+  // Base deformer settings (seed, lattice, ...); method, energy (table 2) and
+  // ablation switches are set per run. The ablations start from its energy
+  // (ed by default); energy_arap and the arap_* variants set arap.
   DeformerOptions deformer;
   CgalArapOptions cgal;
   FastLsmOptions fastlsm;

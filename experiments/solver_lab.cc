@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <utility>
 
@@ -50,6 +51,7 @@ double RelativeGap(double energy, double minimum) {
   return (energy - minimum) / (minimum > 0.0 ? minimum : 1.0);
 }
 
+// (When ArapOptions gains a solver field, it is a solver field too.)
 void ResetSolverFields(DeformerOptions* options) {
   const DeformerOptions defaults;
   options->backend = defaults.backend;
@@ -197,6 +199,7 @@ struct LabRow {
   int vertices = 0;
   int variables = 0;
   std::string variant;
+  std::string energy;
   std::string description;
   int budget = 0;
   bool exact_steps = false;
@@ -230,6 +233,7 @@ LabRow SummariseDrag(const ExperimentScenario& scenario, const SolverVariant& va
   row.vertices = scenario.mesh.num_vertices();
   row.variables = drag.variables;
   row.variant = variant.name;
+  row.energy = EnergyName(options.energy);
   row.description = DescribeSolver(options);
   row.budget = budget;
   row.exact_steps = HasExactSteps(options);
@@ -299,7 +303,7 @@ void AddTraces(const std::string& scenario, const std::string& variant, const La
 
 Table RunsTable(const std::vector<LabRow>& rows) {
   Table table{"All runs: scenario x variant x budget",
-              {"scenario", "vertices", "variables", "variant", "description", "budget",
+              {"scenario", "vertices", "variables", "variant", "energy", "description", "budget",
                "frame_ms", "solve_ms", "skin_ms", "ms_per_iteration", "iterations",
                "iterations_total", "factorizations", "energy_gap", "energy_gap_max",
                "energy_gap_last", "energy_gap_min", "cost_error", "handle_rms_rel",
@@ -307,7 +311,8 @@ Table RunsTable(const std::vector<LabRow>& rows) {
               {},
               {}};
   for (const LabRow& r : rows) {
-    table.AddRow({r.scenario, Int(r.vertices), Int(r.variables), r.variant, r.description,
+    table.AddRow({r.scenario, Int(r.vertices), Int(r.variables), r.variant, r.energy,
+                  r.description,
                   BudgetName(r.budget), FormatNumber(r.frame_ms), FormatNumber(r.solve_ms),
                   FormatNumber(r.skin_ms), FormatNumber(r.ms_per_iteration),
                   FormatNumber(r.iterations), Int(r.iterations_total),
@@ -323,8 +328,10 @@ Table RunsTable(const std::vector<LabRow>& rows) {
           " with the default tolerances). Times in ms, medians over the frames that succeeded; "
           "ms_per_iteration = total solve ms / total iterations; iterations and factorizations "
           "are medians per frame.",
-      "energy_gap = (E_f - E*_f) / E*_f per frame f (median, max, last frame, min), E_f Eq. 17 "
-      "at the frame's solution evaluated term by term (EvaluateEnergy) and E*_f the same for "
+      "energy: what the variant minimises (ed: Eq. 17; arap: the subspace ARAP energy, "
+      "scales/subspace_arap.h), each against the reference of its own energy. "
+      "energy_gap = (E_f - E*_f) / E*_f per frame f (median, max, last frame, min), E_f the "
+      "energy at the frame's solution evaluated by EvaluateEnergy and E*_f the same for "
       "the reference (energy_gap_min below 0 would be a lower minimum than the reference's); "
       "cost_error: the largest |reported cost - E_f| / E_f over the frames, the backend's "
       "rounding in its own cost (DragStats::final_cost); handle_rms_rel: the handle's "
@@ -334,53 +341,74 @@ Table RunsTable(const std::vector<LabRow>& rows) {
   return table;
 }
 
-// The fastest clean row of `scenario` that passes `accept`, or null.
+// The fastest clean row of `scenario` and `energy` that passes `accept`, or
+// null.
 const LabRow* Fastest(const std::vector<LabRow>& rows, const std::string& scenario,
-                      const std::function<bool(const LabRow&)>& accept) {
+                      const std::string& energy, const std::function<bool(const LabRow&)>& accept) {
   const LabRow* best = nullptr;
   for (const LabRow& r : rows) {
-    if (r.scenario != scenario || !r.Clean() || !accept(r) || !std::isfinite(r.frame_ms)) continue;
+    if (r.scenario != scenario || r.energy != energy || !r.Clean() || !accept(r) ||
+        !std::isfinite(r.frame_ms)) {
+      continue;
+    }
     if (best == nullptr || r.frame_ms < best->frame_ms) best = &r;
   }
   return best;
 }
 
-Table WinnersTable(const std::vector<LabRow>& rows, const std::vector<std::string>& scenarios) {
-  Table table{"Winner at equal quality, per scenario",
-              {"scenario", "variables", "winner", "budget", "frame_ms", "iterations",
+// The energies of `variants`, in order of first appearance.
+std::vector<std::string> VariantEnergies(const std::vector<SolverVariant>& variants) {
+  std::vector<std::string> energies;
+  for (const SolverVariant& variant : variants) {
+    if (!Contains(energies, EnergyName(variant.energy))) energies.push_back(EnergyName(variant.energy));
+  }
+  return energies;
+}
+
+Table WinnersTable(const std::vector<LabRow>& rows, const std::vector<std::string>& scenarios,
+                   const std::vector<std::string>& energies) {
+  Table table{"Winner at equal quality, per scenario and energy",
+              {"scenario", "energy", "variables", "winner", "budget", "frame_ms", "iterations",
                "ms_per_iteration", "energy_gap_max", "exact_converged", "exact_converged_frame_ms",
                "exact_converged_iterations", "exact_converged_energy_gap_max", "speedup"},
               {},
               {}};
   for (const std::string& scenario : scenarios) {
-    const LabRow* winner = Fastest(
-        rows, scenario, [](const LabRow& r) { return r.energy_gap_max <= kEqualQualityGap; });
-    const LabRow* converged = Fastest(rows, scenario, [](const LabRow& r) {
-      return r.budget == kConvergedBudget && r.exact_steps && r.energy_gap_max <= kMinimumGap;
-    });
-    std::vector<std::string> cells = {scenario};
-    cells.push_back(winner ? Int(winner->variables) : converged ? Int(converged->variables) : "");
-    if (winner != nullptr) {
-      cells.insert(cells.end(),
-                   {winner->variant, BudgetName(winner->budget), FormatNumber(winner->frame_ms),
-                    FormatNumber(winner->iterations), FormatNumber(winner->ms_per_iteration),
-                    FormatNumber(winner->energy_gap_max)});
-    } else {
-      cells.insert(cells.end(), {"(none)", "", "", "", "", ""});
+    for (const std::string& energy : energies) {
+      const LabRow* winner = Fastest(rows, scenario, energy, [](const LabRow& r) {
+        return r.energy_gap_max <= kEqualQualityGap;
+      });
+      const LabRow* converged = Fastest(rows, scenario, energy, [](const LabRow& r) {
+        return r.budget == kConvergedBudget && r.exact_steps && r.energy_gap_max <= kMinimumGap;
+      });
+      std::vector<std::string> cells = {scenario, energy};
+      cells.push_back(winner      ? Int(winner->variables)
+                      : converged ? Int(converged->variables)
+                                  : "");
+      if (winner != nullptr) {
+        cells.insert(cells.end(),
+                     {winner->variant, BudgetName(winner->budget), FormatNumber(winner->frame_ms),
+                      FormatNumber(winner->iterations), FormatNumber(winner->ms_per_iteration),
+                      FormatNumber(winner->energy_gap_max)});
+      } else {
+        cells.insert(cells.end(), {"(none)", "", "", "", "", ""});
+      }
+      if (converged != nullptr) {
+        cells.insert(cells.end(), {converged->variant, FormatNumber(converged->frame_ms),
+                                   FormatNumber(converged->iterations),
+                                   FormatNumber(converged->energy_gap_max)});
+      } else {
+        cells.insert(cells.end(), {"(none)", "", "", ""});
+      }
+      cells.push_back(winner && converged
+                          ? FormatNumber(converged->frame_ms / winner->frame_ms, 3)
+                          : "");
+      table.AddRow(cells);
     }
-    if (converged != nullptr) {
-      cells.insert(cells.end(),
-                   {converged->variant, FormatNumber(converged->frame_ms),
-                    FormatNumber(converged->iterations), FormatNumber(converged->energy_gap_max)});
-    } else {
-      cells.insert(cells.end(), {"(none)", "", "", ""});
-    }
-    cells.push_back(winner && converged ? FormatNumber(converged->frame_ms / winner->frame_ms, 3)
-                                        : "");
-    table.AddRow(cells);
   }
   table.notes = {
-      "winner: the fastest variant and budget by median frame_ms among the runs with "
+      "winner: the fastest variant and budget of the energy by median frame_ms among the runs "
+      "with "
       "energy_gap_max <= " +
       FormatNumber(kEqualQualityGap) +
       " and no failed or non-finite frame. exact_converged: for comparison, the fastest run "
@@ -392,7 +420,7 @@ Table WinnersTable(const std::vector<LabRow>& rows, const std::vector<std::strin
 
 Table VariantsTable(const std::vector<LabRow>& rows, const std::vector<SolverVariant>& variants) {
   Table table{"Iterations against the cost of an iteration, per variant (budget converged)",
-              {"variant", "description", "scenarios", "ms_per_iteration", "iterations", "frame_ms",
+              {"variant", "energy", "description", "scenarios", "ms_per_iteration", "iterations", "frame_ms",
                "energy_gap_max", "failed_frames"},
               {},
               {}};
@@ -410,7 +438,8 @@ Table VariantsTable(const std::vector<LabRow>& rows, const std::vector<SolverVar
       failed += r.failed_frames + r.nonfinite_frames;
     }
     if (description.empty()) continue;
-    table.AddRow({variant.name, description, Int(static_cast<long long>(frame_ms.size())),
+    table.AddRow({variant.name, EnergyName(variant.energy), description,
+                  Int(static_cast<long long>(frame_ms.size())),
                   FormatNumber(MedianOrNaN(per_iteration)), FormatNumber(MedianOrNaN(iterations)),
                   FormatNumber(MedianOrNaN(frame_ms)), FormatNumber(MaxOrNaN(gap_max)),
                   Int(failed)});
@@ -507,8 +536,16 @@ std::vector<std::string> Header(const SolverLabOptions& options, const LabPlan& 
   const std::string repeats = RepeatedVariants(plan);
   if (!repeats.empty()) header.push_back(repeats);
   std::ostringstream reference;
-  reference << "reference E*_f: " << DescribeSolver(ReferenceOptions(plan.base)) << ", at most "
-            << kReferenceMaxIterations << " iterations, tolerances " << kReferenceTolerance;
+  const std::vector<std::string> energies = VariantEnergies(plan.variants);
+  for (size_t i = 0; i < energies.size(); ++i) {
+    DeformerOptions base = plan.base;
+    EnergyNames().Parse(energies[i], &base.energy);
+    reference << (i == 0 ? "reference E*_f" : "; ")
+              << (energies.size() > 1 ? " (" + energies[i] + ")" : std::string()) << ": "
+              << DescribeSolver(ReferenceOptions(base));
+  }
+  reference << ", at most " << kReferenceMaxIterations << " iterations, tolerances "
+            << kReferenceTolerance;
   for (const std::string& note : reference_notes) reference << "; " << note;
   header.push_back(reference.str());
   return header;
@@ -519,7 +556,7 @@ bool WriteLabFiles(const SolverLabOptions& options, const LabPlan& plan,
                    const Table& traces, const std::vector<std::string>& header,
                    std::string* error) {
   const Table runs = RunsTable(rows);
-  const Table winners = WinnersTable(rows, scenarios);
+  const Table winners = WinnersTable(rows, scenarios, VariantEnergies(plan.variants));
   const Table variants = VariantsTable(rows, plan.variants);
   return WriteCsv(options.out_dir, "solvers", runs, header, error) &&
          WriteMarkdown(
@@ -601,6 +638,10 @@ std::vector<SolverVariant> SolverVariants() {
                         o->backend = Solver::kCeres;
                         o->ceres.jacobians = CeresOptions::Jacobians::kAutodiff;
                       }});
+  // The subspace ARAP energy's solvers, one line each.
+  variants.push_back({"arap_local_global", [](DeformerOptions*) {}, Energy::kArap});
+  // arap_gauss_newton (nodes and cluster rotations jointly) goes here once
+  // ArapOptions has its solver field: o->arap.solver = ArapSolver::kGaussNewton.
   return variants;
 }
 
@@ -608,6 +649,7 @@ DeformerOptions VariantOptions(const DeformerOptions& base, const SolverVariant&
                                int budget) {
   DeformerOptions options = base;
   ResetSolverFields(&options);
+  options.energy = variant.energy;
   variant.apply(&options);
   options.stopping = StoppingRule();
   options.stopping.max_iterations = budget == kConvergedBudget ? kConvergedMaxIterations : budget;
@@ -629,7 +671,10 @@ DeformerOptions ReferenceOptions(const DeformerOptions& base) {
 
 std::string DescribeSolver(const DeformerOptions& options) {
   std::ostringstream text;
-  if (options.backend == Solver::kGaussNewton) {
+  if (options.energy == Energy::kArap && options.backend == Solver::kGaussNewton) {
+    // Session's choice for this energy (scales/session.cc).
+    text << "ARAP local/global (ArapLocalGlobalSolver); one factorisation per layout";
+  } else if (options.backend == Solver::kGaussNewton) {
     const GaussNewtonOptions& gn = options.gauss_newton;
     text << "Gauss-Newton; ";
     if (gn.linear_solver == GN::LinearSolver::kCholesky) {
@@ -666,6 +711,7 @@ std::string DescribeSolver(const DeformerOptions& options) {
 }
 
 bool HasExactSteps(const DeformerOptions& options) {
+  if (options.energy == Energy::kArap && options.backend == Solver::kGaussNewton) return false;
   return options.backend == Solver::kGaussNewton
              ? options.gauss_newton.linear_solver == GN::LinearSolver::kCholesky
              : options.ceres.linear_solver == ceres::SPARSE_NORMAL_CHOLESKY;
@@ -735,26 +781,46 @@ bool RunSolverLab(const SolverLabOptions& options, std::string* error) {
     ExperimentScenario scenario;
     if (!lab_scenario.load(plan.frames, &scenario, error)) return false;
     scenario_names.push_back(scenario.name);
-    const auto reference_start = Clock::now();
-    std::vector<double> minimum;
-    int unconverged = 0;
-    if (!ReferenceEnergies(scenario, plan.base, &minimum, &unconverged, error)) {
-      *error = scenario.name + " / reference: " + *error;
-      return false;
-    }
-    if (unconverged > 0) {
-      reference_notes.push_back(scenario.name + ": " + std::to_string(unconverged) +
-                                " frame(s) stopped at the iteration cap");
-    }
-    progress("[" + std::to_string(index) + "/" + std::to_string(plan.scenarios.size()) + "] " +
-             scenario.name + " (" + std::to_string(scenario.mesh.num_vertices()) + " vertices, " +
-             std::to_string(scenario.path.size()) + " frames): reference in " +
-             FormatFixed(MillisecondsSince(reference_start) / 1000.0, 1) +
-             " s, E* of the last "
-             "frame " +
-             FormatNumber(minimum.back(), 8) +
-             (unconverged > 0 ? " (" + std::to_string(unconverged) + " frames unconverged)" : ""));
+    // E*_f per energy, computed before the first variant of that energy.
+    std::map<Energy, std::vector<double>> minima;
+    auto reference_of = [&](Energy energy, std::string* error) -> const std::vector<double>* {
+      const auto found = minima.find(energy);
+      if (found != minima.end()) return &found->second;
+      const auto reference_start = Clock::now();
+      DeformerOptions base = plan.base;
+      base.energy = energy;
+      std::vector<double> minimum;
+      int unconverged = 0;
+      const std::string label = energy == Energy::kEd
+                                    ? std::string("reference")
+                                    : std::string("reference (") + EnergyName(energy) + ")";
+      if (!ReferenceEnergies(scenario, base, &minimum, &unconverged, error)) {
+        *error = scenario.name + " / " + label + ": " + *error;
+        return nullptr;
+      }
+      if (unconverged > 0) {
+        reference_notes.push_back(scenario.name +
+                                  (energy == Energy::kEd ? "" : std::string(" (") +
+                                                                    EnergyName(energy) + ")") +
+                                  ": " +
+                                  std::to_string(unconverged) +
+                                  " frame(s) stopped at the iteration cap");
+      }
+      progress("[" + std::to_string(index) + "/" + std::to_string(plan.scenarios.size()) + "] " +
+               scenario.name + " (" + std::to_string(scenario.mesh.num_vertices()) +
+               " vertices, " + std::to_string(scenario.path.size()) + " frames): " + label +
+               " in " + FormatFixed(MillisecondsSince(reference_start) / 1000.0, 1) +
+               " s, E* of the last "
+               "frame " +
+               FormatNumber(minimum.back(), 8) +
+               (unconverged > 0 ? " (" + std::to_string(unconverged) + " frames unconverged)"
+                                : ""));
+      return &(minima[energy] = std::move(minimum));
+    };
     for (const SolverVariant& variant : plan.variants) {
+      const std::vector<double>* minimum_of_energy = reference_of(variant.energy, error);
+      if (minimum_of_energy == nullptr) return false;
+      const std::vector<double>& minimum = *minimum_of_energy;
       const auto variant_start = Clock::now();
       std::vector<LabRow> variant_rows;
       for (int budget : plan.budgets) {

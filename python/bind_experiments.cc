@@ -34,6 +34,7 @@ py::dict RunResultToDict(const RunResult& r) {
   py::dict d;
   d["scenario"] = r.scenario;
   d["method"] = r.method;
+  d["energy"] = r.energy;
   d["vertices"] = r.vertices;
   d["faces"] = r.faces;
   d["diagonal"] = r.diagonal;
@@ -344,7 +345,9 @@ void BindRunner(py::module_& m) {
         "Deformer (the runner uses num_threads=1); label names the row (default: the method). "
         "arap_result, CGAL ARAP's final vertices on the same drag (run_cgal_arap), gives "
         "arap_distance_rel (NaN without). Returns a dict keyed by the tables' column names: "
-        "scenario, method, vertices, faces, diagonal, cell_width, particles, d1, scales_n, "
+        "scenario, method, energy (what it minimised: ed or arap for the graph methods, "
+        "DeformerOptions.energy; arap, sr_arap or shape_matching for the others), vertices, "
+        "faces, diagonal, cell_width, particles, d1, scales_n, "
         "shared_cells, selected_scale, scale_nodes, totally_free, half_free, nodes_optimized, "
         "variables, precompute_ms, rigidity_ms, setup_ms, frame_ms, solve_ms, skin_ms "
         "(medians over frames), solve_total_ms, iterations (median), iterations_total, "

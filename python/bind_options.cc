@@ -354,6 +354,9 @@ void BindSubOptions(py::module_& m) {
   OptionsClass<CeresOptions>(m, "CeresOptions", "The Ceres backend (scales/ceres_solver.h).")
       .Rows(CeresOptionTable())
       .Finish();
+  OptionsClass<ArapOptions>(m, "ArapOptions", "The subspace ARAP energy (scales/subspace_arap.h).")
+      .Rows(ArapOptionTable())
+      .Finish();
 }
 
 void BindDeformerOptions(py::module_& m) {
@@ -380,6 +383,7 @@ void BindDeformerOptions(py::module_& m) {
                         "GaussNewtonOptions of the default backend.");
        }},
       {"ceres", [&] { options.Nested("ceres", &DO::ceres, "CeresOptions of the Ceres backend."); }},
+      {"arap", [&] { options.Nested("arap", &DO::arap, "ArapOptions of --energy=arap."); }},
   };
   std::set<std::string> bound;
   for (const OptionRow<DO>& row : DeformerOptionTable().rows()) {

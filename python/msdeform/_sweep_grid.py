@@ -363,13 +363,16 @@ class Sweep:
         return options
 
     def _tables(self, raw):
-        """The table projections: [{name, columns, methods}] (methods None: every method)."""
+        """The table projections: [{name, columns, methods, energies}] (methods None: every
+        method; energies None: every energy, the rows' energy column)."""
         tables = self._list(raw, "tables", [])
         checked = []
         for i, table in enumerate(tables):
             field = f"tables[{i}]"
-            if not isinstance(table, dict) or set(table) - {"name", "columns", "methods"}:
-                self._fail(field, 'expected {"name": ..., "columns": [...], "methods": [...]}')
+            if not isinstance(table, dict) or set(table) - {"name", "columns", "methods",
+                                                            "energies"}:
+                self._fail(field, 'expected {"name": ..., "columns": [...], "methods": [...], '
+                                  '"energies": [...]}')
             name = self._string(table, "name", "")
             if not name or "/" in name or name in ("results", "summary", "tasks"):
                 self._fail(field + ".name",
@@ -378,7 +381,9 @@ class Sweep:
             if columns is None:
                 self._fail(field + ".columns", "missing")
             methods = self._string_list(table, "methods", None)
-            checked.append({"name": name, "columns": columns, "methods": methods})
+            energies = self._string_list(table, "energies", None)
+            checked.append({"name": name, "columns": columns, "methods": methods,
+                            "energies": energies})
         return checked
 
     def _chart(self, raw):

@@ -45,7 +45,8 @@ def write_atomically(path, write):
 
 def columns_of(sweep):
     """The result columns of a sweep, in order."""
-    parameters = ["index", "task_id", "scenario", "scenario_file", "model", "method", "variant",
+    parameters = ["index", "task_id", "scenario", "scenario_file", "model", "method", "energy",
+                  "variant",
                   "seed", "frames"] + [OPTION_COLUMN_PREFIX + name for name in sweep.option_names]
     return parameters + list(STATUS_COLUMNS) + list(METRIC_COLUMNS) + list(TIMING_COLUMNS) + \
         list(PROVENANCE_COLUMNS)
@@ -135,12 +136,13 @@ def pipe_table(columns, rows):
 
 def write_tables(out, sweep, rows, header):
     """The sweep's table projections (e.g. table2): DIR/<name>.csv and .md, the chosen columns
-    of the ok rows of the chosen methods, in task order, numbers as the C++ tables print them
+    of the ok rows of the chosen methods and energies, in task order, numbers as the C++ tables print them
     (experiments/tables.h, FormatNumber), with the provenance lines as '#' lines."""
     written = []
     for table in sweep.tables:
         chosen = [row for row in rows if row["status"] == OK
-                  and (table["methods"] is None or row["method"] in table["methods"])]
+                  and (table["methods"] is None or row["method"] in table["methods"])
+                  and (table["energies"] is None or row["energy"] in table["energies"])]
         cells = [[format_number(_table_value(row, column)) for column in table["columns"]]
                  for row in chosen]
         csv_lines = [f"# {line}" for line in header]

@@ -16,7 +16,8 @@ import msdeform
 from msdeform._sweep_grid import DEFORMER_METHODS, build_options, method_keywords
 
 # The row of a task, in column order: the parameters come first (the sweep's columns: index,
-# task_id, scenario, scenario_file, model, method, variant, seed, frames, opt_<option>...).
+# task_id, scenario, scenario_file, model, method, energy, variant, seed, frames,
+# opt_<option>...); energy is what the method minimised, as run_deformer says.
 STATUS_COLUMNS = ("status", "error_type", "error")
 # run_deformer's numbers that do not depend on the clock: the same task gives the same values.
 METRIC_COLUMNS = (
@@ -76,6 +77,7 @@ def _base_row(task):
     row = {"index": task["index"], "task_id": task["id"],
            "scenario": os.path.splitext(os.path.basename(params["scenario"]))[0], "model": None}
     row.update(task["columns"])
+    row["energy"] = None
     for column in STATUS_COLUMNS + METRIC_COLUMNS + TIMING_COLUMNS:
         row[column] = None
     row["status"] = OK
@@ -88,6 +90,7 @@ def _fill(row, result, scenario):
     """Copies run_deformer's (or run_cgal_arap's) numbers into the row."""
     row["scenario"] = scenario.name
     row["model"] = os.path.splitext(os.path.basename(scenario.mesh_path))[0]
+    row["energy"] = result.get("energy")
     for column in METRIC_COLUMNS + TIMING_COLUMNS:
         if column in result:
             row[column] = _finite_or_none(result[column])
@@ -129,6 +132,7 @@ def _run_cgal_task(task, row, reference):
         if "error" in reference:
             return _failed_reference(row, reference)
         row["scenario"], row["model"] = reference["name"], reference["model"]
+        row["energy"] = reference["result"].get("energy")
         for column in METRIC_COLUMNS + TIMING_COLUMNS:
             if column in reference["result"]:
                 row[column] = _finite_or_none(reference["result"][column])
@@ -142,7 +146,8 @@ def _run_cgal_task(task, row, reference):
 
 def _run_deformer_task(task, row, reference):
     """A Deformer task: run_deformer with the task's options (and the other backend's frame
-    time when the sweep asks, as the experiment runner's table 2)."""
+    time when the sweep asks, as the experiment runner's table 2: energy ed only, as Ceres does
+    not run energy arap)."""
     params = task["params"]
     if reference is not None and "error" in reference:
         return _failed_reference(row, reference)
@@ -154,7 +159,8 @@ def _run_deformer_task(task, row, reference):
                                    arap_result=arap_result)
     _fill(row, result, scenario)
     row["other_backend_frame_ms"] = None
-    if params["time_other_backend"] and params["method"] != "static_dense":
+    if (params["time_other_backend"] and params["method"] != "static_dense"
+            and options.energy == "ed"):
         options.backend = "ceres" if options.backend == "gauss_newton" else "gauss_newton"
         other = msdeform.run_deformer(scenario, options, label=params["method"])
         row["other_backend_frame_ms"] = other["frame_ms"]

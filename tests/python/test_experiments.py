@@ -33,10 +33,11 @@ def as_table_text(value):
 
 @pytest.fixture(scope="module")
 def cpp_tables(experiments_cli, tmp_path_factory):
-    """The experiment runner's quick cactus tables (5 frames), run here."""
+    """The experiment runner's quick cactus tables (5 frames, energy ed), run here."""
     out = tmp_path_factory.mktemp("tables")
     subprocess.run([str(experiments_cli), "--quick", "--only=cactus", f"--out_dir={out}",
-                    "--methods=multiscale,static,cgal_arap", "--time_other_backend=false"],
+                    "--methods=multiscale,static,cgal_arap", "--time_other_backend=false",
+                    "--energies=ed"],
                    check=True, capture_output=True)
     return read_table(out / "table2.csv"), read_table(out / "ablations.csv")
 
@@ -59,6 +60,7 @@ def test_run_deformer_gives_the_tables_numbers(cpp_tables, cactus):
     for method in ("multiscale", "static"):
         row = msdeform.run_deformer(cactus, method=method, num_threads=1, arap_result=arap_V2)
         assert row["method"] == method
+        assert row["energy"] == "ed"
         check_row(row, table2[("cactus", method)])
     paper = msdeform.run_deformer(cactus, msdeform.paper_procedure(), label="paper",
                                   num_threads=1, arap_result=arap_V2)

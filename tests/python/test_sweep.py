@@ -100,12 +100,13 @@ def test_grid_order_and_stable_ids(source, tmp_path):
 
 
 def test_row_columns_are_run_deformers(source):
-    """The sweep's metric and timing columns are exactly run_deformer's numbers (scenario and
-    method are parameter columns) plus the task's own load_ms, task_ms and task_cpu_ms."""
+    """The sweep's metric and timing columns are exactly run_deformer's numbers (scenario,
+    method and energy are parameter columns) plus the task's own load_ms, task_ms and
+    task_cpu_ms."""
     scenario_object = msdeform.load_scenario(scenario(source, "cactus"), frames=1)
     keys = set(msdeform.run_deformer(scenario_object, num_threads=1))
     own = {"load_ms", "task_ms", "task_cpu_ms"}
-    assert keys - {"scenario", "method"} == set(METRIC_COLUMNS + TIMING_COLUMNS) - own
+    assert keys - {"scenario", "method", "energy"} == set(METRIC_COLUMNS + TIMING_COLUMNS) - own
 
 
 def test_dask_cluster_worker_killed_mid_sweep(small_sweep, serial_rows, tmp_path):
@@ -243,7 +244,8 @@ def test_bad_sweep_file(source, tmp_path, change, field, message):
 
 def cpp_runner_tables(out):
     """The C++ experiment runner's quick tables of the cactus (5 frames, every method, the
-    other backend timed, its 13 ablations), run here."""
+    graph methods with energies ed and arap, the other backend timed, its ablations), run
+    here."""
     subprocess.run([helpers.required_path("MSDEFORM_EXPERIMENTS"), "--quick",
                     "--only=cactus", f"--out_dir={out}"], check=True, capture_output=True)
     return {name: helpers.read_table(os.path.join(out, name + ".csv"))
