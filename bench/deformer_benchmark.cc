@@ -10,6 +10,8 @@
 // Targets: median frame at most 2 ms at 104K and 4 ms at 416K on a 2-core
 // machine with the default (Gauss-Newton) backend (issue 14; issue 7 asked
 // 5 ms and 20 ms); handle-layout change < 100 ms; precompute < 1 s at 104K.
+// The subspace ARAP energy (--energy=arap, issue 29): frame at most 2 ms at
+// 104K, layout change at most 2x the Eq. 17 one (_arap, _arap_budget5).
 // Every solver variant against every scenario, with energy gaps to a
 // converged reference, is the solver lab (experiments/solver_lab.h); the
 // whole-process table (peak memory, baselines) is bench/performance_table.sh.
@@ -41,6 +43,8 @@ enum class Backend {
   kGaussNewtonExact,     // J^T J factorised every iteration
   kCeres,                // Ceres, Levenberg-Marquardt, EIGEN_SPARSE
   kCeresSuiteSparse,     // Ceres with CHOLMOD
+  kArap,                 // --energy=arap: the subspace ARAP energy, local/global
+  kArapBudget5,          // the same with at most 5 iterations a frame
 };
 
 DeformerOptions Options(Backend backend, int threads = 2) {
@@ -60,6 +64,12 @@ DeformerOptions Options(Backend backend, int threads = 2) {
       [[fallthrough]];
     case Backend::kCeres:
       options.backend = Solver::kCeres;
+      break;
+    case Backend::kArapBudget5:
+      options.stopping.max_iterations = 5;
+      [[fallthrough]];
+    case Backend::kArap:
+      options.energy = Energy::kArap;
       break;
   }
   return options;
@@ -144,12 +154,16 @@ void BM_ClawDrag(benchmark::State& state, const std::string& name, Backend backe
       ->Unit(benchmark::kMillisecond)->UseRealTime();                                      \
   BENCHMARK_CAPTURE(BM_SetHandles, label##_ceres, std::string(file), Backend::kCeres)       \
       ->Unit(benchmark::kMillisecond)->UseRealTime();                                      \
+  BENCHMARK_CAPTURE(BM_SetHandles, label##_arap, std::string(file), Backend::kArap)         \
+      ->Unit(benchmark::kMillisecond)->UseRealTime();                                      \
   MSDEFORM_DRAG_BENCHMARK(label, file, _gauss_newton, Backend::kGaussNewton);               \
   MSDEFORM_DRAG_BENCHMARK(label, file, _gauss_newton_extrapolated,                       \
                           Backend::kGaussNewtonExtrapolated);                              \
   MSDEFORM_DRAG_BENCHMARK(label, file, _gauss_newton_exact, Backend::kGaussNewtonExact);    \
   MSDEFORM_DRAG_BENCHMARK(label, file, _ceres, Backend::kCeres);                            \
-  MSDEFORM_DRAG_BENCHMARK(label, file, _ceres_suite_sparse, Backend::kCeresSuiteSparse)
+  MSDEFORM_DRAG_BENCHMARK(label, file, _ceres_suite_sparse, Backend::kCeresSuiteSparse);    \
+  MSDEFORM_DRAG_BENCHMARK(label, file, _arap, Backend::kArap);                              \
+  MSDEFORM_DRAG_BENCHMARK(label, file, _arap_budget5, Backend::kArapBudget5)
 
 MSDEFORM_MESH_BENCHMARKS(armadillo_26k, "armadillo");
 MSDEFORM_MESH_BENCHMARKS(armadillo_104k, "armadillo_104k");

@@ -26,7 +26,11 @@ bool ArapLocalGlobalSolver::Setup(const DeformationEnergy& energy,
   damping_.resize(n);
   if (n == 0) return true;
   const Eigen::VectorXd diagonal = q.diagonal();
-  const double floor = 1e-12 * std::max(diagonal.mean(), 1e-300);
+  // A slot no spoke reaches has a zero row; the floor keeps it at its value.
+  // With every diagonal zero (no vertex is skinned: the handle covers what the
+  // free nodes skin) any positive floor does.
+  const double mean = diagonal.mean();
+  const double floor = mean > 0.0 ? 1e-12 * mean : 1.0;
   damping_ = 1e-9 * diagonal.array() + floor;
   Eigen::SparseMatrix<double> matrix = q;
   for (int i = 0; i < n; ++i) matrix.coeffRef(i, i) += damping_[i];

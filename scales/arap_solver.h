@@ -11,7 +11,7 @@
 // of the Jacobian (the variable-projection gradient is exact, as the
 // rotations are optimal): each iteration minimises exactly over the nodes,
 // so the energy never rises. Damping: the matrix is Q_vv + D with
-// D = 1e-9 diag(Q_vv) + 1e-12 mean(diag Q_vv) I, and the right-hand side
+// D = 1e-9 diag(Q_vv) + 1e-12 mean(diag Q_vv) I (I when Q_vv = 0), and the right-hand side
 // adds D times the previous iterate, so a fixed point is the undamped
 // minimum and a slot no spoke reaches keeps its value.
 //
