@@ -149,6 +149,7 @@ void Layout::BuildEnergy() {
     input.handles = &handles_;
     input.still_vertices = &still_vertices_;
     input.length_unit = options.length_unit > 0.0 ? options.length_unit : precompute_->diagonal();
+    input.num_threads = options.num_threads;
     energy_.arap = SubspaceArap::Build(input, options.arap);
     if (options.add_energy_terms) options.add_energy_terms(graph, &energy_);
     return;

@@ -61,46 +61,58 @@ void AddTo(SparseBasis* basis, int node, const Eigen::Vector4d& c) {
   basis->push_back({node, c});
 }
 
-// Symmetric 4x4 blocks of Q between nodes and pseudo-nodes, row by row.
+// A vertex's basis entries in a flat array.
+struct BasisSpan {
+  const NodeCoefficient* data;
+  int size;
+  const NodeCoefficient* begin() const { return data; }
+  const NodeCoefficient* end() const { return data + size; }
+};
+
+// 4x4 blocks of Q between nodes and pseudo-nodes, row by row.
 class BlockAccumulator {
  public:
   explicit BlockAccumulator(int num_nodes) : rows_(num_nodes) {}
 
   // Q += scale * a b^T over the nodes of a and b.
-  void AddOuter(const SparseBasis& a, const SparseBasis& b, double scale) {
+  template <typename A, typename B>
+  void AddOuter(const A& a, const B& b, double scale) {
     for (const NodeCoefficient& x : a) {
-      for (const NodeCoefficient& y : b) {
-        Block(x.node, y.node) += scale * x.coefficient * y.coefficient.transpose();
-      }
+      auto& row = rows_[x.node];
+      const Eigen::Vector4d sx = scale * x.coefficient;
+      for (const NodeCoefficient& y : b) Block(&row, y.node).noalias() += sx * y.coefficient.transpose();
     }
   }
 
-  Eigen::SparseMatrix<double> ToSparse(int num_slots) const {
-    std::vector<Eigen::Triplet<double>> triplets;
+  // The non-zero entries (of the transpose when asked), row by row.
+  void AppendTriplets(bool transpose, std::vector<Eigen::Triplet<double>>* triplets) const {
     for (int a = 0; a < static_cast<int>(rows_.size()); ++a) {
       for (const auto& [b, block] : rows_[a]) {
         for (int r = 0; r < 4; ++r) {
           for (int c = 0; c < 4; ++c) {
-            if (block(r, c) != 0.0) triplets.emplace_back(4 * a + r, 4 * b + c, block(r, c));
+            if (block(r, c) == 0.0) continue;
+            if (transpose) {
+              triplets->emplace_back(4 * b + c, 4 * a + r, block(r, c));
+            } else {
+              triplets->emplace_back(4 * a + r, 4 * b + c, block(r, c));
+            }
           }
         }
       }
     }
-    Eigen::SparseMatrix<double> matrix(num_slots, num_slots);
-    matrix.setFromTriplets(triplets.begin(), triplets.end());
-    return matrix;
   }
 
  private:
-  Eigen::Matrix4d& Block(int a, int b) {
-    for (auto& entry : rows_[a]) {
+  using Row = std::vector<std::pair<int, Eigen::Matrix4d>>;
+  static Eigen::Matrix4d& Block(Row* row, int b) {
+    for (auto& entry : *row) {
       if (entry.first == b) return entry.second;
     }
-    rows_[a].emplace_back(b, Eigen::Matrix4d::Zero());
-    return rows_[a].back().second;
+    row->emplace_back(b, Eigen::Matrix4d::Zero());
+    return row->back().second;
   }
 
-  std::vector<std::vector<std::pair<int, Eigen::Matrix4d>>> rows_;
+  std::vector<Row> rows_;
 };
 
 // R maximising tr(R^T S) over rotations: U diag(1, 1, det(U V^T)) V^T for
@@ -153,7 +165,7 @@ int HeaviestNode(const SkinningWeights& weights, int v) {
 // vertex to its nearest centre.
 std::vector<int> WeightClusters(const SkinningWeights& weights, int num_nodes,
                                 const std::vector<int>& vertices, int num_clusters,
-                                int iterations) {
+                                int iterations, int num_threads) {
   const int num_vertices = static_cast<int>(vertices.size());
   const int count = std::min(num_clusters, num_vertices);
   const int k = weights.k();
@@ -179,8 +191,6 @@ std::vector<int> WeightClusters(const SkinningWeights& weights, int num_nodes,
   }
   std::vector<std::vector<int>> clusters_of_node(num_nodes);
   Eigen::VectorXd centre_norm(count);
-  std::vector<int> seen(count, -1);
-  int stamp = 0;
   // Nearest centre of each of `list` into `label` (kept where no centre shares a node).
   auto assign = [&](const std::vector<int>& list, std::vector<int>* label) {
     for (auto& nodes : clusters_of_node) nodes.clear();
@@ -189,26 +199,35 @@ std::vector<int> WeightClusters(const SkinningWeights& weights, int num_nodes,
       for (int j = 0; j < num_nodes; ++j)
         if (centre(j, c) != 0.0) clusters_of_node[j].push_back(c);
     }
-    for (size_t i = 0; i < list.size(); ++i) {
-      const int v = list[i];
-      ++stamp;
-      double best = std::numeric_limits<double>::infinity();
-      int best_cluster = -1;
-      for (int s = 0; s < k; ++s) {
-        if (weights.weight(s, v) == 0.0) continue;
-        for (int c : clusters_of_node[weights.node(s, v)]) {
-          if (seen[c] == stamp) continue;
-          seen[c] = stamp;
-          double dot = 0.0;
-          for (int t = 0; t < k; ++t) dot += weights.weight(t, v) * centre(weights.node(t, v), c);
-          const double distance = centre_norm[c] - 2.0 * dot;
-          if (distance < best || (distance == best && c < best_cluster)) {
-            best = distance;
-            best_cluster = c;
+    const int size = static_cast<int>(list.size());
+    // Threads for the last pass over every vertex only: the sample passes
+    // are too short to pay for waking them.
+    const int threads = size > 16 * count ? std::max(1, num_threads) : 1;
+#pragma omp parallel num_threads(threads)
+    {
+      // Per thread: the clusters already compared with the current vertex.
+      std::vector<int> seen(count, -1);
+#pragma omp for schedule(static)
+      for (int i = 0; i < size; ++i) {
+        const int v = list[i];
+        double best = std::numeric_limits<double>::infinity();
+        int best_cluster = -1;
+        for (int s = 0; s < k; ++s) {
+          if (weights.weight(s, v) == 0.0) continue;
+          for (int c : clusters_of_node[weights.node(s, v)]) {
+            if (seen[c] == i) continue;
+            seen[c] = i;
+            double dot = 0.0;
+            for (int t = 0; t < k; ++t) dot += weights.weight(t, v) * centre(weights.node(t, v), c);
+            const double distance = centre_norm[c] - 2.0 * dot;
+            if (distance < best || (distance == best && c < best_cluster)) {
+              best = distance;
+              best_cluster = c;
+            }
           }
         }
+        if (best_cluster >= 0) (*label)[i] = best_cluster;
       }
-      if (best_cluster >= 0) (*label)[i] = best_cluster;
     }
   };
   std::vector<int> sample_label(sample.size(), 0);
@@ -333,7 +352,7 @@ std::shared_ptr<const SubspaceArap> SubspaceArap::Build(const SubspaceArapInput&
       break;
     case RotationClusters::kWeights:
       label = WeightClusters(weights, n, active_vertices, options.num_clusters,
-                             options.kmeans_iterations);
+                             options.kmeans_iterations, input.num_threads);
       break;
   }
   // Compact labels, numbered by their first vertex.
@@ -359,115 +378,148 @@ std::shared_ptr<const SubspaceArap> SubspaceArap::Build(const SubspaceArapInput&
       arap->cluster_vertices_[fill[label[i]]++] = active_vertices[i];
   }
 
-  // The bases of the vertices the spokes of active vertices reach.
-  auto basis_of = [&](int v) {
-    SparseBasis basis;
+  // The bases of the active vertices and their neighbours, once each, flat:
+  // vertex v's entries are basis_entries[basis_begin[v] .. basis_begin[v + 1]).
+  std::vector<int> basis_begin(num_vertices + 1, 0);
+  std::vector<char> needed(num_vertices, 0);
+  for (int v : active_vertices) {
+    needed[v] = 1;
+    for (int s = adjacency.offsets[v]; s < adjacency.offsets[v + 1]; ++s)
+      needed[adjacency.neighbors[s]] = 1;
+  }
+  std::vector<NodeCoefficient> basis_entries;
+  for (int v = 0; v < num_vertices; ++v) {
+    basis_begin[v] = static_cast<int>(basis_entries.size());
+    if (!needed[v]) continue;
     const Eigen::Vector3d x = mesh.vertices.col(v) - origin;
     switch (arap->kind_[v]) {
       case VertexKind::kHandle:
-        basis.push_back({handle_node, Eigen::Vector4d(x.x(), x.y(), x.z(), 1.0)});
+        basis_entries.push_back({handle_node, Eigen::Vector4d(x.x(), x.y(), x.z(), 1.0)});
         break;
       case VertexKind::kRest:
-        basis.push_back({rest_node, Eigen::Vector4d(x.x(), x.y(), x.z(), 1.0)});
+        basis_entries.push_back({rest_node, Eigen::Vector4d(x.x(), x.y(), x.z(), 1.0)});
         break;
-      case VertexKind::kSkinned:
+      case VertexKind::kSkinned: {
+        const size_t first = basis_entries.size();
         for (int s = 0; s < weights.k(); ++s) {
           const double w = weights.weight(s, v);
           if (w == 0.0) continue;
           const int j = weights.node(s, v);
           const Eigen::Vector3d offset = mesh.vertices.col(v) - graph.positions.col(j);
-          AddTo(&basis, j, w * Eigen::Vector4d(offset.x(), offset.y(), offset.z(), 1.0));
+          const Eigen::Vector4d c = w * Eigen::Vector4d(offset.x(), offset.y(), offset.z(), 1.0);
+          auto it = std::find_if(basis_entries.begin() + first, basis_entries.end(),
+                                 [j](const NodeCoefficient& e) { return e.node == j; });
+          if (it != basis_entries.end()) {
+            it->coefficient += c;
+          } else {
+            basis_entries.push_back({j, c});
+          }
         }
         break;
+      }
     }
-    return basis;
-  };
-  // Each basis once: the active vertices' and their neighbours'.
-  std::vector<int> basis_index(num_vertices, -1);
-  std::vector<SparseBasis> bases;
-  auto cached_basis = [&](int v) -> const SparseBasis& {
-    if (basis_index[v] < 0) {
-      basis_index[v] = static_cast<int>(bases.size());
-      bases.push_back(basis_of(v));
-    }
-    return bases[basis_index[v]];
-  };
-  for (int v : active_vertices) {
-    cached_basis(v);
-    for (int s = adjacency.offsets[v]; s < adjacency.offsets[v + 1]; ++s)
-      cached_basis(adjacency.neighbors[s]);
   }
+  basis_begin[num_vertices] = static_cast<int>(basis_entries.size());
+  auto basis = [&](int v) {
+    return BasisSpan{basis_entries.data() + basis_begin[v], basis_begin[v + 1] - basis_begin[v]};
+  };
 
   // Q = sum over spokes (i, k) of active i of w (b_i - b_k)(b_i - b_k)^T
-  //   = sum_i [W_i b_i b_i^T - b_i c_i^T - c_i b_i^T] + sum_k omega_k b_k b_k^T,
+  //   = sum_i [(W_i + omega_i) b_i b_i^T - b_i c_i^T - c_i b_i^T]
+  //     + sum over inactive k of omega_k b_k b_k^T,
   // W_i = sum_k w_ik, c_i = sum_k w_ik b_k, omega_k = sum over active
-  // neighbours i of w_ik. K_c and C by cluster.
-  BlockAccumulator q(n + 2);
-  BlockAccumulator cross(n + 2);  // sum_i -b_i c_i^T; Q gets it and its transpose
+  // neighbours i of w_ik. K_c and C by cluster, in kChunks fixed ranges of
+  // clusters (run in parallel; merged in order, so the sums do not depend on
+  // the thread count).
   std::vector<double> omega(num_vertices, 0.0);
-  std::vector<int> local_of_node(n + 2, -1);
-  std::vector<int> local_nodes;
-  std::vector<Eigen::Matrix<double, 3, 4>> local_k;
+  for (int i : active_vertices) {
+    for (int s = adjacency.offsets[i]; s < adjacency.offsets[i + 1]; ++s)
+      omega[adjacency.neighbors[s]] += cot[s];
+  }
+  struct Chunk {
+    explicit Chunk(int num_nodes) : q(num_nodes), cross(num_nodes) {}
+    BlockAccumulator q, cross;  // cross: sum -b_i c_i^T; Q gets it and its transpose
+    std::vector<int> k_offsets;  // per cluster, the end of its entries
+    std::vector<int> k_slot;
+    std::vector<Eigen::Vector3d> k_vector;
+    double constant = 0.0;
+  };
+  constexpr int kChunks = 16;
+  const int num_clusters = arap->num_clusters();
+  std::vector<Chunk> chunks(kChunks, Chunk(n + 2));
+#pragma omp parallel for schedule(dynamic) num_threads(std::max(1, input.num_threads))
+  for (int chunk_index = 0; chunk_index < kChunks; ++chunk_index) {
+    Chunk& chunk = chunks[chunk_index];
+    std::vector<int> local_of_node(n + 2, -1);
+    std::vector<int> local_nodes;
+    std::vector<Eigen::Matrix<double, 3, 4>> local_k;
+    SparseBasis ci;
+    auto local_index = [&](int node) {
+      int& local = local_of_node[node];
+      if (local < 0) {
+        local = static_cast<int>(local_nodes.size());
+        local_nodes.push_back(node);
+        local_k.push_back(Eigen::Matrix<double, 3, 4>::Zero());
+      }
+      return local;
+    };
+    const int first = static_cast<int>(static_cast<int64_t>(num_clusters) * chunk_index / kChunks);
+    const int last =
+        static_cast<int>(static_cast<int64_t>(num_clusters) * (chunk_index + 1) / kChunks);
+    for (int c = first; c < last; ++c) {
+      for (int p = arap->cluster_offsets_[c]; p < arap->cluster_offsets_[c + 1]; ++p) {
+        const int i = arap->cluster_vertices_[p];
+        const BasisSpan bi = basis(i);
+        ci.clear();
+        double wi = 0.0;
+        Eigen::Vector3d we = Eigen::Vector3d::Zero();
+        for (int s = adjacency.offsets[i]; s < adjacency.offsets[i + 1]; ++s) {
+          const int k = adjacency.neighbors[s];
+          const double w = cot[s];
+          if (w == 0.0) continue;
+          const Eigen::Vector3d e = mesh.vertices.col(i) - mesh.vertices.col(k);
+          wi += w;
+          we += w * e;
+          chunk.constant += w * e.squaredNorm();
+          for (const NodeCoefficient& entry : basis(k)) {
+            AddTo(&ci, entry.node, w * entry.coefficient);
+            local_k[local_index(entry.node)] -= w * e * entry.coefficient.transpose();  // -w e b_k^T
+          }
+        }
+        for (const NodeCoefficient& entry : bi)
+          local_k[local_index(entry.node)] += we * entry.coefficient.transpose();
+        chunk.q.AddOuter(bi, bi, wi + omega[i]);
+        chunk.cross.AddOuter(bi, BasisSpan{ci.data(), static_cast<int>(ci.size())}, -1.0);
+      }
+      for (size_t l = 0; l < local_nodes.size(); ++l) {
+        for (int m = 0; m < 4; ++m) {
+          chunk.k_slot.push_back(4 * local_nodes[l] + m);
+          chunk.k_vector.push_back(local_k[l].col(m));
+        }
+        local_of_node[local_nodes[l]] = -1;
+      }
+      local_nodes.clear();
+      local_k.clear();
+      chunk.k_offsets.push_back(static_cast<int>(chunk.k_slot.size()));
+    }
+  }
   arap->k_offsets_.assign(1, 0);
   std::vector<Eigen::Vector3d> k_vectors;
-  for (int c = 0; c < arap->num_clusters(); ++c) {
-    for (int p = arap->cluster_offsets_[c]; p < arap->cluster_offsets_[c + 1]; ++p) {
-      const int i = arap->cluster_vertices_[p];
-      const SparseBasis& bi = cached_basis(i);
-      SparseBasis ci;
-      double wi = 0.0;
-      Eigen::Vector3d we = Eigen::Vector3d::Zero();
-      for (int s = adjacency.offsets[i]; s < adjacency.offsets[i + 1]; ++s) {
-        const int k = adjacency.neighbors[s];
-        const double w = cot[s];
-        if (w == 0.0) continue;
-        const Eigen::Vector3d e = mesh.vertices.col(i) - mesh.vertices.col(k);
-        wi += w;
-        we += w * e;
-        omega[k] += w;
-        arap->constant_ += w * e.squaredNorm();
-        for (const NodeCoefficient& entry : cached_basis(k)) {
-          AddTo(&ci, entry.node, w * entry.coefficient);
-          // K_c -= w e b_k^T
-          int& local = local_of_node[entry.node];
-          if (local < 0) {
-            local = static_cast<int>(local_nodes.size());
-            local_nodes.push_back(entry.node);
-            local_k.push_back(Eigen::Matrix<double, 3, 4>::Zero());
-          }
-          local_k[local] -= w * e * entry.coefficient.transpose();
-        }
-      }
-      for (const NodeCoefficient& entry : bi) {
-        int& local = local_of_node[entry.node];
-        if (local < 0) {
-          local = static_cast<int>(local_nodes.size());
-          local_nodes.push_back(entry.node);
-          local_k.push_back(Eigen::Matrix<double, 3, 4>::Zero());
-        }
-        local_k[local] += we * entry.coefficient.transpose();
-      }
-      q.AddOuter(bi, bi, wi);
-      cross.AddOuter(bi, ci, -1.0);  // and its transpose, added below
-    }
-    for (size_t l = 0; l < local_nodes.size(); ++l) {
-      for (int m = 0; m < 4; ++m) {
-        arap->k_slot_.push_back(4 * local_nodes[l] + m);
-        k_vectors.push_back(local_k[l].col(m));
-      }
-      local_of_node[local_nodes[l]] = -1;
-    }
-    local_nodes.clear();
-    local_k.clear();
-    arap->k_offsets_.push_back(static_cast<int>(arap->k_slot_.size()));
+  for (const Chunk& chunk : chunks) {
+    const int base = static_cast<int>(arap->k_slot_.size());
+    for (int end : chunk.k_offsets) arap->k_offsets_.push_back(base + end);
+    arap->k_slot_.insert(arap->k_slot_.end(), chunk.k_slot.begin(), chunk.k_slot.end());
+    k_vectors.insert(k_vectors.end(), chunk.k_vector.begin(), chunk.k_vector.end());
+    arap->constant_ += chunk.constant;
   }
+  // The inactive neighbours' share, and the soft constraints.
+  BlockAccumulator q(n + 2);
   for (int v = 0; v < num_vertices; ++v) {
-    if (omega[v] == 0.0) continue;
-    const SparseBasis& bv = cached_basis(v);
-    q.AddOuter(bv, bv, omega[v]);
+    if (omega[v] == 0.0 || active[v]) continue;
+    q.AddOuter(basis(v), basis(v), omega[v]);
   }
   for (const auto& [v, target] : soft_terms) {
-    SparseBasis d = basis_of(v);
+    SparseBasis d(basis(v).begin(), basis(v).end());
     const Eigen::Vector3d x = mesh.vertices.col(v) - origin;
     AddTo(&d, target, -Eigen::Vector4d(x.x(), x.y(), x.z(), 1.0));
     q.AddOuter(d, d, options.soft_weight);
@@ -476,8 +528,15 @@ std::shared_ptr<const SubspaceArap> SubspaceArap::Build(const SubspaceArapInput&
   for (size_t e = 0; e < k_vectors.size(); ++e) arap->k_vector_.col(e) = k_vectors[e];
 
   {
-    const Eigen::SparseMatrix<double> x = cross.ToSparse(arap->num_slots());
-    arap->q_ = q.ToSparse(arap->num_slots()) + x + Eigen::SparseMatrix<double>(x.transpose());
+    std::vector<Eigen::Triplet<double>> triplets;
+    for (const Chunk& chunk : chunks) {
+      chunk.q.AppendTriplets(/*transpose=*/false, &triplets);
+      chunk.cross.AppendTriplets(/*transpose=*/false, &triplets);
+      chunk.cross.AppendTriplets(/*transpose=*/true, &triplets);
+    }
+    q.AppendTriplets(/*transpose=*/false, &triplets);
+    arap->q_.resize(arap->num_slots(), arap->num_slots());
+    arap->q_.setFromTriplets(triplets.begin(), triplets.end());
   }
   // Q_vv and Q_vk (rows: variables; columns: known slots).
   std::vector<Eigen::Triplet<double>> vv, vk;

@@ -88,6 +88,8 @@ struct SubspaceArapInput {
   const HandleLayout* handles = nullptr;
   const std::vector<char>* still_vertices = nullptr;  // per vertex, or empty
   double length_unit = 1.0;                            // > 0
+  // Threads of the build (the sums do not depend on it).
+  int num_threads = 1;
 };
 
 class SubspaceArap {
