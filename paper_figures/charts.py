@@ -50,7 +50,22 @@ METHOD_STYLE = {
     "cgal_arap": dict(color="#7f7f7f", marker="D", label="CGAL ARAP"),
     "cgal_sr_arap": dict(color="#8c564b", marker="d", label="CGAL SR-ARAP"),
     "fastlsm": dict(color="#17becf", marker="P", label="FastLSM, 20 steps"),
+    # The graph methods with --energy=arap (table 2's energy column): hollow markers.
+    "multiscale-arap": dict(color="#d62728", marker="o", markerfacecolor="none",
+                            label="multi-scale, subspace ARAP"),
+    "static-arap": dict(color="#1f77b4", marker="s", markerfacecolor="none",
+                        label="static graph, subspace ARAP"),
+    "static_dense-arap": dict(color="#2ca02c", marker="^", markerfacecolor="none",
+                              label="static graph = DG1, subspace ARAP"),
 }
+
+
+def style_key(row):
+    """METHOD_STYLE's key of a table-2 row: the method, with -arap for a graph method's
+    --energy=arap row."""
+    if row.get("energy") == "arap" and row["method"] in ("multiscale", "static", "static_dense"):
+        return row["method"] + "-arap"
+    return row["method"]
 
 
 def read_table(path):
@@ -188,7 +203,7 @@ def chart_frame_time():
         rows = read_table(table2)
         for method, style in METHOD_STYLE.items():
             pts = sorted((num(r["vertices"]), num(r["frame_ms"]), r["scenario"])
-                         for r in rows if r["method"] == method)
+                         for r in rows if style_key(r) == method)
             pts = [p for p in pts if p[1] == p[1]]
             if pts:
                 ax.plot([p[0] for p in pts], [p[1] for p in pts], linestyle="none", **style)
@@ -267,9 +282,15 @@ def log_axis_labels(axis):
 
 
 def solver_panels(variants):
-    """(title, variants) for the Gauss-Newton and the Ceres panel."""
-    return [("Gauss-Newton backend", [v for v in variants if v.startswith("gn_")]),
-            ("Ceres backend", [v for v in variants if not v.startswith("gn_")])]
+    """(title, variants) for the Gauss-Newton and the Ceres panel of Eq. 17, and the panel of
+    the subspace ARAP energy's solvers (variants arap_*, gaps to that energy's own reference)."""
+    panels = [("Gauss-Newton backend, Eq. 17", [v for v in variants if v.startswith("gn_")]),
+              ("Ceres backend, Eq. 17",
+               [v for v in variants if not v.startswith("gn_") and not v.startswith("arap")])]
+    arap = [v for v in variants if v.startswith("arap")]
+    if arap:
+        panels.append(("Subspace ARAP energy (--energy=arap)", arap))
+    return panels
 
 
 def chart_solver_traces():
@@ -287,8 +308,9 @@ def chart_solver_traces():
     rows = [r for r in rows if int(r["frame"]) == last]
     variants = list(dict.fromkeys(r["variant"] for r in rows))
     styles = variant_styles(variants)
-    fig, axes = plt.subplots(1, 2, figsize=(13.5, 6.6), sharey=True)
-    for ax, (title, members) in zip(axes, solver_panels(variants)):
+    panels = solver_panels(variants)
+    fig, axes = plt.subplots(1, len(panels), figsize=(6.75 * len(panels), 6.6), sharey=True)
+    for ax, (title, members) in zip(axes, panels):
         for v in members:
             pts = [r for r in rows if r["variant"] == v]
             ms = [num(r["ms"]) for r in pts]
@@ -328,8 +350,10 @@ def chart_solver_budgets():
     rows = [r for r in rows if r["scenario"] == scenario]
     variants = list(dict.fromkeys(r["variant"] for r in rows))
     styles = variant_styles(variants)
-    fig, axes = plt.subplots(1, 2, figsize=(13.5, 6.8), sharex=True, sharey=True)
-    for ax, (title, members) in zip(axes, solver_panels(variants)):
+    panels = solver_panels(variants)
+    fig, axes = plt.subplots(1, len(panels), figsize=(6.75 * len(panels), 6.8), sharex=True,
+                             sharey=True)
+    for ax, (title, members) in zip(axes, panels):
         for v in members:
             pts = [r for r in rows if r["variant"] == v]
             gap = [max(num(r["energy_gap_max"]), GAP_FLOOR) for r in pts]
