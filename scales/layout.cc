@@ -69,16 +69,17 @@ bool Layout::Build(const HandleLayout& handles, std::string* error) {
     // Every class, the still components' Fixed nodes included, was decided
     // by SelectScale before the alpha weights (docs/method.md §4).
     node_classes_ = selection_.node_class;
-    BuildEnergy();
+    // A moveable vertex no free node skins is an error before any energy is built.
     if (!FindSkinnedVertices(error)) return false;
+    BuildEnergy();
     setup_ms_ = MillisecondsSince(selection_start);
   } else {
     const auto start = std::chrono::steady_clock::now();
     active_graph_ = pre.static_graph();
     pin_ = pre.ConnectAndPin(active_graph_);
     node_classes_ = StaticGraphNodeClasses(graph(), nodes.still);
-    BuildEnergy();
     if (!FindSkinnedVertices(error)) return false;
+    BuildEnergy();
     setup_ms_ = MillisecondsSince(start);
   }
   return true;

@@ -96,6 +96,7 @@ bool Session::Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats,
     return false;
   }
   previous_transforms_ = last_good;
+  handle_ = deformed_from_rest;
   ++frames_;
 
   const auto skin_start = std::chrono::steady_clock::now();
@@ -129,6 +130,20 @@ const Eigen::Matrix3Xd& Session::deformed_normals() const {
     SkinPositionsAndNormals(pre.mesh().vertices, pre.rest_normals(), layout_->graph(),
                             transforms_, layout_->skin_all() ? nullptr : &layout_->skinned_vertices(),
                             /*deformed=*/nullptr, &deformed_normals_, skinning);
+    // The exact constraints' vertices are not skinned positions: their
+    // normals are the handle's transform of the rest normal (its inverse
+    // transpose) and the rest normal.
+    if (const SubspaceArap* arap = layout_->energy().arap.get()) {
+      const Eigen::Matrix3d normal_transform = handle_.linear().inverse().transpose();
+      for (int v : arap->exact_moveable()) {
+        const Eigen::Vector3d n = normal_transform * Eigen::Vector3d(pre.rest_normals().col(v));
+        const double length = n.norm();
+        deformed_normals_.col(v) =
+            length > 0.0 && std::isfinite(length) ? Eigen::Vector3d(n / length)
+                                                  : Eigen::Vector3d::Zero();
+      }
+      for (int v : arap->exact_fixed()) deformed_normals_.col(v) = pre.rest_normals().col(v);
+    }
     normals_stale_ = false;
   }
   return deformed_normals_.cols() == 0 ? pre.rest_normals() : deformed_normals_;

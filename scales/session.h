@@ -67,6 +67,7 @@ class Session {
   std::unique_ptr<FrameSolver> solver_;
   NodeTransforms transforms_;
   NodeTransforms previous_transforms_;  // the frame before, for kExtrapolated
+  Eigen::Affine3d handle_ = Eigen::Affine3d::Identity();  // the last Drag's
   int frames_ = 0;
   Eigen::Matrix3Xd deformed_vertices_;
   mutable Eigen::Matrix3Xd deformed_normals_;  // empty until first skinned

@@ -166,6 +166,7 @@ int HeaviestNode(const SkinningWeights& weights, int v) {
 std::vector<int> WeightClusters(const SkinningWeights& weights, int num_nodes,
                                 const std::vector<int>& vertices, int num_clusters,
                                 int iterations, int num_threads) {
+  if (vertices.empty()) return {};
   const int num_vertices = static_cast<int>(vertices.size());
   const int count = std::min(num_clusters, num_vertices);
   const int k = weights.k();
