@@ -25,6 +25,12 @@ const EnumNames<ArapConstraints>& ArapConstraintsNames() {
   return names;
 }
 
+const EnumNames<ArapSolver>& ArapSolverNames() {
+  static const EnumNames<ArapSolver> names = {{ArapSolver::kLocalGlobal, "local_global"},
+                                              {ArapSolver::kGaussNewton, "gauss_newton"}};
+  return names;
+}
+
 bool ArapOptions::Check(std::string* error) const {
   if (num_clusters < 1) {
     *error = "arap.num_clusters must be >= 1";

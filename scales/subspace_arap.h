@@ -60,9 +60,15 @@ enum class RotationClusters { kWeights, kNodes, kVertices };
 // Handle and fixed vertices: constants outside the subspace (exact), or
 // skinned and pulled by soft position terms.
 enum class ArapConstraints { kExact, kSoft };
+// How --backend=gauss_newton minimises it (scales/arap_solver.h): local/global
+// iterations (the rotations refitted, then the nodes solved with the
+// rotations held) or Gauss-Newton on the nodes and the cluster rotations
+// jointly.
+enum class ArapSolver { kLocalGlobal, kGaussNewton };
 
 const EnumNames<RotationClusters>& RotationClustersNames();
 const EnumNames<ArapConstraints>& ArapConstraintsNames();
+const EnumNames<ArapSolver>& ArapSolverNames();  // "local_global", "gauss_newton"
 
 struct ArapOptions {
   RotationClusters clusters = RotationClusters::kWeights;
@@ -74,6 +80,8 @@ struct ArapOptions {
   ArapConstraints constraints = ArapConstraints::kExact;
   // kSoft: weight of |x'_i - q_i|^2 against the cotangent-weighted spokes.
   double soft_weight = 1000.0;
+  // The solver of --backend=gauss_newton (Ceres runs its own).
+  ArapSolver solver = ArapSolver::kLocalGlobal;
 
   bool Check(std::string* error) const;  // messages name the field
 };
