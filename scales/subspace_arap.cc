@@ -416,6 +416,7 @@ std::shared_ptr<const SubspaceArap> SubspaceArap::Build(const SubspaceArapInput&
   std::vector<Eigen::Matrix<double, 3, 4>> local_k;
   arap->k_offsets_.assign(1, 0);
   std::vector<Eigen::Vector3d> k_vectors;
+  arap->covariance_.assign(arap->num_clusters(), Eigen::Matrix3d::Zero());
   for (int c = 0; c < arap->num_clusters(); ++c) {
     for (int p = arap->cluster_offsets_[c]; p < arap->cluster_offsets_[c + 1]; ++p) {
       const int i = arap->cluster_vertices_[p];
@@ -432,6 +433,7 @@ std::shared_ptr<const SubspaceArap> SubspaceArap::Build(const SubspaceArapInput&
         we += w * e;
         omega[k] += w;
         arap->constant_ += w * e.squaredNorm();
+        arap->covariance_[c] += w * e * e.transpose();
         for (const NodeCoefficient& entry : cached_basis(k)) {
           AddTo(&ci, entry.node, w * entry.coefficient);
           // K_c -= w e b_k^T

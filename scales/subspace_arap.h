@@ -166,6 +166,23 @@ class SubspaceArap {
   const Eigen::Vector3d& origin() const { return origin_; }
   const CotangentWeights& cotangent() const { return *cotangent_; }
 
+  // For solvers beyond the local/global one (scales/arap_solver.h, the Ceres
+  // backend). Q over every slot (both halves; the cluster spokes' and the
+  // soft terms').
+  const Eigen::SparseMatrix<double>& full_matrix() const { return q_; }
+  // K_c: entries k_offsets()[c] .. k_offsets()[c + 1] - 1 are (slot
+  // k_slots()[e], 3-vector k_vectors().col(e)), each slot at most once per
+  // cluster; S_c(d, :) = sum_e u(slot, d) k^T.
+  const std::vector<int>& k_offsets() const { return k_offsets_; }
+  const std::vector<int>& k_slots() const { return k_slot_; }
+  const Eigen::Matrix3Xd& k_vectors() const { return k_vector_; }
+  // Cov_c = sum over the spokes of cluster c of w e e^T (rest edges e), per
+  // cluster: the rotations' block of the Gauss-Newton normal equations is
+  // tr(Cov_c) I - Cov_c.
+  const std::vector<Eigen::Matrix3d>& cluster_covariances() const { return covariance_; }
+  // The variable of a slot, or -1 when the slot is known.
+  int variable_of_slot(int slot) const { return variable_of_slot_[slot]; }
+
  private:
   SubspaceArap() = default;
 
@@ -194,6 +211,7 @@ class SubspaceArap {
   std::vector<int> k_offsets_;
   std::vector<int> k_slot_;
   Eigen::Matrix3Xd k_vector_;
+  std::vector<Eigen::Matrix3d> covariance_;  // Cov_c
   double constant_ = 0.0;  // C
 };
 
