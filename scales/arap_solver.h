@@ -18,7 +18,11 @@
 // Stops on the StoppingRule: at most max_iterations global steps; converged
 // when an iteration lowers the energy by at most function_tolerance times
 // it, or moves the variables by at most parameter_tolerance (|x| +
-// parameter_tolerance).
+// parameter_tolerance). The energy u^T Q u - 2 sum tr(R^T S) + C loses about
+// 1e-15 C to cancellation (C = sum w |e|^2 over the active spokes), so below
+// ArapEnergyNoiseFloor the function test is skipped (a rigid motion, energy
+// 0, would otherwise stop on rounding near 1e-13) and the parameter test
+// decides.
 
 // ArapGaussNewtonSolver (arap.solver=gauss_newton) minimises the same
 // energy by Gauss-Newton on the nodes and the cluster rotations jointly.
@@ -58,6 +62,9 @@
 
 namespace msdeform {
 
+// 1e-12 C / (2 unit^2): energies below it are rounding.
+double ArapEnergyNoiseFloor(const SubspaceArap& arap);
+
 class ArapLocalGlobalSolver : public FrameSolver {
  public:
   explicit ArapLocalGlobalSolver(const StoppingRule& stopping) : stopping_(stopping) {}
@@ -73,6 +80,7 @@ class ArapLocalGlobalSolver : public FrameSolver {
  private:
   StoppingRule stopping_;
   std::shared_ptr<const SubspaceArap> arap_;
+  double noise_floor_ = 0.0;
   Eigen::VectorXd damping_;  // D's diagonal
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower,
                         Eigen::AMDOrdering<int>>
@@ -99,6 +107,7 @@ class ArapGaussNewtonSolver : public FrameSolver {
 
   StoppingRule stopping_;
   std::shared_ptr<const SubspaceArap> arap_;
+  double noise_floor_ = 0.0;
   // 3 nv by 3 nv, variable (slot p, coordinate d) at 3 p + d; full symmetric.
   Eigen::SparseMatrix<double> matrix_;
   Eigen::VectorXd base_values_;  // Q_vv (x) I_3 in matrix_'s value order

@@ -29,18 +29,20 @@ bool ArapGaussNewtonSolver::Setup(const DeformationEnergy& energy,
     return false;
   }
   arap_ = energy.arap;
+  noise_floor_ = ArapEnergyNoiseFloor(*arap_);
   const SubspaceArap& arap = *arap_;
   const int nv = arap.num_slot_variables();
   const Eigen::SparseMatrix<double>& q = arap.system_matrix();
   const std::vector<int>& k_offsets = arap.k_offsets();
   const std::vector<int>& k_slots = arap.k_slots();
 
-  // Each cluster's variables, and the slot-level pattern: Q_vv's and every
-  // pair of variables one cluster reaches.
+  // Each cluster's variables, and the slot-level pattern: the diagonal,
+  // Q_vv's and every pair of variables one cluster reaches.
   cluster_variable_offsets_.assign(1, 0);
   cluster_variables_.clear();
   cluster_entries_.clear();
   std::vector<Eigen::Triplet<double>> pattern;
+  for (int p = 0; p < nv; ++p) pattern.emplace_back(p, p, 1.0);  // a slot no spoke reaches too
   for (int col = 0; col < q.outerSize(); ++col)
     for (Eigen::SparseMatrix<double>::InnerIterator it(q, col); it; ++it)
       pattern.emplace_back(it.row(), col, 1.0);
@@ -248,7 +250,8 @@ SolveSummary ArapGaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
         std::swap(u, trial_u);
         std::swap(rotations, trial_rotations);
         summary.trace.push_back({MillisecondsSince(start), energy});
-        if (previous - energy <= stopping_.function_tolerance * previous) {
+        if (energy > noise_floor_ &&
+            previous - energy <= stopping_.function_tolerance * previous) {
           summary.converged = true;
           summary.message = "function tolerance";
           done = true;
