@@ -14,9 +14,10 @@
 //   z_d(a) = block[offset + d] + constant[d]
 // (block -1: the constant alone): R_j (9 doubles, column-major) gives
 // R_j(d, m) at offset 3 m; t_j (3) gives t'_j = t_j + g_j at offset 0 with
-// constant g_j; the handle (12: A_H column-major, then t_H) gives A_H(d, m) at
-// 3 m and t_H(d) at 9; the cluster's rotation R_c (9, column-major, on
-// RotationMatrixManifold) gives R_c(d, a) at 3 a. Analytic Jacobian.
+// constant g_j (or g_j less an origin); a constant 12-double block of the
+// handle's four slots gives slot m at 3 m; the cluster's rotation R_c (9,
+// column-major, on RotationMatrixManifold) gives R_c(d, a) at 3 a. Analytic
+// Jacobian.
 
 #ifndef MSDEFORM_ENERGIES_ARAP_CLUSTER_COST_H_
 #define MSDEFORM_ENERGIES_ARAP_CLUSTER_COST_H_

@@ -203,7 +203,9 @@ SolveSummary ArapGaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
   arap.Variables(u, &v);
   const int nv = arap.num_slot_variables();
   const double unit2 = arap.length_unit() * arap.length_unit();
-  const double floor = 1e-12 * std::max(diagonal_.size() ? diagonal_.mean() : 0.0, 1e-300);
+  // As the local/global solver's: I where Q_vv = 0.
+  const double mean = diagonal_.size() ? diagonal_.mean() : 0.0;
+  const double floor = mean > 0.0 ? 1e-12 * mean : 1.0;
   Eigen::VectorXd b(3 * nv), step(3 * nv);
   bool done = nv == 0;
   while (!done && summary.iterations < stopping_.max_iterations) {

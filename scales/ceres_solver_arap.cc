@@ -43,7 +43,8 @@ CeresArapProblem::CeresArapProblem(std::shared_ptr<const SubspaceArap> arap,
   const CotangentWeights& cot = a.cotangent();
   handle_.setZero();
   rotations_.assign(a.num_clusters(), Eigen::Matrix3d::Identity());
-  // g_j: the translation slots at identity transforms.
+  // The constant parts: a translation slot holds t_j plus this (g_j less
+  // the slots' origin), the rest pseudo-node's slots hold these.
   SubspaceArap::Slots rest;
   a.Gather(NodeTransforms::Identity(n), Eigen::Affine3d::Identity(), &rest);
   auto* manifold_owner = new RotationMatrixManifold();  // the problem takes it
@@ -64,9 +65,9 @@ CeresArapProblem::CeresArapProblem(std::shared_ptr<const SubspaceArap> arap,
       }
     } else if (j == n) {
       column.block = blocks->Index(handle_.data(), 12);
-      column.offset = m < 3 ? 3 * m : 9;
-    } else if (m < 3) {
-      column.constant = Eigen::Vector3d::Unit(m);  // the rest pseudo-node: [I, 0]
+      column.offset = 3 * m;
+    } else {
+      column.constant = rest.row(slot).transpose();  // the rest pseudo-node
     }
     return column;
   };
@@ -166,10 +167,10 @@ CeresArapProblem::CeresArapProblem(std::shared_ptr<const SubspaceArap> arap,
 }
 
 void CeresArapProblem::SetFrame(const Eigen::Affine3d& handle, const NodeTransforms& parameters) {
-  Eigen::Map<Eigen::Matrix3d>(handle_.data()) = handle.linear();
-  handle_.tail<3>() = handle.translation();
   SubspaceArap::Slots u;
   arap_->Gather(parameters, handle, &u);
+  const int h = 4 * arap_->num_nodes();
+  for (int m = 0; m < 4; ++m) handle_.segment<3>(3 * m) = u.row(h + m).transpose();
   SubspaceArap::Rotations fitted;
   arap_->FitRotations(u, &fitted);
   for (size_t c = 0; c < rotations_.size(); ++c) rotations_[c] = fitted[c];

@@ -2,7 +2,8 @@
 // (scales/subspace_arap.h; used by scales/ceres_solver.cc): one residual
 // block per rotation cluster (energies/arap_cluster_cost.h) over the nodes'
 // R_j and t_j blocks (constant by node class, as for Eq. 17), the handle as
-// a constant 12-double block set each frame, and the cluster's rotation R_c
+// a constant 12-double block set each frame (its four slots' values, as
+// SubspaceArap::Gather forms them), and the cluster's rotation R_c
 // (9 doubles on RotationMatrixManifold), started each frame at its best fit.
 // Each block's residuals are 3 times the rank of the cluster's 4x4-blocked
 // Gram matrix G_c (built once per layout), whatever its vertex count; one
@@ -42,7 +43,7 @@ class CeresArapProblem {
  private:
   std::shared_ptr<const SubspaceArap> arap_;
   std::vector<Eigen::Matrix3d> rotations_;  // R_c blocks
-  Eigen::Matrix<double, 12, 1> handle_;     // A_H column-major, then t_H
+  Eigen::Matrix<double, 12, 1> handle_;     // slot 4n + m, coordinate d at 3 m + d
 };
 
 }  // namespace msdeform
