@@ -89,7 +89,8 @@ class ArapLocalGlobalSolver : public FrameSolver {
 
 class ArapGaussNewtonSolver : public FrameSolver {
  public:
-  explicit ArapGaussNewtonSolver(const StoppingRule& stopping) : stopping_(stopping) {}
+  explicit ArapGaussNewtonSolver(const StoppingRule& stopping);
+  ~ArapGaussNewtonSolver() override;
 
   // As ArapLocalGlobalSolver::Setup.
   bool Setup(const DeformationEnergy& energy, const NodeTransforms& transforms,
@@ -123,8 +124,10 @@ class ArapGaussNewtonSolver : public FrameSolver {
   static constexpr double kMinLambda = 1e-9;
   double lambda_ = kMinLambda;
   Eigen::VectorXd assembled_;  // Assemble's values of matrix_
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>>
-      factorization_;
+  // CHOLMOD's supernodal Cholesky where msdeform has CHOLMOD (the matrix
+  // fills in: clusters reach many nodes), else Eigen's simplicial LDLT.
+  struct Factorization;
+  std::unique_ptr<Factorization> factorization_;
 };
 
 // The solver of arap.solver: ArapLocalGlobalSolver or ArapGaussNewtonSolver.

@@ -8,12 +8,29 @@
 #include <utility>
 
 #include <Eigen/Cholesky>
+#include <Eigen/SparseCholesky>
+#ifdef MSDEFORM_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#endif
 #include <glog/logging.h>
 
 #include "msdeform/core/timing.h"
 #include "msdeform/scales/arap_solver.h"
 
 namespace msdeform {
+
+struct ArapGaussNewtonSolver::Factorization {
+#ifdef MSDEFORM_HAVE_CHOLMOD
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholesky;
+#else
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>>
+      cholesky;
+#endif
+};
+
+ArapGaussNewtonSolver::ArapGaussNewtonSolver(const StoppingRule& stopping)
+    : stopping_(stopping), factorization_(std::make_unique<Factorization>()) {}
+ArapGaussNewtonSolver::~ArapGaussNewtonSolver() = default;
 
 bool ArapGaussNewtonSolver::Setup(const DeformationEnergy& energy,
                                   const NodeTransforms& transforms, std::string* error) {
@@ -129,7 +146,7 @@ bool ArapGaussNewtonSolver::Setup(const DeformationEnergy& energy,
   lambda_ = kMinLambda;
   if (n > 0) {
     matrix_.coeffs() = base_values_;
-    factorization_.analyzePattern(matrix_);
+    factorization_->cholesky.analyzePattern(matrix_);
   }
   return true;
 }
@@ -226,15 +243,15 @@ SolveSummary ArapGaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
       matrix_.coeffs() = assembled_;
       for (int i = 0; i < 3 * nv; ++i)
         matrix_.coeffs()[diagonal_index_[i]] += lambda_ * diagonal_[i / 3] + floor;
-      factorization_.factorize(matrix_);
+      factorization_->cholesky.factorize(matrix_);
       ++summary.iterations;
       ++summary.factorizations;
-      if (factorization_.info() != Eigen::Success) {
+      if (factorization_->cholesky.info() != Eigen::Success) {
         lambda_ *= 10.0;
         summary.trace.push_back({MillisecondsSince(start), energy});
         continue;
       }
-      step = factorization_.solve(b);
+      step = factorization_->cholesky.solve(b);
       trial_v = v;
       for (int p = 0; p < nv; ++p)
         for (int d = 0; d < 3; ++d) trial_v(p, d) += step[3 * p + d];
