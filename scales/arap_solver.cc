@@ -84,8 +84,11 @@ SolveSummary ArapLocalGlobalSolver::Solve(const Eigen::Affine3d& handle,
       summary.message = "the energy is not finite";
       break;
     }
-    if (energy > noise_floor_ &&
-        previous - energy <= stopping_.function_tolerance * previous) {
+    // Each step minimises exactly, so a rise is rounding: no evidence of
+    // convergence (the parameter test decides).
+    const double decrease = previous - energy;
+    if (energy > noise_floor_ && decrease >= 0.0 &&
+        decrease <= stopping_.function_tolerance * previous) {
       summary.converged = true;
       summary.message = "function tolerance";
       break;

@@ -22,7 +22,8 @@
 // 1e-15 C to cancellation (C = sum w |e|^2 over the active spokes), so below
 // ArapEnergyNoiseFloor the function test is skipped (a rigid motion, energy
 // 0, would otherwise stop on rounding near 1e-13) and the parameter test
-// decides.
+// decides; so it is where the local/global energy rose (each of its steps
+// minimises exactly, so a rise is rounding).
 
 // ArapGaussNewtonSolver (arap.solver=gauss_newton) minimises the same
 // energy by Gauss-Newton on the nodes and the cluster rotations jointly.
