@@ -16,6 +16,7 @@
 #include "msdeform/energies/position_cost.h"
 #include "msdeform/energies/position_group_cost.h"
 #include "msdeform/energies/rot_cost.h"
+#include "msdeform/scales/ceres_solver_arap.h"
 
 namespace msdeform {
 namespace {
@@ -152,6 +153,7 @@ struct CeresSolver::Impl {
   };
   std::vector<PositionTerm> position_costs;      // ungrouped
   std::vector<PositionGroupCost*> position_groups;  // grouped, owned by problem
+  std::unique_ptr<CeresArapProblem> arap;  // the subspace ARAP energy's blocks
 };
 
 CeresSolver::CeresSolver(const CeresOptions& options, const StoppingRule& stopping,
@@ -163,11 +165,6 @@ bool CeresSolver::Setup(const DeformationEnergy& energy, const NodeTransforms& t
                         std::string* error) {
   if (!options_.Check(error) || !stopping_.Check(error)) return false;
   CHECK_EQ(static_cast<int>(energy.node_class.size()), transforms.num_nodes());
-  if (energy.arap) {
-    *error = "the Ceres backend does not run the subspace ARAP energy (--energy=arap); use "
-             "--backend=gauss_newton";
-    return false;
-  }
   impl_ = std::make_unique<Impl>();
   Impl& impl = *impl_;
   ceres::Solver::Options& solver = impl.solver;
@@ -198,6 +195,18 @@ bool CeresSolver::Setup(const DeformationEnergy& energy, const NodeTransforms& t
     if (node_class[j] == NodeClass::kFixed) problem.SetParameterBlockConstant(rotation(j));
   };
 
+  if (energy.arap) {
+    if (!energy.rot_nodes.empty() || !energy.coherence.empty() || !energy.positions.empty() ||
+        !energy.terms.empty()) {
+      *error = "the subspace ARAP energy runs alone; the layout also has Eq. 17 or extra terms";
+      return false;
+    }
+    // Analytic Jacobians whatever ceres.jacobians says: the cluster blocks
+    // are linear in the nodes' blocks (energies/arap_cluster_cost.h).
+    impl.arap = std::make_unique<CeresArapProblem>(energy.arap, &impl.parameters, ensure_blocks,
+                                                   &problem);
+    return true;
+  }
   const bool autodiff = options_.jacobians == CeresOptions::Jacobians::kAutodiff;
   for (int j : energy.rot_nodes) {
     ensure_blocks(j);
@@ -322,6 +331,7 @@ double CeresSolver::Cost(const Eigen::Affine3d& handle, const NodeTransforms& tr
   impl.parameters.rotations = transforms.rotations;
   impl.parameters.translations = transforms.translations;
   const double constant_cost = SetHandle(handle);
+  if (impl.arap) impl.arap->SetFrame(handle, impl.parameters);
   double cost = 0.0;
   impl.problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
   return cost + constant_cost;
@@ -334,6 +344,7 @@ SolveSummary CeresSolver::Solve(const Eigen::Affine3d& handle, NodeTransforms* t
   impl.parameters.rotations = transforms->rotations;
   impl.parameters.translations = transforms->translations;
   const double constant_cost = SetHandle(handle);
+  if (impl.arap) impl.arap->SetFrame(handle, impl.parameters);
   ceres::Solver::Summary ceres_summary;
   ceres::Solve(impl.solver, impl.problem.get(), &ceres_summary);
   VLOG(1) << ceres_summary.FullReport();  // msdeform --verbose --v=1

@@ -4,6 +4,9 @@
 // parameter-block fixing (Totally Free: R and t vary, Half Free: R only,
 // Fixed: none). The reference the
 // Gauss-Newton backend (scales/gauss_newton_solver.h) is tested against.
+// The subspace ARAP energy (--energy=arap) runs as one residual block per
+// rotation cluster, with the cluster rotations as extra parameter blocks
+// (scales/ceres_solver_arap.h).
 
 #ifndef MSDEFORM_SCALES_CERES_SOLVER_H_
 #define MSDEFORM_SCALES_CERES_SOLVER_H_

@@ -215,6 +215,10 @@ const OptionTable<ArapOptions>& ArapOptionTable() {
     t.Double("soft_weight", &A::soft_weight,
              "constraints=soft: weight of |x' - q|^2 against the cotangent-weighted edges.")
         .Above(0, "a finite weight > 0");
+    t.Enum("solver", &A::solver, ArapSolverNames(),
+           "The subspace ARAP energy's solver under backend=gauss_newton: local_global "
+           "(rotations fitted, then the nodes solved) or gauss_newton (nodes and cluster "
+           "rotations jointly, the rotations eliminated per cluster).");
   });
   return table;
 }
@@ -310,6 +314,7 @@ const OptionTable<DeformerOptions>& DeformerOptionTable() {
         {"arap.clusters", "arap_clusters", "method"},
         {"arap.num_clusters", "arap_num_clusters", "method"},
         {"arap.constraints", "arap_constraints", "method"},
+        {"arap.solver", "arap_solver", "solver"},
         {"rigidity.model", "rigidity", "rigidity"},
         {"rigidity.external_stiffness", "rigidity_stiffness", "rigidity"},
         {"rigidity.damping", "rigidity_damping", "rigidity"},

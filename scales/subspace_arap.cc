@@ -25,6 +25,12 @@ const EnumNames<ArapConstraints>& ArapConstraintsNames() {
   return names;
 }
 
+const EnumNames<ArapSolver>& ArapSolverNames() {
+  static const EnumNames<ArapSolver> names = {{ArapSolver::kLocalGlobal, "local_global"},
+                                              {ArapSolver::kGaussNewton, "gauss_newton"}};
+  return names;
+}
+
 bool ArapOptions::Check(std::string* error) const {
   if (num_clusters < 1) {
     *error = "arap.num_clusters must be >= 1";
@@ -445,6 +451,7 @@ std::shared_ptr<const SubspaceArap> SubspaceArap::Build(const SubspaceArapInput&
     std::vector<Eigen::Vector3d> k_vector;
     double constant = 0.0;
   };
+  arap->covariance_.assign(arap->num_clusters(), Eigen::Matrix3d::Zero());
   constexpr int kChunks = 16;
   const int num_clusters = arap->num_clusters();
   std::vector<Chunk> chunks(kChunks, Chunk(n + 2));
@@ -482,6 +489,7 @@ std::shared_ptr<const SubspaceArap> SubspaceArap::Build(const SubspaceArapInput&
           wi += w;
           we += w * e;
           chunk.constant += w * e.squaredNorm();
+          arap->covariance_[c] += w * e * e.transpose();  // c is this chunk's alone
           for (const NodeCoefficient& entry : basis(k)) {
             AddTo(&ci, entry.node, w * entry.coefficient);
             local_k[local_index(entry.node)] -= w * e * entry.coefficient.transpose();  // -w e b_k^T

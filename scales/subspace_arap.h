@@ -60,9 +60,15 @@ enum class RotationClusters { kWeights, kNodes, kVertices };
 // Handle and fixed vertices: constants outside the subspace (exact), or
 // skinned and pulled by soft position terms.
 enum class ArapConstraints { kExact, kSoft };
+// How --backend=gauss_newton minimises it (scales/arap_solver.h): local/global
+// iterations (the rotations refitted, then the nodes solved with the
+// rotations held) or Gauss-Newton on the nodes and the cluster rotations
+// jointly.
+enum class ArapSolver { kLocalGlobal, kGaussNewton };
 
 const EnumNames<RotationClusters>& RotationClustersNames();
 const EnumNames<ArapConstraints>& ArapConstraintsNames();
+const EnumNames<ArapSolver>& ArapSolverNames();  // "local_global", "gauss_newton"
 
 struct ArapOptions {
   RotationClusters clusters = RotationClusters::kWeights;
@@ -74,6 +80,8 @@ struct ArapOptions {
   ArapConstraints constraints = ArapConstraints::kExact;
   // kSoft: weight of |x'_i - q_i|^2 against the cotangent-weighted spokes.
   double soft_weight = 1000.0;
+  // The solver of --backend=gauss_newton (Ceres runs its own).
+  ArapSolver solver = ArapSolver::kLocalGlobal;
 
   bool Check(std::string* error) const;  // messages name the field
 };
@@ -160,6 +168,23 @@ class SubspaceArap {
   const Eigen::Vector3d& origin() const { return origin_; }
   const CotangentWeights& cotangent() const { return *cotangent_; }
 
+  // For solvers beyond the local/global one (scales/arap_solver.h, the Ceres
+  // backend). Q over every slot (both halves; the cluster spokes' and the
+  // soft terms').
+  const Eigen::SparseMatrix<double>& full_matrix() const { return q_; }
+  // K_c: entries k_offsets()[c] .. k_offsets()[c + 1] - 1 are (slot
+  // k_slots()[e], 3-vector k_vectors().col(e)), each slot at most once per
+  // cluster; S_c(d, :) = sum_e u(slot, d) k^T.
+  const std::vector<int>& k_offsets() const { return k_offsets_; }
+  const std::vector<int>& k_slots() const { return k_slot_; }
+  const Eigen::Matrix3Xd& k_vectors() const { return k_vector_; }
+  // Cov_c = sum over the spokes of cluster c of w e e^T (rest edges e), per
+  // cluster: the rotations' block of the Gauss-Newton normal equations is
+  // tr(Cov_c) I - Cov_c.
+  const std::vector<Eigen::Matrix3d>& cluster_covariances() const { return covariance_; }
+  // The variable of a slot, or -1 when the slot is known.
+  int variable_of_slot(int slot) const { return variable_of_slot_[slot]; }
+
  private:
   SubspaceArap() = default;
 
@@ -188,6 +213,7 @@ class SubspaceArap {
   std::vector<int> k_offsets_;
   std::vector<int> k_slot_;
   Eigen::Matrix3Xd k_vector_;
+  std::vector<Eigen::Matrix3d> covariance_;  // Cov_c
   double constant_ = 0.0;  // C
 };
 
