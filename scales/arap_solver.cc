@@ -38,7 +38,7 @@ bool ArapLocalGlobalSolver::Setup(const DeformationEnergy& energy,
   // free nodes skin) any positive floor does.
   const double mean = diagonal.mean();
   const double floor = mean > 0.0 ? 1e-12 * mean : 1.0;
-  damping_ = 1e-9 * diagonal.array() + floor;
+  damping_ = Eigen::VectorXd::Constant(n, floor);
   Eigen::SparseMatrix<double> matrix = q;
   for (int i = 0; i < n; ++i) matrix.coeffRef(i, i) += damping_[i];
   factorization_.compute(matrix);
@@ -46,6 +46,8 @@ bool ArapLocalGlobalSolver::Setup(const DeformationEnergy& energy,
     *error = "the subspace ARAP global step's matrix could not be factorised";
     return false;
   }
+  // The layout starts at rest: every cluster's rotation is I.
+  previous_rotations_.assign(arap_->num_clusters(), Eigen::Matrix3d::Identity());
   return true;
 }
 
@@ -67,7 +69,33 @@ SolveSummary ArapLocalGlobalSolver::Solve(const Eigen::Affine3d& handle,
     return summary;
   }
   arap_->Variables(u, &v);
+  // The first global step may take the last frame's rotations instead of
+  // those fitted to this frame's start, whose handle has jumped: kept when it
+  // ends lower than the fitted ones' step would start (a rigid motion of
+  // handle and free region is then one step from its optimum).
+  bool first_step_with_previous = previous_rotations_.size() == rotations.size() &&
+                                  stopping_.max_iterations > 0 && v.rows() > 0;
   for (int iteration = 0; iteration < stopping_.max_iterations && v.rows() > 0; ++iteration) {
+    if (first_step_with_previous) {
+      first_step_with_previous = false;
+      arap_->GlobalRhs(u, previous_rotations_, &rhs);
+      rhs += damping_.asDiagonal() * v;
+      SubspaceArap::Slots trial_v = factorization_.solve(rhs);
+      SubspaceArap::Slots trial_u = u;
+      arap_->SetVariables(trial_v, &trial_u);
+      SubspaceArap::Rotations trial_rotations;
+      const double trial =
+          arap_->EnergyFromTrace(trial_u, arap_->FitRotations(trial_u, &trial_rotations));
+      if (std::isfinite(trial) && trial < energy) {
+        ++summary.iterations;
+        v = std::move(trial_v);
+        u = std::move(trial_u);
+        rotations = std::move(trial_rotations);
+        energy = trial;
+        summary.trace.push_back({MillisecondsSince(start), energy});
+        continue;
+      }
+    }
     arap_->GlobalRhs(u, rotations, &rhs);
     rhs += damping_.asDiagonal() * v;
     next = factorization_.solve(rhs);
@@ -101,7 +129,10 @@ SolveSummary ArapLocalGlobalSolver::Solve(const Eigen::Affine3d& handle,
   }
   summary.factorizations = 0;  // one per layout, in Setup
   summary.final_cost = energy;
-  if (!summary.failed) arap_->Scatter(u, transforms);
+  if (!summary.failed) {
+    arap_->Scatter(u, transforms);
+    previous_rotations_ = std::move(rotations);
+  }
   return summary;
 }
 

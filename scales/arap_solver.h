@@ -3,7 +3,7 @@
 // Gauss-Newton and Ceres backends of Eq. 17. Setup factorises the global
 // step's matrix Q_vv once per layout (the same for the three coordinates);
 // each iteration of a frame fits the cluster rotations (the local step, one
-// 3x3 SVD per cluster), then solves for the free nodes with three
+// closed-form 3x3 eigen-decomposition per cluster), then solves for the free nodes with three
 // back-substitutions (the global step). Neither step reads the mesh: a frame
 // costs O(clusters + nodes) until the skinning.
 //
@@ -14,6 +14,12 @@
 // D = 1e-9 diag(Q_vv) + 1e-12 mean(diag Q_vv) I (I when Q_vv = 0), and the right-hand side
 // adds D times the previous iterate, so a fixed point is the undamped
 // minimum and a slot no spoke reaches keeps its value.
+//
+// A frame's first global step is tried with the last frame's rotations (I
+// on a layout's first frame) and kept where it ends lower than the start:
+// the start's own rotations are fitted to a handle that has just jumped and
+// bend the free region after it, while the last frame's carry it along (a
+// translation of handle and free region is then one step).
 //
 // Stops on the StoppingRule: at most max_iterations global steps; converged
 // when an iteration lowers the energy by at most function_tolerance times
@@ -83,6 +89,8 @@ class ArapLocalGlobalSolver : public FrameSolver {
   std::shared_ptr<const SubspaceArap> arap_;
   double noise_floor_ = 0.0;
   Eigen::VectorXd damping_;  // D's diagonal
+  // The last frame's cluster rotations (I after Setup), for the first step.
+  SubspaceArap::Rotations previous_rotations_;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower,
                         Eigen::AMDOrdering<int>>
       factorization_;

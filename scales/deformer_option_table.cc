@@ -314,6 +314,8 @@ const OptionTable<DeformerOptions>& DeformerOptionTable() {
         {"arap.clusters", "arap_clusters", "method"},
         {"arap.num_clusters", "arap_num_clusters", "method"},
         {"arap.constraints", "arap_constraints", "method"},
+        {"arap.soft_weight", "arap_soft_weight", "method"},
+        {"arap.kmeans_iterations", "arap_kmeans_iterations", "method"},
         {"arap.solver", "arap_solver", "solver"},
         {"rigidity.model", "rigidity", "rigidity"},
         {"rigidity.external_stiffness", "rigidity_stiffness", "rigidity"},

@@ -142,7 +142,17 @@ void Layout::BuildEnergy() {
 
   if (options.energy == Energy::kArap) {
     // The mesh's ARAP energy over the free nodes, in place of Eq. 17.
+    // The energy keeps the precompute (mesh, cotangent weights) and a pin on
+    // the graph (its weights) for as long as any copy of it lives.
+    struct Owner {
+      std::shared_ptr<const Precompute> precompute;
+      Precompute::GraphPin pin;
+    };
+    auto owner = std::make_shared<Owner>();
+    owner->precompute = precompute_;
+    owner->pin = precompute_->ConnectAndPin(active_graph_);
     SubspaceArapInput input;
+    input.owner = std::move(owner);
     input.mesh = &mesh;
     input.cotangent = &precompute_->cotangent();
     input.graph = &graph;

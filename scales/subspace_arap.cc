@@ -275,6 +275,7 @@ std::shared_ptr<const SubspaceArap> SubspaceArap::Build(const SubspaceArapInput&
   arap->options_ = options;
   arap->num_nodes_ = n;
   arap->length_unit_ = input.length_unit;
+  arap->owner_ = input.owner;
   arap->mesh_ = input.mesh;
   arap->cotangent_ = input.cotangent;
   arap->graph_ = input.graph;

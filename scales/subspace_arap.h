@@ -86,9 +86,13 @@ struct ArapOptions {
   bool Check(std::string* error) const;  // messages name the field
 };
 
-// What one layout's subspace energy is built from; pointers stay valid
-// while Build runs.
+// What one layout's subspace energy is built from. The energy keeps the
+// mesh, cotangent and graph pointers (Gather, Scatter, Basis and cotangent()
+// read them): they must outlive it, which `owner`, kept by the energy, can
+// guarantee (the layout passes its precompute and a pin on its graph, so a
+// copy of the energy outlives the layout safely).
 struct SubspaceArapInput {
+  std::shared_ptr<const void> owner;
   const Mesh* mesh = nullptr;
   const CotangentWeights* cotangent = nullptr;
   const DeformationGraph* graph = nullptr;  // connected: weights and positions
@@ -196,7 +200,8 @@ class SubspaceArap {
   // Per vertex: how its position is formed (see Basis).
   enum class VertexKind : char { kSkinned, kHandle, kRest };
   std::vector<VertexKind> kind_;
-  const Mesh* mesh_ = nullptr;  // the precompute's, outlives the layout
+  std::shared_ptr<const void> owner_;  // keeps mesh_, cotangent_, graph_ alive
+  const Mesh* mesh_ = nullptr;
   const CotangentWeights* cotangent_ = nullptr;
   const DeformationGraph* graph_ = nullptr;
   std::vector<int> cluster_of_vertex_;

@@ -151,39 +151,55 @@ TEST(SubspaceArapTest, RigidOptimumIsAFixedPointOfTheSolver) {
   }
 }
 
-// The known optimum through the Deformer: the handle moved rigidly (a
-// translation, then a turn of 0.9 rad with a translation), one Drag from the
-// rest pose with the default stopping rule reaches energy 0 and puts every
-// free vertex at H * rest. Disabled: the local/global solver does not get
-// there today. With exact constraints the first local step sees the handle's
-// jump and bends the bar, and the iterations converge linearly (the free
-// 12 x 1 x 1 bar, multi-scale, 17 weight clusters, the turn: 0.61 of the
-// diagonal from H * rest after 20 iterations, 0.25 after 200, 6e-3 after
-// 1000; the reduced energy's rounding floor, about 3e-13, stops it at 1e-5
-// after 2363). The translation alone ends 0.24-1.5% of the diagonal away
-// with exact constraints and 1e-8 to 4e-7 with soft ones.
-TEST(SubspaceArapTest, DISABLED_RigidEditReachesTheOptimumInOneDrag) {
+// The known optimum through the Deformer: the handle moved rigidly, one
+// Drag from the rest pose reaches energy 0 and puts every free vertex at
+// H * rest. A translation: the local/global solver's first step (the last
+// frame's rotations, I at rest) is the optimum. A turn of 0.9 rad with a
+// translation: local/global converges linearly from the bent first step
+// (0.61 of the diagonal from H * rest after 20 iterations on the free bar),
+// so the turn is solved by arap.solver=gauss_newton, which reaches it within
+// its default budget.
+// Both solvers stop where the reduced energy's rounding (about 1e-13 of the
+// rest spokes' sum C, docs/decisions.md) hides further progress: the result
+// is then within about 1e-8 of the diagonal of H * rest at an energy near
+// 1e-17, where a misplaced column, a transposed rotation or the handle's
+// jump left in place give 1e-3 and more.
+constexpr double kRigidEnergy = 1e-15;
+constexpr double kRigidDistance = 1e-7;
+
+TEST(SubspaceArapTest, RigidEditReachesTheOptimumInOneDrag) {
   BarEdit free_bar(12, 4);
   free_bar.layout.fixed.clear();
   const TwoBarEdit two_bars(/*fix_bar0=*/false);
   Eigen::Affine3d translation = Eigen::Affine3d::Identity();
   translation.translation() << 1.0, -2.0, 0.5;
-  for (const Eigen::Affine3d& h : {translation, Turn()}) {
+  for (const auto& [h, solver] : {std::make_pair(translation, ArapSolver::kLocalGlobal),
+                                   std::make_pair(Turn(), ArapSolver::kGaussNewton)}) {
     for (const FreeEdit& edit : FreeEdits(free_bar, two_bars)) {
       for (Method method : kAllMethods) {
         for (RotationClusters clusters : kAllClusters) {
           for (ArapConstraints constraints : kAllConstraints) {
-            const DeformerOptions options = ArapOptionsFor(method, clusters, constraints);
+            // Gauss-Newton factorises its filled 3 nv system every iteration
+            // (minutes over every DG1 node or one rotation a vertex here):
+            // the turn runs on the multi-scale and 220-node graphs with
+            // clustered rotations.
+            if (solver == ArapSolver::kGaussNewton &&
+                (clusters == RotationClusters::kVertices || method == Method::kStaticDense))
+              continue;
+            DeformerOptions options = ArapOptionsFor(method, clusters, constraints);
+            options.arap.solver = solver;
             const std::unique_ptr<Deformer> deformer =
                 MakeDeformer(*edit.mesh, options, *edit.handles);
             const Layout& layout = *deformer->layout();
             std::string error;
             ASSERT_TRUE(deformer->Drag(h, nullptr, &error)) << error;
             const FullMesh full = FullMeshOf(layout, deformer->diagonal(), options.arap);
-            const std::string name = Name(method, clusters, constraints);
+            const std::string name = Name(method, clusters, constraints) +
+                                     (solver == ArapSolver::kGaussNewton ? " turn" : " translation");
             const Eigen::Matrix3Xd& x = deformer->deformed_vertices();
-            EXPECT_LT(full.Energy(x, h, layout.energy().arap->cluster_of_vertex()), 1e-20) << name;
-            EXPECT_LE(DistanceFromRigid(layout, x, h), 1e-9) << name;
+            EXPECT_LT(full.Energy(x, h, layout.energy().arap->cluster_of_vertex()), kRigidEnergy)
+                << name;
+            EXPECT_LE(DistanceFromRigid(layout, x, h), kRigidDistance) << name;
           }
         }
       }
@@ -345,6 +361,63 @@ TEST(SubspaceArapTest, BadOptionsNameTheOption) {
     EXPECT_NE(error.find(bad.message), std::string::npos) << error;
     EXPECT_EQ(error.find('\n'), std::string::npos) << error;
   }
+}
+
+// A rigid handle turn with exact constraints: the handle vertices are
+// H * rest, and their normals are R * the rest normals (they are not skinned
+// positions, so their normals are not skinned either); the fixed vertices
+// keep their rest normals.
+TEST(SubspaceArapTest, ExactVerticesHaveTheirExactNormals) {
+  const BarEdit bar(12, 4);
+  for (Method method : kAllMethods) {
+    const DeformerOptions options =
+        ArapOptionsFor(method, RotationClusters::kWeights, ArapConstraints::kExact);
+    const std::unique_ptr<Deformer> deformer = MakeDeformer(bar.mesh, options, bar.layout);
+    Eigen::Affine3d h = Eigen::Affine3d::Identity();
+    h.linear() = Eigen::AngleAxisd(0.6, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    h.translation() << 0.0, 0.0, 2.0;
+    std::string error;
+    ASSERT_TRUE(deformer->Drag(h, nullptr, &error)) << error;
+    const Eigen::Matrix3Xd& normals = deformer->deformed_normals();
+    const Eigen::Matrix3Xd& rest = deformer->layout()->precompute().rest_normals();
+    for (int v : bar.layout.moveable)
+      EXPECT_LE((normals.col(v) - h.linear() * rest.col(v)).norm(), 1e-15) << MethodName(method);
+    for (int v : bar.layout.fixed) EXPECT_EQ(normals.col(v), rest.col(v)) << MethodName(method);
+  }
+}
+
+// A copy of a layout's energy outlives the Deformer: the energy keeps what it
+// reads (the precompute's mesh and cotangent weights, a pin on its graph).
+// The sanitizer build catches a read of freed memory here.
+TEST(SubspaceArapTest, ACopyOfTheEnergyOutlivesTheDeformer) {
+  const BarEdit bar(12, 4);
+  const DeformerOptions options =
+      ArapOptionsFor(Method::kStatic, RotationClusters::kWeights, ArapConstraints::kExact);
+  std::unique_ptr<Deformer> deformer = MakeDeformer(bar.mesh, options, bar.layout);
+  const DeformationEnergy energy = deformer->layout()->energy();
+  const NodeTransforms identity = NodeTransforms::Identity(energy.arap->num_nodes());
+  Eigen::Affine3d h = Eigen::Affine3d::Identity();
+  h.translation() << 1.0, 0.0, 0.0;
+  const double before = EvaluateEnergy(energy, identity, h);
+  deformer.reset();
+  EXPECT_EQ(EvaluateEnergy(energy, identity, h), before);
+  EXPECT_GT(before, 0.0);  // the handle moved, the rest of the bar did not
+}
+
+// Soft constraints with every node Fixed: no vertex can move, no vertex is
+// active and there is no cluster (k-means over nothing divided by zero).
+TEST(SubspaceArapTest, NoActiveVertexGivesAnEmptyEnergy) {
+  const BarEdit bar(12, 4);
+  const DeformerOptions options =
+      ArapOptionsFor(Method::kStatic, RotationClusters::kWeights, ArapConstraints::kSoft);
+  const std::unique_ptr<Deformer> deformer = MakeDeformer(bar.mesh, options, bar.layout);
+  const Layout& layout = *deformer->layout();
+  const std::vector<NodeClass> fixed(layout.graph().num_nodes(), NodeClass::kFixed);
+  const std::shared_ptr<const SubspaceArap> arap =
+      BuildWithClasses(layout, fixed, deformer->diagonal(), options.arap);
+  EXPECT_EQ(arap->num_active_vertices(), 0);
+  EXPECT_EQ(arap->num_clusters(), 0);
+  EXPECT_EQ(arap->num_variables(), 0);
 }
 
 }  // namespace
