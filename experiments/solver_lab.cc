@@ -59,6 +59,7 @@ void ResetSolverFields(DeformerOptions* options) {
   options->initial_guess = defaults.initial_guess;
   options->gauss_newton = defaults.gauss_newton;
   options->ceres = defaults.ceres;
+  options->arap.solver = defaults.arap.solver;
 }
 
 // ---------------------------------------------------------------- scenarios
@@ -640,8 +641,9 @@ std::vector<SolverVariant> SolverVariants() {
                       }});
   // The subspace ARAP energy's solvers, one line each.
   variants.push_back({"arap_local_global", [](DeformerOptions*) {}, Energy::kArap});
-  // arap_gauss_newton (nodes and cluster rotations jointly) goes here once
-  // ArapOptions has its solver field: o->arap.solver = ArapSolver::kGaussNewton.
+  variants.push_back({"arap_gauss_newton",
+                      [](DeformerOptions* o) { o->arap.solver = ArapSolver::kGaussNewton; },
+                      Energy::kArap});
   return variants;
 }
 
@@ -662,6 +664,9 @@ DeformerOptions ReferenceOptions(const DeformerOptions& base) {
   options.backend = Solver::kGaussNewton;
   options.initial_guess = InitialGuess::kPrevious;
   options.gauss_newton.factorization = GN::Factorization::kEveryIteration;
+  // The subspace ARAP energy's reference: Gauss-Newton on its nodes and
+  // rotations (local/global converges linearly and stops at the cap).
+  options.arap.solver = ArapSolver::kGaussNewton;
   options.stopping.max_iterations = kReferenceMaxIterations;
   options.stopping.function_tolerance = kReferenceTolerance;
   options.stopping.gradient_tolerance = kReferenceTolerance;
@@ -673,7 +678,12 @@ std::string DescribeSolver(const DeformerOptions& options) {
   std::ostringstream text;
   if (options.energy == Energy::kArap && options.backend == Solver::kGaussNewton) {
     // Session's choice for this energy (scales/session.cc).
-    text << "ARAP local/global (ArapLocalGlobalSolver); one factorisation per layout";
+    if (options.arap.solver == ArapSolver::kGaussNewton) {
+      text << "ARAP Gauss-Newton on nodes and cluster rotations (ArapGaussNewtonSolver); "
+              "factorised every iteration";
+    } else {
+      text << "ARAP local/global (ArapLocalGlobalSolver); one factorisation per layout";
+    }
   } else if (options.backend == Solver::kGaussNewton) {
     const GaussNewtonOptions& gn = options.gauss_newton;
     text << "Gauss-Newton; ";
