@@ -13,32 +13,37 @@ double ArapEnergyNoiseFloor(const SubspaceArap& arap) {
   return 1e-12 * 0.5 * spokes / (arap.length_unit() * arap.length_unit());
 }
 
-bool ArapLocalGlobalSolver::Setup(const DeformationEnergy& energy,
-                                  const NodeTransforms& transforms, std::string* error) {
-  (void)transforms;  // the constant slots are gathered from each frame's transforms
+double ArapDampingFloor(const Eigen::VectorXd& diagonal) {
+  const double mean = diagonal.size() > 0 ? diagonal.mean() : 0.0;
+  return mean > 0.0 ? 1e-12 * mean : 1.0;
+}
+
+bool IsArapEnergyAlone(const DeformationEnergy& energy, const std::string& solver,
+                       std::string* error) {
   if (!energy.arap) {
-    *error = "the local/global solver needs the subspace ARAP energy (--energy=arap)";
+    *error = solver + " needs the subspace ARAP energy (--energy=arap)";
     return false;
   }
   if (!energy.rot_nodes.empty() || !energy.coherence.empty() || !energy.positions.empty() ||
       !energy.terms.empty()) {
-    *error = "the local/global solver minimises the subspace ARAP energy alone; the layout "
-             "also has Eq. 17 or extra terms";
+    *error = solver + " minimises the subspace ARAP energy alone; the layout also has Eq. 17 "
+             "or extra terms";
     return false;
   }
+  return true;
+}
+
+bool ArapLocalGlobalSolver::Setup(const DeformationEnergy& energy,
+                                  const NodeTransforms& transforms, std::string* error) {
+  (void)transforms;  // the constant slots are gathered from each frame's transforms
+  if (!IsArapEnergyAlone(energy, "the local/global solver", error)) return false;
   arap_ = energy.arap;
   noise_floor_ = ArapEnergyNoiseFloor(*arap_);
   const Eigen::SparseMatrix<double>& q = arap_->system_matrix();
   const int n = q.rows();
   damping_.resize(n);
   if (n == 0) return true;
-  const Eigen::VectorXd diagonal = q.diagonal();
-  // A slot no spoke reaches has a zero row; the floor keeps it at its value.
-  // With every diagonal zero (no vertex is skinned: the handle covers what the
-  // free nodes skin) any positive floor does.
-  const double mean = diagonal.mean();
-  const double floor = mean > 0.0 ? 1e-12 * mean : 1.0;
-  damping_ = Eigen::VectorXd::Constant(n, floor);
+  damping_ = Eigen::VectorXd::Constant(n, ArapDampingFloor(q.diagonal()));
   Eigen::SparseMatrix<double> matrix = q;
   for (int i = 0; i < n; ++i) matrix.coeffRef(i, i) += damping_[i];
   factorization_.compute(matrix);

@@ -72,6 +72,18 @@ namespace msdeform {
 // 1e-12 C / (2 unit^2): energies below it are rounding.
 double ArapEnergyNoiseFloor(const SubspaceArap& arap);
 
+// The damping every solver of the energy adds to each diagonal of Q_vv:
+// 1e-12 times its mean, so that a slot no spoke reaches keeps its value; 1
+// where every diagonal is 0 (no vertex is skinned: the handle covers what the
+// free nodes skin), where any positive floor does.
+double ArapDampingFloor(const Eigen::VectorXd& diagonal);
+
+// Whether `energy` is a subspace ARAP energy with no other term, which is
+// what the ARAP solvers run; false with a one-line message naming `solver`
+// ("the local/global solver") otherwise.
+bool IsArapEnergyAlone(const DeformationEnergy& energy, const std::string& solver,
+                       std::string* error);
+
 class ArapLocalGlobalSolver : public FrameSolver {
  public:
   explicit ArapLocalGlobalSolver(const StoppingRule& stopping) : stopping_(stopping) {}

@@ -35,16 +35,7 @@ ArapGaussNewtonSolver::~ArapGaussNewtonSolver() = default;
 bool ArapGaussNewtonSolver::Setup(const DeformationEnergy& energy,
                                   const NodeTransforms& transforms, std::string* error) {
   (void)transforms;  // the constant slots are gathered from each frame's transforms
-  if (!energy.arap) {
-    *error = "the Gauss-Newton solver of the subspace ARAP energy needs it (--energy=arap)";
-    return false;
-  }
-  if (!energy.rot_nodes.empty() || !energy.coherence.empty() || !energy.positions.empty() ||
-      !energy.terms.empty()) {
-    *error = "the subspace ARAP Gauss-Newton solver minimises the subspace ARAP energy alone; "
-             "the layout also has Eq. 17 or extra terms";
-    return false;
-  }
+  if (!IsArapEnergyAlone(energy, "the subspace ARAP Gauss-Newton solver", error)) return false;
   arap_ = energy.arap;
   noise_floor_ = ArapEnergyNoiseFloor(*arap_);
   const SubspaceArap& arap = *arap_;
@@ -206,8 +197,7 @@ SolveSummary ArapGaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
   SubspaceArap::Slots u, v, rhs, gradient, trial_u, trial_v;
   SubspaceArap::Rotations rotations, trial_rotations;
   arap.Gather(*transforms, handle, &u);
-  arap.FitRotations(u, &rotations);
-  double energy = arap.Energy(u, rotations);
+  double energy = arap.EnergyFromTrace(u, arap.FitRotations(u, &rotations));
   summary.initial_cost = energy;
   summary.trace.push_back({0.0, energy});
   summary.message = "iteration budget";
@@ -220,9 +210,7 @@ SolveSummary ArapGaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
   arap.Variables(u, &v);
   const int nv = arap.num_slot_variables();
   const double unit2 = arap.length_unit() * arap.length_unit();
-  // As the local/global solver's: I where Q_vv = 0.
-  const double mean = diagonal_.size() ? diagonal_.mean() : 0.0;
-  const double floor = mean > 0.0 ? 1e-12 * mean : 1.0;
+  const double floor = ArapDampingFloor(diagonal_);
   Eigen::VectorXd b(3 * nv), step(3 * nv);
   bool done = nv == 0;
   while (!done && summary.iterations < stopping_.max_iterations) {
@@ -257,8 +245,8 @@ SolveSummary ArapGaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
         for (int d = 0; d < 3; ++d) trial_v(p, d) += step[3 * p + d];
       trial_u = u;
       arap.SetVariables(trial_v, &trial_u);
-      arap.FitRotations(trial_u, &trial_rotations);
-      const double trial = arap.Energy(trial_u, trial_rotations);
+      const double trial =
+          arap.EnergyFromTrace(trial_u, arap.FitRotations(trial_u, &trial_rotations));
       if (std::isfinite(trial) && trial <= energy) {
         accepted = true;
         lambda_ = std::max(kMinLambda, 0.1 * lambda_);

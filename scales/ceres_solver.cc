@@ -16,6 +16,7 @@
 #include "msdeform/energies/position_cost.h"
 #include "msdeform/energies/position_group_cost.h"
 #include "msdeform/energies/rot_cost.h"
+#include "msdeform/scales/arap_solver.h"
 #include "msdeform/scales/ceres_solver_arap.h"
 
 namespace msdeform {
@@ -196,11 +197,7 @@ bool CeresSolver::Setup(const DeformationEnergy& energy, const NodeTransforms& t
   };
 
   if (energy.arap) {
-    if (!energy.rot_nodes.empty() || !energy.coherence.empty() || !energy.positions.empty() ||
-        !energy.terms.empty()) {
-      *error = "the subspace ARAP energy runs alone; the layout also has Eq. 17 or extra terms";
-      return false;
-    }
+    if (!IsArapEnergyAlone(energy, "the Ceres backend", error)) return false;
     // Analytic Jacobians whatever ceres.jacobians says: the cluster blocks
     // are linear in the nodes' blocks (energies/arap_cluster_cost.h).
     impl.arap = std::make_unique<CeresArapProblem>(energy.arap, &impl.parameters, ensure_blocks,

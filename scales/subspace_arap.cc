@@ -67,6 +67,35 @@ void AddTo(SparseBasis* basis, int node, const Eigen::Vector4d& c) {
   basis->push_back({node, c});
 }
 
+// Appends vertex v's basis to *out: the pseudo-node `pseudo_node` with
+// coefficients [x_v - origin; 1] (the handle or the rest pose), or, for a
+// skinned vertex (pseudo_node < 0), w_j [x_v - g_j; 1] per node j of non-zero
+// weight, a node in two slots once.
+void AppendBasis(int v, int pseudo_node, const Mesh& mesh, const DeformationGraph& graph,
+                 const Eigen::Vector3d& origin, std::vector<NodeCoefficient>* out) {
+  if (pseudo_node >= 0) {
+    const Eigen::Vector3d x = mesh.vertices.col(v) - origin;
+    out->push_back({pseudo_node, Eigen::Vector4d(x.x(), x.y(), x.z(), 1.0)});
+    return;
+  }
+  const SkinningWeights& weights = graph.weights;
+  const size_t first = out->size();
+  for (int s = 0; s < weights.k(); ++s) {
+    const double w = weights.weight(s, v);
+    if (w == 0.0) continue;
+    const int j = weights.node(s, v);
+    const Eigen::Vector3d offset = mesh.vertices.col(v) - graph.positions.col(j);
+    const Eigen::Vector4d c = w * Eigen::Vector4d(offset.x(), offset.y(), offset.z(), 1.0);
+    auto it = std::find_if(out->begin() + first, out->end(),
+                           [j](const NodeCoefficient& e) { return e.node == j; });
+    if (it != out->end()) {
+      it->coefficient += c;
+    } else {
+      out->push_back({j, c});
+    }
+  }
+}
+
 // A vertex's basis entries in a flat array.
 struct BasisSpan {
   const NodeCoefficient* data;
@@ -399,33 +428,7 @@ std::shared_ptr<const SubspaceArap> SubspaceArap::Build(const SubspaceArapInput&
   for (int v = 0; v < num_vertices; ++v) {
     basis_begin[v] = static_cast<int>(basis_entries.size());
     if (!needed[v]) continue;
-    const Eigen::Vector3d x = mesh.vertices.col(v) - origin;
-    switch (arap->kind_[v]) {
-      case VertexKind::kHandle:
-        basis_entries.push_back({handle_node, Eigen::Vector4d(x.x(), x.y(), x.z(), 1.0)});
-        break;
-      case VertexKind::kRest:
-        basis_entries.push_back({rest_node, Eigen::Vector4d(x.x(), x.y(), x.z(), 1.0)});
-        break;
-      case VertexKind::kSkinned: {
-        const size_t first = basis_entries.size();
-        for (int s = 0; s < weights.k(); ++s) {
-          const double w = weights.weight(s, v);
-          if (w == 0.0) continue;
-          const int j = weights.node(s, v);
-          const Eigen::Vector3d offset = mesh.vertices.col(v) - graph.positions.col(j);
-          const Eigen::Vector4d c = w * Eigen::Vector4d(offset.x(), offset.y(), offset.z(), 1.0);
-          auto it = std::find_if(basis_entries.begin() + first, basis_entries.end(),
-                                 [j](const NodeCoefficient& e) { return e.node == j; });
-          if (it != basis_entries.end()) {
-            it->coefficient += c;
-          } else {
-            basis_entries.push_back({j, c});
-          }
-        }
-        break;
-      }
-    }
+    AppendBasis(v, arap->PseudoNode(v), mesh, graph, origin, &basis_entries);
   }
   basis_begin[num_vertices] = static_cast<int>(basis_entries.size());
   auto basis = [&](int v) {
@@ -634,12 +637,6 @@ double SubspaceArap::EnergyFromTrace(const Slots& u, double trace) const {
          (length_unit_ * length_unit_);
 }
 
-double SubspaceArap::Energy(const Slots& u, const Rotations& rotations) const {
-  double trace = 0.0;
-  for (int c = 0; c < num_clusters(); ++c) trace += rotations[c].cwiseProduct(Covariance(u, c)).sum();
-  return EnergyFromTrace(u, trace);
-}
-
 double SubspaceArap::Cost(const Slots& u) const {
   Rotations rotations;
   return EnergyFromTrace(u, FitRotations(u, &rotations));
@@ -656,37 +653,23 @@ void SubspaceArap::GlobalRhs(const Slots& u, const Rotations& rotations, Slots* 
   }
 }
 
-std::vector<SubspaceArap::BasisEntry> SubspaceArap::Basis(int vertex) const {
-  std::vector<BasisEntry> basis;
-  const Eigen::Vector3d x = mesh_->vertices.col(vertex);
-  const Eigen::Vector3d centred = x - origin_;
-  const Eigen::Vector4d homogeneous(centred.x(), centred.y(), centred.z(), 1.0);
+int SubspaceArap::PseudoNode(int vertex) const {
   switch (kind_[vertex]) {
     case VertexKind::kHandle:
-      basis.push_back({4 * num_nodes_, homogeneous});
-      break;
+      return num_nodes_;
     case VertexKind::kRest:
-      basis.push_back({4 * num_nodes_ + 4, homogeneous});
+      return num_nodes_ + 1;
+    case VertexKind::kSkinned:
       break;
-    case VertexKind::kSkinned: {
-      const SkinningWeights& weights = graph_->weights;
-      for (int s = 0; s < weights.k(); ++s) {
-        const double w = weights.weight(s, vertex);
-        if (w == 0.0) continue;
-        const int j = weights.node(s, vertex);
-        const Eigen::Vector3d offset = x - graph_->positions.col(j);
-        const Eigen::Vector4d c = w * Eigen::Vector4d(offset.x(), offset.y(), offset.z(), 1.0);
-        auto it = std::find_if(basis.begin(), basis.end(),
-                               [j](const BasisEntry& e) { return e.slot == 4 * j; });
-        if (it != basis.end()) {
-          it->coefficient += c;
-        } else {
-          basis.push_back({4 * j, c});
-        }
-      }
-      break;
-    }
   }
+  return -1;
+}
+
+std::vector<SubspaceArap::BasisEntry> SubspaceArap::Basis(int vertex) const {
+  std::vector<NodeCoefficient> entries;
+  AppendBasis(vertex, PseudoNode(vertex), *mesh_, *graph_, origin_, &entries);
+  std::vector<BasisEntry> basis;
+  for (const NodeCoefficient& entry : entries) basis.push_back({4 * entry.node, entry.coefficient});
   return basis;
 }
 

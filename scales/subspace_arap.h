@@ -143,8 +143,6 @@ class SubspaceArap {
   double FitRotations(const Slots& u, Rotations* rotations) const;
   // The energy at u given sum_c tr(R_c^T S_c).
   double EnergyFromTrace(const Slots& u, double trace) const;
-  // The energy (1/2, over unit^2, as above) at u with the given rotations.
-  double Energy(const Slots& u, const Rotations& rotations) const;
   // Energy at u with the best rotations.
   double Cost(const Slots& u) const;
   // The global step's right-hand side over the variable slots:
@@ -191,6 +189,9 @@ class SubspaceArap {
 
  private:
   SubspaceArap() = default;
+  // The pseudo-node a vertex is (num_nodes() for the handle, num_nodes() + 1
+  // for the rest pose), or -1 for a skinned vertex.
+  int PseudoNode(int vertex) const;
 
   ArapOptions options_;
   int num_nodes_ = 0;
