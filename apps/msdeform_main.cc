@@ -512,6 +512,11 @@ int Run(const std::vector<std::string>& command_line) {
                           {"solve_median", Median(solve_ms)},
                           {"skin_median", Median(skin_ms)},
                           {"total", MillisecondsSince(total_start)}};
+  // Milliseconds by stage (Deformer::stages; none for the methods without them).
+  Json stages = Json::object();
+  const StageTimes stage_times = method->stages();
+  for (const auto& [name, ms] : stage_times.entries()) stages[name] = ms;
+  report["timings_ms"]["stages"] = stages;
   report["handle_rms"] = handle_rms;
   report["handle_rms_rel"] = handle_rms / diagonal;
   if (!job.watch.empty()) {

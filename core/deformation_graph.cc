@@ -114,19 +114,19 @@ int NodesAtScale(int num_dg1_nodes, int scale) {
 
 bool BuildMultiScaleGraphs(const Mesh& mesh, const Lattice& lattice, const GraphOptions& options,
                            std::vector<DeformationGraph>* graphs, std::string* error,
-                           Connect connect) {
+                           Connect connect, StageTimes* times) {
   if (!options.Check(error)) return false;
   const int num_dg1 = lattice.num_surface_particles();
   const int num_scales = NumScales(num_dg1, options.nodes_per_scale);
   std::vector<int> node_counts;
   for (int i = 2; i <= num_scales; ++i) node_counts.push_back(NodesAtScale(num_dg1, i));
-  return BuildCollapsedGraphs(mesh, lattice, options, node_counts, graphs, error, connect);
+  return BuildCollapsedGraphs(mesh, lattice, options, node_counts, graphs, error, connect, times);
 }
 
 bool BuildCollapsedGraphs(const Mesh& mesh, const Lattice& lattice, const GraphOptions& options,
                           const std::vector<int>& node_counts,
                           std::vector<DeformationGraph>* graphs, std::string* error,
-                          Connect connect) {
+                          Connect connect, StageTimes* times) {
   CHECK(graphs != nullptr);
   if (!options.Check(error)) return false;
   CHECK_EQ(static_cast<int>(lattice.particle_of_vertex().size()), mesh.num_vertices())
@@ -145,14 +145,24 @@ bool BuildCollapsedGraphs(const Mesh& mesh, const Lattice& lattice, const GraphO
 
   graphs->clear();
   graphs->reserve(node_counts.size() + 1);
-  graphs->push_back(MakeFinestGraph(mesh, lattice, options.seed));
-  ConnectGraph(mesh, lattice, options, &graphs->front());
-  EdgeCollapse collapse(graphs->front());
-  for (const int count : node_counts) {
-    collapse.CollapseTo(count);
-    graphs->push_back(collapse.Snapshot());
+  {
+    ScopedStage stage(times, "dg1_nodes");
+    graphs->push_back(MakeFinestGraph(mesh, lattice, options.seed));
+  }
+  {
+    ScopedStage stage(times, "dg1_nearest_nodes");
+    ConnectGraph(mesh, lattice, options, &graphs->front());
+  }
+  {
+    ScopedStage stage(times, "edge_collapses");
+    EdgeCollapse collapse(graphs->front());
+    for (const int count : node_counts) {
+      collapse.CollapseTo(count);
+      graphs->push_back(collapse.Snapshot());
+    }
   }
   if (connect == Connect::kFinestOnly) return true;
+  ScopedStage stage(times, "coarse_nearest_nodes");
   // The coarse scales are independent: with enough of them, one thread per
   // scale also shares out the serial parts (candidate search, edge lists).
   const int num_coarse = static_cast<int>(graphs->size()) - 1;

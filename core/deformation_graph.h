@@ -31,6 +31,7 @@
 #include "msdeform/core/lattice.h"
 #include "msdeform/core/mesh.h"
 #include "msdeform/core/nearest_nodes.h"
+#include "msdeform/core/timing.h"
 
 namespace msdeform {
 
@@ -104,7 +105,7 @@ enum class Connect {
 // invalid.
 bool BuildMultiScaleGraphs(const Mesh& mesh, const Lattice& lattice, const GraphOptions& options,
                            std::vector<DeformationGraph>* graphs, std::string* error,
-                           Connect connect = Connect::kAll);
+                           Connect connect = Connect::kAll, StageTimes* times = nullptr);
 
 // The same for an explicit list of node counts: DG1, then one graph per entry
 // of `node_counts` (non-increasing, each in [1, D1]) by the same edge-collapse
@@ -113,7 +114,7 @@ bool BuildMultiScaleGraphs(const Mesh& mesh, const Lattice& lattice, const Graph
 bool BuildCollapsedGraphs(const Mesh& mesh, const Lattice& lattice, const GraphOptions& options,
                           const std::vector<int>& node_counts,
                           std::vector<DeformationGraph>* graphs, std::string* error,
-                          Connect connect = Connect::kAll);
+                          Connect connect = Connect::kAll, StageTimes* times = nullptr);
 
 // Nearest nodes, skinning weights, edges and neighbour lists of a graph whose
 // nodes are placed (a graph of the builders above), the same whenever it is

@@ -23,6 +23,7 @@ class GraphMethod : public EditingMethod {
   double precompute_ms() const override { return deformer_.precompute_ms(); }
   double rigidity_ms() const override { return deformer_.rigidity_ms(); }
   double setup_ms() const override { return deformer_.setup_ms(); }
+  StageTimes stages() const override { return deformer_.stages(); }
   const Lattice* lattice() const override { return &deformer_.lattice(); }
   const Deformer* deformer() const override { return &deformer_; }
   // The Deformer for callers that need more than the interface (normals,

@@ -26,6 +26,7 @@
 #include "msdeform/core/handles.h"
 #include "msdeform/core/lattice.h"
 #include "msdeform/core/mesh.h"
+#include "msdeform/core/timing.h"
 #include "msdeform/scales/deformer.h"
 
 namespace msdeform {
@@ -71,6 +72,9 @@ class EditingMethod {
   virtual double precompute_ms() const = 0;
   virtual double rigidity_ms() const { return 0.0; }
   virtual double setup_ms() const = 0;
+  // The same by stage (precompute.lattice, layout.rigidity, session.solver_setup,
+  // ...; the report's timings_ms.stages), empty for a method without them.
+  virtual StageTimes stages() const { return {}; }
   // The lattice the method runs on, or null (CGAL's methods have none).
   virtual const Lattice* lattice() const { return nullptr; }
   // The deformation-graph methods' Deformer (graphs, scale, node classes,

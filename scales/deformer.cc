@@ -51,6 +51,14 @@ bool Deformer::Init(const Mesh& mesh, const DeformerOptions& options, std::strin
   return true;
 }
 
+StageTimes Deformer::stages() const {
+  StageTimes times;
+  if (precompute_) times.Append(precompute_->stages(), "precompute.");
+  if (layout_) times.Append(layout_->stages(), "layout.");
+  if (session_) times.Add("session.solver_setup", session_->setup_ms());
+  return times;
+}
+
 void Deformer::ResetLayout() {
   // The session first: it holds the layout, which pins its graph.
   session_.reset();

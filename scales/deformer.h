@@ -134,6 +134,10 @@ class Deformer {
   double setup_ms() const {
     return session_ ? layout_->setup_ms() + session_->setup_ms() : 0.0;
   }
+  // The same by stage: the precompute's, the layout's and the session's, each
+  // name prefixed by its stage ("precompute.lattice", "layout.rigidity",
+  // "session.solver_setup").
+  StageTimes stages() const;
 
  private:
   // Drops the layout and the session (the mesh back at rest).

@@ -46,6 +46,7 @@ bool Layout::Build(const HandleLayout& handles, std::string* error) {
       return false;
     }
     rigidity_ms_ = MillisecondsSince(start);
+    stages_.Add("rigidity", rigidity_ms_);
     const auto selection_start = std::chrono::steady_clock::now();
     const int num_dg1 = pre.lattice().num_surface_particles();
     const std::vector<double> dg1_extent(rigidity_.relative_extent.data(),
@@ -55,7 +56,11 @@ bool Layout::Build(const HandleLayout& handles, std::string* error) {
     // The scales tried stay connected until the selection is done, whatever
     // other layouts do with the cache meanwhile.
     std::vector<Precompute::GraphPin> tried;
-    auto graph_at = [&pre, &tried](int scale) -> const DeformationGraph& {
+    // Connecting a scale (its nearest nodes and weights) is the skinning data
+    // stage, the rest of SelectScale the scale selection.
+    StageTimes connect_times;
+    auto graph_at = [&pre, &tried, &connect_times](int scale) -> const DeformationGraph& {
+      ScopedStage stage(&connect_times, "skinning_data");
       tried.push_back(pre.ConnectAndPin(scale - 1));
       return pre.graphs()[scale - 1];
     };
@@ -65,21 +70,39 @@ bool Layout::Build(const HandleLayout& handles, std::string* error) {
       return false;
     }
     active_graph_ = selection_.scale - 1;
-    pin_ = pre.ConnectAndPin(active_graph_);
+    {
+      ScopedStage stage(&connect_times, "skinning_data");
+      pin_ = pre.ConnectAndPin(active_graph_);
+    }
+    stages_.Add("scale_selection",
+                MillisecondsSince(selection_start) - connect_times.Get("skinning_data"));
+    stages_.Append(connect_times);
     // Every class, the still components' Fixed nodes included, was decided
     // by SelectScale before the alpha weights (docs/method.md §4).
     node_classes_ = selection_.node_class;
     // A moveable vertex no free node skins is an error before any energy is built.
-    if (!FindSkinnedVertices(error)) return false;
-    BuildEnergy();
+    {
+      ScopedStage stage(&stages_, "skinned_vertices");
+      if (!FindSkinnedVertices(error)) return false;
+    }
+    {
+      ScopedStage stage(&stages_, "energy");
+      BuildEnergy();
+    }
     setup_ms_ = MillisecondsSince(selection_start);
   } else {
     const auto start = std::chrono::steady_clock::now();
     active_graph_ = pre.static_graph();
     pin_ = pre.ConnectAndPin(active_graph_);
     node_classes_ = StaticGraphNodeClasses(graph(), nodes.still);
-    if (!FindSkinnedVertices(error)) return false;
-    BuildEnergy();
+    {
+      ScopedStage stage(&stages_, "skinned_vertices");
+      if (!FindSkinnedVertices(error)) return false;
+    }
+    {
+      ScopedStage stage(&stages_, "energy");
+      BuildEnergy();
+    }
     setup_ms_ = MillisecondsSince(start);
   }
   return true;

@@ -76,6 +76,9 @@ class Layout {
   double rigidity_ms() const { return rigidity_ms_; }
   // Scale selection, classes and the energy.
   double setup_ms() const { return setup_ms_; }
+  // Both by stage (rigidity, scale_selection, skinning_data, skinned_vertices,
+  // energy).
+  const StageTimes& stages() const { return stages_; }
 
  private:
   explicit Layout(std::shared_ptr<const Precompute> precompute);
@@ -99,6 +102,7 @@ class Layout {
   bool skin_all_ = true;
   double rigidity_ms_ = 0.0;
   double setup_ms_ = 0.0;
+  StageTimes stages_;
 };
 
 }  // namespace msdeform

@@ -23,19 +23,32 @@ bool Precompute::Build(const Mesh& mesh, const DeformerOptions& options, std::st
   if (!options.Check(error)) return false;
   if (!ValidateMesh(mesh, error)) return false;
   options_ = options;
-  mesh_ = mesh;
-  rest_normals_ = VertexNormals(mesh_);
-  components_ = ConnectedComponents(mesh_);
-  diagonal_ = BoundingBoxDiagonal(mesh_);
+  stages_ = StageTimes();
+  {
+    ScopedStage stage(&stages_, "mesh_copy");
+    mesh_ = mesh;
+  }
+  {
+    ScopedStage stage(&stages_, "normals");
+    rest_normals_ = VertexNormals(mesh_);
+  }
+  {
+    ScopedStage stage(&stages_, "components");
+    components_ = ConnectedComponents(mesh_);
+    diagonal_ = BoundingBoxDiagonal(mesh_);
+  }
   // The lattice's split_cells test reads the same normals and components.
-  if (!Lattice::Build(mesh_, options_.lattice, rest_normals_, components_, &lattice_, error)) {
-    return false;
+  {
+    ScopedStage stage(&stages_, "lattice");
+    if (!Lattice::Build(mesh_, options_.lattice, rest_normals_, components_, &lattice_, error)) {
+      return false;
+    }
   }
   switch (options_.method) {
     case Method::kMultiScale:
       // The coarse scales are connected when first used (ConnectedGraph).
       if (!BuildMultiScaleGraphs(mesh_, lattice_, GraphBuildOptions(), &graphs_, error,
-                                 Connect::kFinestOnly)) {
+                                 Connect::kFinestOnly, &stages_)) {
         return false;
       }
       break;
@@ -43,13 +56,14 @@ bool Precompute::Build(const Mesh& mesh, const DeformerOptions& options, std::st
       // DG1 and one graph of static_nodes nodes by the same edge collapse.
       if (!BuildCollapsedGraphs(mesh_, lattice_, GraphBuildOptions(),
                                 {std::min(options_.static_nodes, lattice_.num_surface_particles())},
-                                &graphs_, error)) {
+                                &graphs_, error, Connect::kAll, &stages_)) {
         return false;
       }
       static_graph_ = 1;
       break;
     case Method::kStaticDense:
-      if (!BuildCollapsedGraphs(mesh_, lattice_, GraphBuildOptions(), {}, &graphs_, error)) {
+      if (!BuildCollapsedGraphs(mesh_, lattice_, GraphBuildOptions(), {}, &graphs_, error,
+                                Connect::kAll, &stages_)) {
         return false;
       }
       static_graph_ = 0;
@@ -57,8 +71,12 @@ bool Precompute::Build(const Mesh& mesh, const DeformerOptions& options, std::st
   }
   pins_.assign(graphs_.size(), 0);
   // The subspace ARAP energy's cotangent weights, once per mesh.
-  if (options_.energy == Energy::kArap) cotangent_ = ComputeCotangentWeights(mesh_);
+  if (options_.energy == Energy::kArap) {
+    ScopedStage stage(&stages_, "cotangent_weights");
+    cotangent_ = ComputeCotangentWeights(mesh_);
+  }
   if (options_.method == Method::kMultiScale) {
+    ScopedStage stage(&stages_, "rigidity_init");
     rigidity_estimator_ = std::make_unique<RigidityEstimator>();
     if (!rigidity_estimator_->Init(lattice_, options_.rigidity, error)) return false;
   }

@@ -24,6 +24,7 @@
 #include "msdeform/core/deformation_graph.h"
 #include "msdeform/core/lattice.h"
 #include "msdeform/core/mesh.h"
+#include "msdeform/core/timing.h"
 #include "msdeform/scales/deformer_options.h"
 #include "msdeform/scales/rigidity.h"
 
@@ -96,6 +97,9 @@ class Precompute {
 
   // Milliseconds Create spent (lattice, graphs, rigidity precompute).
   double build_ms() const { return build_ms_; }
+  // The same by stage (mesh_copy, normals, components, lattice, dg1_nodes,
+  // dg1_nearest_nodes, edge_collapses, ..., rigidity_init).
+  const StageTimes& stages() const { return stages_; }
 
  private:
   Precompute() = default;
@@ -117,6 +121,7 @@ class Precompute {
   CotangentWeights cotangent_;
   int static_graph_ = -1;
   double build_ms_ = 0.0;
+  StageTimes stages_;
 
   // The graph cache: graphs_' coarse edges and weights come and go.
   mutable std::mutex graphs_mutex_;
