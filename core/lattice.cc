@@ -4,9 +4,13 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <unordered_set>
 #include <utility>
 
 #include <glog/logging.h>
+#include <omp.h>
+
+#include "msdeform/core/nearest_nodes.h"  // kMaxThreads
 
 namespace msdeform {
 namespace {
@@ -18,35 +22,138 @@ constexpr int kOutsideMark = -3;
 // only (it becomes an interior particle, being inside the surface).
 constexpr int kWallMark = -4;
 
+// Passes over fewer items than this run on one thread: starting a team costs
+// more than it saves there.
+constexpr int64_t kParallelMinItems = 1 << 14;
+
+int ThreadsFor(int num_threads, int64_t items) {
+  return items >= kParallelMinItems ? std::max(1, num_threads) : 1;
+}
+
 // Builds compressed lists from (row, value) pairs: each row's values
 // ascending, duplicates removed. A counting sort by row, then a sort of each
 // (short) row: linear in the pairs, where one sort of all of them (1.66M
 // vertex-cell pairs on the 1.66M armadillo) was a tenth of the lattice's time.
-CompressedLists ListsFromPairs(int num_rows, const std::vector<std::pair<int, int>>& pairs) {
+// On several threads each takes a slice of the pairs with its own row counts
+// (as many slices as leave the counts no bigger than the pairs); rows are
+// sorted at the end, so the lists are the same for every thread count.
+CompressedLists ListsFromPairs(int num_rows, const std::vector<std::pair<int, int>>& pairs,
+                               int num_threads) {
+  const int64_t num_pairs = static_cast<int64_t>(pairs.size());
+  const int slices = static_cast<int>(std::max<int64_t>(
+      1, std::min<int64_t>(ThreadsFor(num_threads, num_pairs),
+                           num_pairs / std::max(num_rows, 1))));
+  // count[s * num_rows + r]: pairs of row r in slice s, then where they go.
+  std::vector<int64_t> count(static_cast<size_t>(slices) * num_rows, 0);
+  auto slice_begin = [&](int s) { return num_pairs * s / slices; };
+#pragma omp parallel for num_threads(slices) schedule(static)
+  for (int s = 0; s < slices; ++s) {
+    int64_t* own = count.data() + static_cast<size_t>(s) * num_rows;
+    for (int64_t i = slice_begin(s); i < slice_begin(s + 1); ++i) ++own[pairs[i].first];
+  }
   CompressedLists lists;
   lists.offsets.assign(num_rows + 1, 0);
-  for (const auto& [row, value] : pairs) ++lists.offsets[row + 1];
-  for (int r = 0; r < num_rows; ++r) lists.offsets[r + 1] += lists.offsets[r];
-  std::vector<int>& values = lists.values;
-  values.resize(pairs.size());
-  {
-    std::vector<int64_t> fill(lists.offsets.begin(), lists.offsets.end() - 1);
-    for (const auto& [row, value] : pairs) values[fill[row]++] = value;
-  }
-  // Sort each row and drop its repeats, moving the rows down over the gaps:
-  // row r's old bounds are read before offsets[r] is rewritten.
-  int64_t kept = 0;
+  const int row_threads = ThreadsFor(num_threads, static_cast<int64_t>(num_rows) * slices);
+#pragma omp parallel for num_threads(row_threads) schedule(static)
   for (int r = 0; r < num_rows; ++r) {
-    const int64_t begin = lists.offsets[r], end = lists.offsets[r + 1];
-    std::sort(values.begin() + begin, values.begin() + end);
-    lists.offsets[r] = kept;
-    for (int64_t i = begin; i < end; ++i) {
-      if (i == begin || values[i] != values[i - 1]) values[kept++] = values[i];
+    int64_t total = 0;
+    for (int s = 0; s < slices; ++s) {
+      const int64_t in_slice = count[static_cast<size_t>(s) * num_rows + r];
+      count[static_cast<size_t>(s) * num_rows + r] = total;
+      total += in_slice;
+    }
+    lists.offsets[r + 1] = total;
+  }
+  for (int r = 0; r < num_rows; ++r) lists.offsets[r + 1] += lists.offsets[r];
+  std::vector<int> values(num_pairs);
+#pragma omp parallel for num_threads(slices) schedule(static)
+  for (int s = 0; s < slices; ++s) {
+    int64_t* next = count.data() + static_cast<size_t>(s) * num_rows;
+    for (int64_t i = slice_begin(s); i < slice_begin(s + 1); ++i) {
+      const auto& [row, value] = pairs[i];
+      values[lists.offsets[row] + next[row]++] = value;
     }
   }
-  lists.offsets[num_rows] = kept;
-  values.resize(kept);
+  std::vector<int64_t>().swap(count);
+  // Sort each row and count its distinct values, then copy them down.
+  std::vector<int64_t> kept(num_rows + 1, 0);
+  const int sort_threads = ThreadsFor(num_threads, num_pairs);
+#pragma omp parallel for num_threads(sort_threads) schedule(dynamic, 256)
+  for (int r = 0; r < num_rows; ++r) {
+    const auto first = values.begin() + lists.offsets[r];
+    const auto last = values.begin() + lists.offsets[r + 1];
+    std::sort(first, last);
+    kept[r + 1] = std::unique(first, last) - first;
+  }
+  for (int r = 0; r < num_rows; ++r) kept[r + 1] += kept[r];
+  if (kept[num_rows] == num_pairs) {
+    lists.values = std::move(values);
+    return lists;
+  }
+  lists.values.resize(kept[num_rows]);
+#pragma omp parallel for num_threads(sort_threads) schedule(static)
+  for (int r = 0; r < num_rows; ++r) {
+    std::copy(values.begin() + lists.offsets[r],
+              values.begin() + lists.offsets[r] + (kept[r + 1] - kept[r]),
+              lists.values.begin() + kept[r]);
+  }
+  lists.offsets = std::move(kept);
   return lists;
+}
+
+// The lists one after another, in list order; empties them.
+std::vector<std::pair<int, int>> Concatenate(
+    std::vector<std::vector<std::pair<int, int>>>* lists) {
+  size_t total = 0;
+  for (const auto& list : *lists) total += list.size();
+  std::vector<std::pair<int, int>> all;
+  all.reserve(total);
+  for (auto& list : *lists) {
+    all.insert(all.end(), list.begin(), list.end());
+    std::vector<std::pair<int, int>>().swap(list);
+  }
+  return all;
+}
+
+// Six times the signed volume each component encloses: the sum over its
+// faces of a . (b x c). Only its sign is read. A mesh of fewer than
+// kParallelMinItems faces is summed in face order; a larger one in blocks of
+// kVolumeBlock faces, each a sum per run of faces of one component, the runs
+// then added in face order: the same sums on any number of threads.
+constexpr int kVolumeBlock = 1 << 16;
+
+std::vector<double> ComponentVolumes(const Mesh& mesh, const Components& components,
+                                     int num_threads) {
+  const int num_faces = mesh.num_faces();
+  auto term = [&mesh](int f) {
+    const Eigen::Vector3d a = mesh.vertices.col(mesh.faces(0, f));
+    const Eigen::Vector3d b = mesh.vertices.col(mesh.faces(1, f));
+    const Eigen::Vector3d c = mesh.vertices.col(mesh.faces(2, f));
+    return a.dot(b.cross(c));
+  };
+  auto component_of = [&](int f) { return components.component_of_vertex[mesh.faces(0, f)]; };
+  std::vector<double> volume(components.count, 0.0);
+  if (num_faces < kParallelMinItems) {
+    for (int f = 0; f < num_faces; ++f) volume[component_of(f)] += term(f);
+    return volume;
+  }
+  const int num_blocks = (num_faces + kVolumeBlock - 1) / kVolumeBlock;
+  std::vector<std::vector<std::pair<int, double>>> runs(num_blocks);
+#pragma omp parallel for num_threads(ThreadsFor(num_threads, num_faces)) schedule(static)
+  for (int block = 0; block < num_blocks; ++block) {
+    const int end = std::min(num_faces, (block + 1) * kVolumeBlock);
+    for (int f = block * kVolumeBlock; f < end; ++f) {
+      const int component = component_of(f);
+      if (runs[block].empty() || runs[block].back().first != component) {
+        runs[block].emplace_back(component, 0.0);
+      }
+      runs[block].back().second += term(f);
+    }
+  }
+  for (const auto& block_runs : runs) {
+    for (const auto& [component, sum] : block_runs) volume[component] += sum;
+  }
+  return volume;
 }
 
 // The pieces of each surface cell (lattice.h): vertex v of cell c gets the
@@ -55,65 +162,92 @@ CompressedLists ListsFromPairs(int num_rows, const std::vector<std::pair<int, in
 // Mesh edges join a piece's vertices first within the
 // cell itself; only a cell that this leaves in several pieces is searched
 // again within the cell grown by `margin` cells on each side, which merges
-// the parts of one sheet that the cell's walls cut apart.
+// the parts of one sheet that the cell's walls cut apart. Every cell is
+// searched on its own (its vertices' piece numbers and its count are written
+// by it alone), so the cells are shared out among the threads.
 template <typename CoordsOf>
-void FindPieces(const Mesh& mesh, const Lattice& lattice,
+void FindPieces(const Mesh& mesh, const Lattice& lattice, const VertexAdjacency& adjacency,
                 const std::vector<long long>& surface_grid_cells, const CoordsOf& coords_of,
-                const std::vector<int>& cell_of_vertex, double margin,
+                const std::vector<int>& cell_of_vertex, double margin, int num_threads,
                 std::vector<int>* piece_of_vertex, std::vector<int>* num_pieces) {
   const int num_cells = static_cast<int>(surface_grid_cells.size());
-  const VertexAdjacency adjacency = ComputeVertexAdjacency(mesh);
-  std::vector<std::pair<int, int>> cell_vertex;
-  cell_vertex.reserve(mesh.num_vertices());
-  for (int v = 0; v < mesh.num_vertices(); ++v) cell_vertex.emplace_back(cell_of_vertex[v], v);
-  const CompressedLists vertices_of_cell = ListsFromPairs(num_cells, cell_vertex);
-  // stamp[v] = the last search that reached v: 2 c (cell only) or 2 c + 1 (grown).
-  std::vector<int64_t> stamp(mesh.num_vertices(), -1);
-  std::vector<int> queue;
+  const int num_vertices = mesh.num_vertices();
+  std::vector<std::pair<int, int>> cell_vertex(num_vertices);
+  const int vertex_threads = ThreadsFor(num_threads, num_vertices);
+#pragma omp parallel for num_threads(vertex_threads) schedule(static)
+  for (int v = 0; v < num_vertices; ++v) cell_vertex[v] = {cell_of_vertex[v], v};
+  const CompressedLists vertices_of_cell = ListsFromPairs(num_cells, cell_vertex, num_threads);
+  std::vector<std::pair<int, int>>().swap(cell_vertex);
+  // rank[v]: v's place in its cell's list, the index of its mark in the
+  // cell's search.
+  std::vector<int> rank(num_vertices);
+#pragma omp parallel for num_threads(ThreadsFor(num_threads, num_vertices)) schedule(dynamic, 64)
+  for (int c = 0; c < num_cells; ++c) {
+    for (int i = 0; i < vertices_of_cell.size(c); ++i) rank[vertices_of_cell.begin(c)[i]] = i;
+  }
   const double w = lattice.cell_width();
-  auto label = [&](int c, int64_t search, double half_width) {
+  auto is_isolated = [&](int v) { return adjacency.offsets[v] == adjacency.offsets[v + 1]; };
+  // One search of cell c: within the cell itself (grown = false, marks by
+  // rank) or within the grown cell (marks in a set).
+  struct Search {
+    std::vector<char> seen;          // by rank, within the cell
+    std::unordered_set<int> grown;   // vertices reached, within the grown cell
+    std::vector<int> queue;
+  };
+  auto label = [&](int c, bool grown_cell, Search& search) {
     const Eigen::Vector3d centre =
         lattice.origin() + w * coords_of(surface_grid_cells[c]).template cast<double>();
+    const double half_width = (0.5 + margin) * w;
+    search.seen.assign(vertices_of_cell.size(c), 0);
+    search.grown.clear();
+    // Marks v reached; false if it was already.
+    auto visit = [&](int v) {
+      if (!grown_cell) {
+        char& seen = search.seen[rank[v]];
+        if (seen) return false;
+        return seen = 1, true;
+      }
+      return search.grown.insert(v).second;
+    };
     int pieces = 0;
     bool isolated = false;  // a vertex in no face: no piece of surface of its own
     for (const int* start = vertices_of_cell.begin(c); start != vertices_of_cell.end(c); ++start) {
-      if (adjacency.offsets[*start] == adjacency.offsets[*start + 1]) {
+      if (is_isolated(*start)) {
         isolated = true;
         continue;
       }
-      if (stamp[*start] == search) continue;
-      stamp[*start] = search;
-      queue.assign(1, *start);
-      while (!queue.empty()) {
-        const int u = queue.back();
-        queue.pop_back();
+      if (!visit(*start)) continue;
+      search.queue.assign(1, *start);
+      while (!search.queue.empty()) {
+        const int u = search.queue.back();
+        search.queue.pop_back();
         if (cell_of_vertex[u] == c) (*piece_of_vertex)[u] = pieces;
         for (int i = adjacency.offsets[u]; i < adjacency.offsets[u + 1]; ++i) {
           const int next = adjacency.neighbors[i];
-          if (stamp[next] == search) continue;
           const bool inside =
-              half_width == 0.0
+              !grown_cell
                   ? cell_of_vertex[next] == c
                   : ((mesh.vertices.col(next) - centre).cwiseAbs().array() <= half_width).all();
-          if (!inside) continue;
-          stamp[next] = search;
-          queue.push_back(next);
+          if (inside && visit(next)) search.queue.push_back(next);
         }
       }
       ++pieces;
     }
     if (isolated) {  // into the cell's first piece
       for (const int* v = vertices_of_cell.begin(c); v != vertices_of_cell.end(c); ++v) {
-        if (adjacency.offsets[*v] == adjacency.offsets[*v + 1]) (*piece_of_vertex)[*v] = 0;
+        if (is_isolated(*v)) (*piece_of_vertex)[*v] = 0;
       }
       pieces = std::max(pieces, 1);
     }
     return pieces;
   };
-  for (int c = 0; c < num_cells; ++c) {
-    (*num_pieces)[c] = label(c, 2 * static_cast<int64_t>(c), 0.0);
-    if ((*num_pieces)[c] > 1 && margin > 0.0) {
-      (*num_pieces)[c] = label(c, 2 * static_cast<int64_t>(c) + 1, (0.5 + margin) * w);
+#pragma omp parallel num_threads(vertex_threads)
+  {
+    Search search;
+#pragma omp for schedule(dynamic, 16)
+    for (int c = 0; c < num_cells; ++c) {
+      (*num_pieces)[c] = label(c, false, search);
+      if ((*num_pieces)[c] > 1 && margin > 0.0) (*num_pieces)[c] = label(c, true, search);
     }
   }
 }
@@ -135,6 +269,10 @@ bool LatticeOptions::Check(std::string* error) const {
   }
   if (!(piece_margin >= 0.0 && piece_margin <= 2.0)) {
     *error = "piece_margin must be in [0, 2] (cell widths)";
+    return false;
+  }
+  if (num_threads < 1 || num_threads > kMaxThreads) {
+    *error = "num_threads must be in 1.." + std::to_string(kMaxThreads);
     return false;
   }
   return true;
@@ -187,7 +325,8 @@ bool Lattice::BuildWith(const Mesh& mesh, const LatticeOptions& options,
   Lattice& l = *lattice;
   l = Lattice();
 
-  const Eigen::AlignedBox3d box = BoundingBox(mesh);
+  const int threads = options.num_threads;
+  const Eigen::AlignedBox3d box = BoundingBox(mesh, threads);
   const double diagonal = box.diagonal().norm();
   l.cell_width_ = options.cell_width > 0.0 ? options.cell_width
                                            : diagonal / options.cells_per_diagonal;
@@ -220,11 +359,18 @@ bool Lattice::BuildWith(const Mesh& mesh, const LatticeOptions& options,
   }
 
   // Mark surface cells, then flood-fill the outside through empty cells.
+  // Threads mark cells concurrently with atomic writes; each cell's mark is
+  // the same whichever thread writes it, or in what order.
+  const int num_vertices = mesh.num_vertices(), num_faces = mesh.num_faces();
+  const int vertex_threads = ThreadsFor(threads, num_vertices);
+  const int face_threads = ThreadsFor(threads, num_faces);
   std::vector<int>& grid = l.particle_of_grid_cell_;
   grid.assign(grid_size, kEmpty);
-  std::vector<long long> grid_cell_of_vertex(mesh.num_vertices());
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
+  std::vector<long long> grid_cell_of_vertex(num_vertices);
+#pragma omp parallel for num_threads(vertex_threads) schedule(static)
+  for (int v = 0; v < num_vertices; ++v) {
     grid_cell_of_vertex[v] = l.GridIndex(l.CellCoordsOf(mesh.vertices.col(v)));
+#pragma omp atomic write
     grid[grid_cell_of_vertex[v]] = kSurfaceMark;
   }
   // Triangles longer than a cell leave gaps between the vertex cells through
@@ -232,7 +378,8 @@ bool Lattice::BuildWith(const Mesh& mesh, const LatticeOptions& options,
   // Samples at most w/3 apart along both triangle directions hit every cell
   // the triangle crosses by more than a sliver.
   const double spacing = l.cell_width_ / 3.0;
-  for (int f = 0; f < mesh.num_faces(); ++f) {
+#pragma omp parallel for num_threads(face_threads) schedule(dynamic, 4096)
+  for (int f = 0; f < num_faces; ++f) {
     const long long c0 = grid_cell_of_vertex[mesh.faces(0, f)];
     if (c0 == grid_cell_of_vertex[mesh.faces(1, f)] &&
         c0 == grid_cell_of_vertex[mesh.faces(2, f)]) {
@@ -251,7 +398,13 @@ bool Lattice::BuildWith(const Mesh& mesh, const LatticeOptions& options,
                                            .cwiseMax(Eigen::Vector3i::Zero())
                                            .cwiseMin(l.dims_ - Eigen::Vector3i::Ones());
         int& cell = grid[l.GridIndex(coords)];
-        if (cell == kEmpty) cell = kWallMark;
+        int mark;
+#pragma omp atomic read
+        mark = cell;
+        if (mark == kEmpty) {
+#pragma omp atomic write
+          cell = kWallMark;
+        }
       }
     }
   }
@@ -290,13 +443,17 @@ bool Lattice::BuildWith(const Mesh& mesh, const LatticeOptions& options,
   const int num_cells = static_cast<int>(surface_grid_cells.size());
   // Until the particles are numbered, a surface cell's grid entry is its index.
   for (int c = 0; c < num_cells; ++c) grid[surface_grid_cells[c]] = c;
-  std::vector<int> cell_of_vertex(mesh.num_vertices());
-  for (int v = 0; v < mesh.num_vertices(); ++v) cell_of_vertex[v] = grid[grid_cell_of_vertex[v]];
-  std::vector<int> piece_of_vertex(mesh.num_vertices(), 0);  // within its cell
+  std::vector<int> cell_of_vertex(num_vertices);
+#pragma omp parallel for num_threads(vertex_threads) schedule(static)
+  for (int v = 0; v < num_vertices; ++v) cell_of_vertex[v] = grid[grid_cell_of_vertex[v]];
+  std::vector<long long>().swap(grid_cell_of_vertex);
+  // The mesh's edges, for the pieces and the L lists.
+  const VertexAdjacency adjacency = ComputeVertexAdjacency(mesh, threads);
+  std::vector<int> piece_of_vertex(num_vertices, 0);  // within its cell
   std::vector<int> num_pieces(num_cells, 1);
   if (options.split_cells) {
-    FindPieces(mesh, l, surface_grid_cells, coords_of, cell_of_vertex, options.piece_margin,
-               &piece_of_vertex, &num_pieces);
+    FindPieces(mesh, l, adjacency, surface_grid_cells, coords_of, cell_of_vertex,
+               options.piece_margin, threads, &piece_of_vertex, &num_pieces);
   }
 
   // Refuse a lattice too fine for the rigidity estimate before numbering it.
@@ -338,24 +495,35 @@ bool Lattice::BuildWith(const Mesh& mesh, const LatticeOptions& options,
   }
 
   // Vertex <-> particle maps.
-  l.particle_of_vertex_.resize(mesh.num_vertices());
-  std::vector<std::pair<int, int>> particle_vertex;
-  particle_vertex.reserve(mesh.num_vertices());
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
+  l.particle_of_vertex_.resize(num_vertices);
+  std::vector<std::pair<int, int>> particle_vertex(num_vertices);
+#pragma omp parallel for num_threads(vertex_threads) schedule(static)
+  for (int v = 0; v < num_vertices; ++v) {
     l.particle_of_vertex_[v] = first_particle[cell_of_vertex[v]] + piece_of_vertex[v];
-    particle_vertex.emplace_back(l.particle_of_vertex_[v], v);
+    particle_vertex[v] = {l.particle_of_vertex_[v], v};
   }
-  l.vertices_of_particle_ = ListsFromPairs(l.num_surface_particles_, particle_vertex);
+  l.vertices_of_particle_ = ListsFromPairs(l.num_surface_particles_, particle_vertex, threads);
+  std::vector<std::pair<int, int>>().swap(particle_vertex);
 
-  // L lists from mesh edges that join two surface particles.
-  std::vector<std::pair<int, int>> surface_pairs;
-  for (const auto& [a, b] : UniqueEdges(mesh)) {
-    const int pa = l.particle_of_vertex_[a], pb = l.particle_of_vertex_[b];
-    if (pa == pb) continue;
-    surface_pairs.emplace_back(pa, pb);
-    surface_pairs.emplace_back(pb, pa);
+  // L lists from mesh edges that join two surface particles: each thread
+  // gathers the pairs of a slice of the vertices (both directions of an edge
+  // come from its two ends); the lists are sorted, so their order is free.
+  std::vector<std::vector<std::pair<int, int>>> thread_pairs(vertex_threads);
+#pragma omp parallel num_threads(vertex_threads)
+  {
+    std::vector<std::pair<int, int>> own;  // not in thread_pairs: no shared cache line
+#pragma omp for schedule(static) nowait
+    for (int a = 0; a < num_vertices; ++a) {
+      const int pa = l.particle_of_vertex_[a];
+      for (int i = adjacency.offsets[a]; i < adjacency.offsets[a + 1]; ++i) {
+        const int pb = l.particle_of_vertex_[adjacency.neighbors[i]];
+        if (pa != pb) own.emplace_back(pa, pb);
+      }
+    }
+    thread_pairs[omp_get_thread_num()] = std::move(own);
   }
-  l.neighborhood_ = ListsFromPairs(l.num_surface_particles_, surface_pairs);
+  std::vector<std::pair<int, int>> surface_pairs = Concatenate(&thread_pairs);
+  l.neighborhood_ = ListsFromPairs(l.num_surface_particles_, surface_pairs, threads);
 
   // Whether a point lies behind a piece of surface: on the inner side of
   // the normal at the piece's vertex nearest to it. Normals point out of
@@ -366,20 +534,14 @@ bool Lattice::BuildWith(const Mesh& mesh, const LatticeOptions& options,
   std::vector<double> outward;
   if (options.split_cells) {
     if (vertex_normals == nullptr) {
-      own_normals = VertexNormals(mesh);
+      own_normals = VertexNormals(mesh, threads);
       vertex_normals = &own_normals;
     }
     if (components == nullptr) {
-      own_components = ConnectedComponents(mesh);
+      own_components = ConnectedComponents(mesh, threads);
       components = &own_components;
     }
-    std::vector<double> volume(components->count, 0.0);
-    for (int f = 0; f < mesh.num_faces(); ++f) {
-      const Eigen::Vector3d a = mesh.vertices.col(mesh.faces(0, f));
-      const Eigen::Vector3d b = mesh.vertices.col(mesh.faces(1, f));
-      const Eigen::Vector3d c = mesh.vertices.col(mesh.faces(2, f));
-      volume[components->component_of_vertex[mesh.faces(0, f)]] += a.dot(b.cross(c));
-    }
+    const std::vector<double> volume = ComponentVolumes(mesh, *components, threads);
     outward.resize(components->count);
     for (int c = 0; c < components->count; ++c) outward[c] = volume[c] < 0.0 ? -1.0 : 1.0;
   }
@@ -406,30 +568,41 @@ bool Lattice::BuildWith(const Mesh& mesh, const LatticeOptions& options,
   // Particle adjacency: L for surface-surface, 26 lattice neighbours when an
   // interior particle is involved (a surface particle only when the interior
   // cell lies behind it).
-  std::vector<std::pair<int, int>> particle_pairs = std::move(surface_pairs);
-  for (int p = l.num_surface_particles_; p < l.num_particles(); ++p) {
-    const Eigen::Vector3i& c = l.cell_coords_[p];
-    for (int dz = -1; dz <= 1; ++dz) {
-      for (int dy = -1; dy <= 1; ++dy) {
-        for (int dx = -1; dx <= 1; ++dx) {
-          if (dx == 0 && dy == 0 && dz == 0) continue;
-          const Eigen::Vector3i neighbour = c + Eigen::Vector3i(dx, dy, dz);
-          const int first = l.ParticleAt(neighbour);
-          if (first < 0) continue;
-          const int count = l.NumParticlesAt(neighbour);
-          for (int q = first; q < first + count; ++q) {
-            if (options.split_cells && q < l.num_surface_particles_ &&
-                !behind(l.rest_positions_.col(p), q)) {
-              continue;  // in front of this piece: another part of the surface
+  const int num_interior = l.num_particles() - l.num_surface_particles_;
+  const int interior_threads = ThreadsFor(threads, 64 * static_cast<int64_t>(num_interior));
+  thread_pairs.assign(interior_threads, {});
+  thread_pairs[0] = std::move(surface_pairs);
+#pragma omp parallel num_threads(interior_threads)
+  {
+    std::vector<std::pair<int, int>> own;
+#pragma omp for schedule(dynamic, 64) nowait
+    for (int p = l.num_surface_particles_; p < l.num_particles(); ++p) {
+      const Eigen::Vector3i& c = l.cell_coords_[p];
+      for (int dz = -1; dz <= 1; ++dz) {
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            if (dx == 0 && dy == 0 && dz == 0) continue;
+            const Eigen::Vector3i neighbour = c + Eigen::Vector3i(dx, dy, dz);
+            const int first = l.ParticleAt(neighbour);
+            if (first < 0) continue;
+            const int count = l.NumParticlesAt(neighbour);
+            for (int q = first; q < first + count; ++q) {
+              if (options.split_cells && q < l.num_surface_particles_ &&
+                  !behind(l.rest_positions_.col(p), q)) {
+                continue;  // in front of this piece: another part of the surface
+              }
+              own.emplace_back(p, q);
+              if (q < l.num_surface_particles_) own.emplace_back(q, p);
             }
-            particle_pairs.emplace_back(p, q);
-            if (q < l.num_surface_particles_) particle_pairs.emplace_back(q, p);
           }
         }
       }
     }
+    auto& slot = thread_pairs[omp_get_thread_num()];
+    slot.insert(slot.end(), own.begin(), own.end());  // thread 0's starts with the L pairs
   }
-  l.particle_adjacency_ = ListsFromPairs(l.num_particles(), particle_pairs);
+  const std::vector<std::pair<int, int>> particle_pairs = Concatenate(&thread_pairs);
+  l.particle_adjacency_ = ListsFromPairs(l.num_particles(), particle_pairs, threads);
   return true;
 }
 

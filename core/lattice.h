@@ -63,6 +63,9 @@ struct LatticeOptions {
   // side, so that a surface crossing a cell corner is not cut in two by the
   // cell's walls (0.5: a box two cells wide). In [0, 2].
   double piece_margin = 0.5;
+  // OpenMP threads for the build, 1..kMaxThreads (nearest_nodes.h). The
+  // lattice is the same for every count.
+  int num_threads = 1;
 
   bool Check(std::string* error) const;
 };

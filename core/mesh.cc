@@ -1,80 +1,216 @@
 #include "msdeform/core/mesh.h"
 
+#include <omp.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdint>
+#include <memory>
 #include <numeric>
 #include <sstream>
 
 namespace msdeform {
+namespace {
 
-Eigen::AlignedBox3d BoundingBox(const Mesh& mesh) {
-  Eigen::AlignedBox3d box;
-  for (int v = 0; v < mesh.num_vertices(); ++v) box.extend(mesh.vertices.col(v));
-  return box;
+// Passes over fewer items than this run on one thread: starting a team costs
+// more than it saves there.
+constexpr int64_t kParallelMinItems = 1 << 14;
+
+// Threads for a pass over `items` items.
+int ThreadsFor(int num_threads, int64_t items) {
+  return items >= kParallelMinItems ? std::max(1, num_threads) : 1;
 }
 
-double BoundingBoxDiagonal(const Mesh& mesh) {
-  if (mesh.num_vertices() == 0) return 0.0;
-  return BoundingBox(mesh).diagonal().norm();
+// data[i] += data[i - 1] for i = 1 .. n - 1 (an inclusive scan of integers,
+// so any split gives the same sums).
+template <typename T>
+void InclusiveScan(T* data, int64_t n, int num_threads) {
+  const int threads = ThreadsFor(num_threads, n);
+  if (threads == 1) {
+    std::partial_sum(data, data + n, data);
+    return;
+  }
+  std::vector<T> block_total(threads + 1, 0);
+#pragma omp parallel num_threads(threads)
+  {
+    const int t = omp_get_thread_num(), team = omp_get_num_threads();
+    const int64_t lo = n * t / team, hi = n * (t + 1) / team;
+    std::partial_sum(data + lo, data + hi, data + lo);
+    block_total[t + 1] = hi > lo ? data[hi - 1] : 0;
+#pragma omp barrier
+#pragma omp single
+    std::partial_sum(block_total.begin(), block_total.end(), block_total.begin());
+    const T add = block_total[t];
+    for (int64_t i = lo; i < hi; ++i) data[i] += add;
+  }
 }
 
-std::vector<std::pair<int, int>> UniqueEdges(const Mesh& mesh) {
-  // The far ends grouped by the lower end (a counting sort), then each small
-  // group sorted and deduplicated: sorted output in linear time, where one
-  // sort of all 3 #F pairs took most of a second on a 1.7M-vertex mesh.
-  const int num_vertices = mesh.num_vertices();
-  std::vector<int> start(num_vertices + 1, 0);
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    for (int c = 0; c < 3; ++c) {
-      const int a = mesh.faces(c, f), b = mesh.faces((c + 1) % 3, f);
-      if (a != b) ++start[std::min(a, b) + 1];
+// Hands keyed values from items to the threads that own the keys, in item
+// order: emit(i, push) calls push(key, value) for item i, and consume(key,
+// value) then sees, for each key, the values pushed for it in the order of
+// the items (and of the pushes of one item), as one thread looping over the
+// items would. Keys are dealt to the threads in runs of kRun (run r to thread
+// (hash(r) * team) >> 32: spread evenly whatever the keys' order), so each
+// thread writes only its own keys' data and no key's updates race or change
+// order.
+// The items go in blocks of kScatterBlock (i / kScatterBlock is the block of
+// item i): in each block every thread emits from one slice of it, then every
+// thread consumes its keys' values, slice by slice.
+constexpr int kScatterBlock = 1 << 18;
+
+template <typename Emit, typename Consume>
+void OrderedScatter(int64_t num_items, int num_threads, const Emit& emit,
+                    const Consume& consume) {
+  const int threads = ThreadsFor(num_threads, num_items);
+  if (threads == 1) {
+    for (int64_t i = 0; i < num_items; ++i) emit(i, consume);
+    return;
+  }
+  constexpr int kRunBits = 8;  // kRun = 256 keys
+  // (*values[slice])[owner]: (key, value), in item order. Each thread's lists
+  // are its own allocations: list headers of two threads on one cache line
+  // made every push a cache miss.
+  std::vector<std::vector<std::vector<std::pair<int, int>>>*> values(threads);
+#pragma omp parallel num_threads(threads)
+  {
+    const int t = omp_get_thread_num(), team = omp_get_num_threads();
+    std::vector<std::vector<std::pair<int, int>>> own(team);
+    values[t] = &own;
+    auto push = [&own, team](int key, int value) {
+      const uint32_t hash = static_cast<uint32_t>(key >> kRunBits) * 2654435761u;
+      own[(static_cast<uint64_t>(hash) * team) >> 32].emplace_back(key, value);
+    };
+    for (int64_t begin = 0; begin < num_items; begin += kScatterBlock) {
+      const int64_t size = std::min<int64_t>(kScatterBlock, num_items - begin);
+      for (auto& list : own) list.clear();
+      for (int64_t i = begin + size * t / team; i < begin + size * (t + 1) / team; ++i) {
+        emit(i, push);
+      }
+#pragma omp barrier
+      for (int slice = 0; slice < team; ++slice) {
+        for (const auto& [key, value] : (*values[slice])[t]) consume(key, value);
+      }
+#pragma omp barrier
     }
   }
-  for (int v = 0; v < num_vertices; ++v) start[v + 1] += start[v];
+}
+
+// The upper neighbours of every vertex, deduplicated and sorted: the far
+// ends b > a of the edges (a, b) are far[start[a] .. start[a + 1]). The far
+// ends are grouped by the lower end (a counting sort), then each small group
+// is sorted and deduplicated: linear time, where one sort of all 3 #F pairs
+// took most of a second on a 1.7M-vertex mesh. Every step's result is the
+// same whatever the threads (groups are sorted after filling).
+struct UpperNeighbors {
+  std::vector<int> start;  // #V + 1
+  std::vector<int> far;
+};
+
+UpperNeighbors ComputeUpperNeighbors(const Mesh& mesh, int num_threads) {
+  const int num_vertices = mesh.num_vertices(), num_faces = mesh.num_faces();
+  // Face f's sides (a, b), a != b, as (lower end, far end).
+  auto sides = [&mesh](int64_t f, const auto& push) {
+    for (int c = 0; c < 3; ++c) {
+      const int a = mesh.faces(c, f), b = mesh.faces((c + 1) % 3, f);
+      if (a != b) push(std::min(a, b), std::max(a, b));
+    }
+  };
+  std::vector<int> start(num_vertices + 1, 0);
+  OrderedScatter(num_faces, num_threads, sides, [&](int a, int) { ++start[a + 1]; });
+  InclusiveScan(start.data(), start.size(), num_threads);
   std::vector<int> far_end(start[num_vertices]);
   {
     std::vector<int> fill(start.begin(), start.end() - 1);
-    for (int f = 0; f < mesh.num_faces(); ++f) {
-      for (int c = 0; c < 3; ++c) {
-        const int a = mesh.faces(c, f), b = mesh.faces((c + 1) % 3, f);
-        if (a != b) far_end[fill[std::min(a, b)]++] = std::max(a, b);
-      }
-    }
+    OrderedScatter(num_faces, num_threads, sides,
+                   [&](int a, int b) { far_end[fill[a]++] = b; });
   }
-  std::vector<std::pair<int, int>> edges;
-  edges.reserve(far_end.size() / 2 + 1);
+  // Sort each group and count its distinct far ends, then copy them down.
+  UpperNeighbors upper;
+  upper.start.assign(num_vertices + 1, 0);
+  const int vertex_threads = ThreadsFor(num_threads, num_vertices);
+#pragma omp parallel for num_threads(vertex_threads) schedule(static)
   for (int a = 0; a < num_vertices; ++a) {
     const auto first = far_end.begin() + start[a], last = far_end.begin() + start[a + 1];
     std::sort(first, last);
-    for (auto it = first; it != last; ++it) {
-      if (it == first || *it != *(it - 1)) edges.emplace_back(a, *it);
-    }
+    upper.start[a + 1] = static_cast<int>(std::unique(first, last) - first);
+  }
+  InclusiveScan(upper.start.data(), upper.start.size(), num_threads);
+  upper.far.resize(upper.start[num_vertices]);
+#pragma omp parallel for num_threads(vertex_threads) schedule(static)
+  for (int a = 0; a < num_vertices; ++a) {
+    std::copy(far_end.begin() + start[a],
+              far_end.begin() + start[a] + (upper.start[a + 1] - upper.start[a]),
+              upper.far.begin() + upper.start[a]);
+  }
+  return upper;
+}
+
+}  // namespace
+
+Eigen::AlignedBox3d BoundingBox(const Mesh& mesh, int num_threads) {
+  // Boxes of fixed blocks merged in block order: min and max are exact, and
+  // the blocks do not depend on the threads.
+  constexpr int kBlock = 1 << 14;
+  const int n = mesh.num_vertices();
+  const int num_blocks = (n + kBlock - 1) / kBlock;
+  std::vector<Eigen::AlignedBox3d> blocks(num_blocks);
+#pragma omp parallel for num_threads(ThreadsFor(num_threads, n)) schedule(static)
+  for (int b = 0; b < num_blocks; ++b) {
+    const int end = std::min(n, (b + 1) * kBlock);
+    for (int v = b * kBlock; v < end; ++v) blocks[b].extend(mesh.vertices.col(v));
+  }
+  Eigen::AlignedBox3d box;
+  for (const Eigen::AlignedBox3d& block : blocks) box.extend(block);
+  return box;
+}
+
+double BoundingBoxDiagonal(const Mesh& mesh, int num_threads) {
+  if (mesh.num_vertices() == 0) return 0.0;
+  return BoundingBox(mesh, num_threads).diagonal().norm();
+}
+
+std::vector<std::pair<int, int>> UniqueEdges(const Mesh& mesh, int num_threads) {
+  const UpperNeighbors upper = ComputeUpperNeighbors(mesh, num_threads);
+  const int num_vertices = mesh.num_vertices();
+  std::vector<std::pair<int, int>> edges(upper.far.size());
+#pragma omp parallel for num_threads(ThreadsFor(num_threads, num_vertices)) schedule(static)
+  for (int a = 0; a < num_vertices; ++a) {
+    for (int i = upper.start[a]; i < upper.start[a + 1]; ++i) edges[i] = {a, upper.far[i]};
   }
   return edges;
 }
 
-VertexAdjacency ComputeVertexAdjacency(const Mesh& mesh) {
-  const std::vector<std::pair<int, int>> edges = UniqueEdges(mesh);
+VertexAdjacency ComputeVertexAdjacency(const Mesh& mesh, int num_threads) {
+  // Row v: its lower neighbours (from the upper lists of the vertices below
+  // v, taken in ascending order), then its upper neighbours: ascending.
+  const UpperNeighbors upper = ComputeUpperNeighbors(mesh, num_threads);
+  const int num_vertices = mesh.num_vertices();
+  const int threads = ThreadsFor(num_threads, num_vertices);
+  // Vertex a's upper edges (b, a), keyed by b.
+  auto lower_ends = [&upper](int64_t a, const auto& push) {
+    for (int i = upper.start[a]; i < upper.start[a + 1]; ++i) push(upper.far[i], a);
+  };
+  std::vector<int> num_lower(num_vertices, 0);
+  OrderedScatter(num_vertices, num_threads, lower_ends, [&](int b, int) { ++num_lower[b]; });
   VertexAdjacency adjacency;
-  adjacency.offsets.assign(mesh.num_vertices() + 1, 0);
-  for (const auto& [a, b] : edges) {
-    ++adjacency.offsets[a + 1];
-    ++adjacency.offsets[b + 1];
+  adjacency.offsets.assign(num_vertices + 1, 0);
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int v = 0; v < num_vertices; ++v) {
+    adjacency.offsets[v + 1] = num_lower[v] + upper.start[v + 1] - upper.start[v];
   }
-  std::partial_sum(adjacency.offsets.begin(), adjacency.offsets.end(),
-                   adjacency.offsets.begin());
+  InclusiveScan(adjacency.offsets.data(), adjacency.offsets.size(), num_threads);
   adjacency.neighbors.resize(adjacency.offsets.back());
-  std::vector<int> fill(adjacency.offsets.begin(), adjacency.offsets.end() - 1);
-  // Edges are sorted by (a, b), so each vertex's list comes out sorted for the
-  // a-side; sort once at the end to cover the b-side too.
-  for (const auto& [a, b] : edges) {
-    adjacency.neighbors[fill[a]++] = b;
-    adjacency.neighbors[fill[b]++] = a;
+  std::vector<int>& fill = num_lower;  // from here: the next free lower slot of each row
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int v = 0; v < num_vertices; ++v) {
+    const int lower = fill[v];
+    fill[v] = adjacency.offsets[v];
+    std::copy(upper.far.begin() + upper.start[v], upper.far.begin() + upper.start[v + 1],
+              adjacency.neighbors.begin() + adjacency.offsets[v] + lower);
   }
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    std::sort(adjacency.neighbors.begin() + adjacency.offsets[v],
-              adjacency.neighbors.begin() + adjacency.offsets[v + 1]);
-  }
+  OrderedScatter(num_vertices, num_threads, lower_ends,
+                 [&](int b, int a) { adjacency.neighbors[fill[b]++] = a; });
   return adjacency;
 }
 
@@ -86,40 +222,132 @@ int FindRoot(std::vector<int>& parent, int v) {
   }
   return v;
 }
+
+// The same for a union-find that several threads update. A parent is never
+// larger than its child and only ever moves up its tree, so a stale read is
+// still an ancestor and path halving may store it without a compare.
+int FindRoot(std::atomic<int>* parent, int v) {
+  int up = parent[v].load(std::memory_order_relaxed);
+  while (up != v) {
+    const int grand = parent[up].load(std::memory_order_relaxed);
+    if (grand != up) parent[v].store(grand, std::memory_order_relaxed);
+    v = grand;
+    up = parent[v].load(std::memory_order_relaxed);
+  }
+  return v;
+}
+
+// Links the larger root under the smaller, so every root stays the smallest
+// vertex of its tree. A failed compare means another thread linked it first.
+void Unite(std::atomic<int>* parent, int a, int b) {
+  while (true) {
+    a = FindRoot(parent, a);
+    b = FindRoot(parent, b);
+    if (a == b) return;
+    if (a < b) std::swap(a, b);
+    int expected = a;
+    if (parent[a].compare_exchange_strong(expected, b, std::memory_order_relaxed)) return;
+  }
+}
 }  // namespace
 
-Components ConnectedComponents(const Mesh& mesh) {
-  const int n = mesh.num_vertices();
-  std::vector<int> parent(n);
-  std::iota(parent.begin(), parent.end(), 0);
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    for (int c = 1; c < 3; ++c) {
-      int a = FindRoot(parent, mesh.faces(0, f));
-      int b = FindRoot(parent, mesh.faces(c, f));
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
-  }
+Components ConnectedComponents(const Mesh& mesh, int num_threads) {
+  const int n = mesh.num_vertices(), num_faces = mesh.num_faces();
   Components components;
-  components.component_of_vertex.assign(n, -1);
-  std::vector<int> id_of_root(n, -1);
-  for (int v = 0; v < n; ++v) {
-    int root = FindRoot(parent, v);
-    if (id_of_root[root] < 0) id_of_root[root] = components.count++;
-    components.component_of_vertex[v] = id_of_root[root];
+  const int threads = ThreadsFor(num_threads, std::max(n, num_faces));
+  if (threads == 1) {
+    std::vector<int> parent(n);
+    std::iota(parent.begin(), parent.end(), 0);
+    for (int f = 0; f < num_faces; ++f) {
+      for (int c = 1; c < 3; ++c) {
+        int a = FindRoot(parent, mesh.faces(0, f));
+        int b = FindRoot(parent, mesh.faces(c, f));
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+      }
+    }
+    components.component_of_vertex.assign(n, -1);
+    std::vector<int> id_of_root(n, -1);
+    for (int v = 0; v < n; ++v) {
+      int root = FindRoot(parent, v);
+      if (id_of_root[root] < 0) id_of_root[root] = components.count++;
+      components.component_of_vertex[v] = id_of_root[root];
+    }
+    return components;
+  }
+  // Each component's root is its smallest vertex (Unite), and components are
+  // numbered in the order of their roots: the numbering above, whatever the
+  // order in which the threads linked the trees.
+  std::unique_ptr<std::atomic<int>[]> parent(new std::atomic<int>[n]);
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int v = 0; v < n; ++v) parent[v].store(v, std::memory_order_relaxed);
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int f = 0; f < num_faces; ++f) {
+    Unite(parent.get(), mesh.faces(0, f), mesh.faces(1, f));
+    Unite(parent.get(), mesh.faces(0, f), mesh.faces(2, f));
+  }
+  std::vector<int>& component = components.component_of_vertex;
+  component.resize(n);
+  std::vector<int> roots_before(threads + 1, 0);
+#pragma omp parallel num_threads(threads)
+  {
+    const int t = omp_get_thread_num(), team = omp_get_num_threads();
+    const int lo = static_cast<int>(static_cast<int64_t>(n) * t / team);
+    const int hi = static_cast<int>(static_cast<int64_t>(n) * (t + 1) / team);
+    int roots = 0;
+    for (int v = lo; v < hi; ++v) {
+      component[v] = FindRoot(parent.get(), v);
+      roots += component[v] == v;
+    }
+    roots_before[t + 1] = roots;
+#pragma omp barrier
+#pragma omp single
+    {
+      std::partial_sum(roots_before.begin(), roots_before.end(), roots_before.begin());
+      components.count = roots_before[team];
+    }
+    // Roots now hold their component's number instead of themselves.
+    int id = roots_before[t];
+    for (int v = lo; v < hi; ++v) {
+      if (component[v] == v) parent[v].store(id++, std::memory_order_relaxed);
+    }
+#pragma omp barrier
+    for (int v = lo; v < hi; ++v) {
+      component[v] = parent[component[v]].load(std::memory_order_relaxed);
+    }
   }
   return components;
 }
 
-Eigen::Matrix3Xd VertexNormals(const Mesh& mesh) {
-  Eigen::Matrix3Xd normals = Eigen::Matrix3Xd::Zero(3, mesh.num_vertices());
-  for (int f = 0; f < mesh.num_faces(); ++f) {
+Eigen::Matrix3Xd VertexNormals(const Mesh& mesh, int num_threads) {
+  const int num_vertices = mesh.num_vertices(), num_faces = mesh.num_faces();
+  Eigen::Matrix3Xd normals = Eigen::Matrix3Xd::Zero(3, num_vertices);
+  auto area_normal = [&mesh](int f) -> Eigen::Vector3d {
     const Eigen::Vector3d a = mesh.vertices.col(mesh.faces(0, f));
     const Eigen::Vector3d b = mesh.vertices.col(mesh.faces(1, f));
     const Eigen::Vector3d c = mesh.vertices.col(mesh.faces(2, f));
-    const Eigen::Vector3d area_normal = (b - a).cross(c - a);  // 2 x area.
-    for (int k = 0; k < 3; ++k) normals.col(mesh.faces(k, f)) += area_normal;
+    return (b - a).cross(c - a);  // 2 x area.
+  };
+  const int threads = ThreadsFor(num_threads, num_faces);
+  if (threads == 1) {
+    for (int f = 0; f < num_faces; ++f) {
+      const Eigen::Vector3d term = area_normal(f);
+      for (int k = 0; k < 3; ++k) normals.col(mesh.faces(k, f)) += term;
+    }
+  } else {
+    // A vertex's terms are added in face order, as on one thread, so the
+    // sums are the same bits: the face's term is computed once per block
+    // and handed to the threads owning its corners (OrderedScatter).
+    std::vector<Eigen::Vector3d> block_terms(kScatterBlock);
+    OrderedScatter(
+        num_faces, num_threads,
+        [&](int64_t f, const auto& push) {
+          block_terms[f % kScatterBlock] = area_normal(static_cast<int>(f));
+          for (int k = 0; k < 3; ++k) push(mesh.faces(k, f), static_cast<int>(f % kScatterBlock));
+        },
+        [&](int v, int i) { normals.col(v) += block_terms[i]; });
   }
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
+#pragma omp parallel for num_threads(ThreadsFor(num_threads, num_vertices)) schedule(static)
+  for (int v = 0; v < num_vertices; ++v) {
     const double norm = normals.col(v).norm();
     if (norm > 0.0) normals.col(v) /= norm;
   }
