@@ -30,17 +30,19 @@ bool Precompute::Build(const Mesh& mesh, const DeformerOptions& options, std::st
   }
   {
     ScopedStage stage(&stages_, "normals");
-    rest_normals_ = VertexNormals(mesh_);
+    rest_normals_ = VertexNormals(mesh_, options_.num_threads);
   }
   {
     ScopedStage stage(&stages_, "components");
-    components_ = ConnectedComponents(mesh_);
-    diagonal_ = BoundingBoxDiagonal(mesh_);
+    components_ = ConnectedComponents(mesh_, options_.num_threads);
+    diagonal_ = BoundingBoxDiagonal(mesh_, options_.num_threads);
   }
   // The lattice's split_cells test reads the same normals and components.
   {
     ScopedStage stage(&stages_, "lattice");
-    if (!Lattice::Build(mesh_, options_.lattice, rest_normals_, components_, &lattice_, error)) {
+    LatticeOptions lattice = options_.lattice;
+    lattice.num_threads = options_.num_threads;
+    if (!Lattice::Build(mesh_, lattice, rest_normals_, components_, &lattice_, error)) {
       return false;
     }
   }
