@@ -9,6 +9,7 @@
 #include <memory>
 #include <numeric>
 #include <sstream>
+#include <thread>
 
 namespace msdeform {
 namespace {
@@ -46,6 +47,33 @@ void InclusiveScan(T* data, int64_t n, int num_threads) {
   }
 }
 
+// A barrier for a team whose threads wait by yielding their core after a
+// short spin. OpenMP's barrier spins for milliseconds first, which on a
+// machine busy with other work kept a suspended team mate from the core it
+// waited for: the scatter below, with its two barriers a block, then ran ten
+// times slower.
+class YieldingBarrier {
+ public:
+  explicit YieldingBarrier(int count) : count_(count) {}
+  // `sense`: the calling thread's own flag, false before its first wait.
+  void Wait(bool* sense) {
+    *sense = !*sense;
+    if (arrived_.fetch_add(1, std::memory_order_acq_rel) == count_ - 1) {
+      arrived_.store(0, std::memory_order_relaxed);
+      released_.store(*sense, std::memory_order_release);
+      return;
+    }
+    for (int spin = 0; released_.load(std::memory_order_acquire) != *sense; ++spin) {
+      if (spin >= 100) std::this_thread::yield();
+    }
+  }
+
+ private:
+  const int count_;
+  std::atomic<int> arrived_{0};
+  std::atomic<bool> released_{false};
+};
+
 // Hands keyed values from items to the threads that own the keys, in item
 // order: emit(i, push) calls push(key, value) for item i, and consume(key,
 // value) then sees, for each key, the values pushed for it in the order of
@@ -54,94 +82,133 @@ void InclusiveScan(T* data, int64_t n, int num_threads) {
 // (hash(r) * team) >> 32: spread evenly whatever the keys' order), so each
 // thread writes only its own keys' data and no key's updates race or change
 // order.
-// The items go in blocks of kScatterBlock (i / kScatterBlock is the block of
-// item i): in each block every thread emits from one slice of it, then every
-// thread consumes its keys' values, slice by slice.
-constexpr int kScatterBlock = 1 << 18;
+// The items go in blocks of at least kMinScatterBlock items, and at most
+// kMaxScatterBlocks of them: in each block every thread emits from one slice
+// of it, then every thread consumes its keys' values, slice by slice. Each
+// block costs two barriers, where a thread that the system suspends holds up
+// the others: on a busy 2-core machine, blocks of 8K items (600 per pass for
+// the 1.66M armadillo's adjacency) once took 1.8 s where 0.1 s is usual
+// (with OpenMP's barrier; YieldingBarrier). The
+// buffers hold one block (10 MB a thread for the 1.66M armadillo's normals on
+// 2 threads, 3 MB for its edges).
+constexpr int64_t kMinScatterBlock = 1 << 15;
+constexpr int64_t kMaxScatterBlocks = 16;
 
-template <typename Emit, typename Consume>
-void OrderedScatter(int64_t num_items, int num_threads, const Emit& emit,
+template <typename Value, int kMaxPushes, typename EmitRange, typename Consume>
+void OrderedScatter(int64_t num_items, int num_threads, const EmitRange& emit_range,
                     const Consume& consume) {
   const int threads = ThreadsFor(num_threads, num_items);
   if (threads == 1) {
-    for (int64_t i = 0; i < num_items; ++i) emit(i, consume);
+    emit_range(0, num_items, consume);
     return;
   }
   constexpr int kRunBits = 8;  // kRun = 256 keys
-  // (*values[slice])[owner]: (key, value), in item order. Each thread's lists
-  // are its own allocations: list headers of two threads on one cache line
-  // made every push a cache miss.
-  std::vector<std::vector<std::vector<std::pair<int, int>>>*> values(threads);
+  using Entry = std::pair<int, Value>;
+  const int64_t block =
+      std::max(kMinScatterBlock, (num_items + kMaxScatterBlocks - 1) / kMaxScatterBlocks);
+  // Thread t's entries for owner o: (*buffers[t])[o * capacity ..], (*ends[t])[o]
+  // of them. Each thread's arrays are its own allocations (two threads'
+  // counters on one cache line made every push a cache miss).
+  std::vector<std::vector<Entry>*> buffers(threads);
+  std::vector<std::vector<Entry*>*> ends(threads);
+  std::unique_ptr<YieldingBarrier> barrier;
 #pragma omp parallel num_threads(threads)
   {
     const int t = omp_get_thread_num(), team = omp_get_num_threads();
-    std::vector<std::vector<std::pair<int, int>>> own(team);
-    values[t] = &own;
-    auto push = [&own, team](int key, int value) {
+#pragma omp single
+    barrier = std::make_unique<YieldingBarrier>(team);
+    bool sense = false;
+    const int64_t capacity = (block / team + 1) * kMaxPushes;
+    std::vector<Entry> own(capacity * team);
+    std::vector<Entry*> end(team);
+    buffers[t] = &own;
+    ends[t] = &end;
+    Entry** const end_of = end.data();
+    auto push = [end_of, team](int key, const Value& value) {
       const uint32_t hash = static_cast<uint32_t>(key >> kRunBits) * 2654435761u;
-      own[(static_cast<uint64_t>(hash) * team) >> 32].emplace_back(key, value);
+      Entry*& slot = end_of[(static_cast<uint64_t>(hash) * team) >> 32];
+      slot->first = key;
+      slot->second = value;
+      ++slot;
     };
-    for (int64_t begin = 0; begin < num_items; begin += kScatterBlock) {
-      const int64_t size = std::min<int64_t>(kScatterBlock, num_items - begin);
-      for (auto& list : own) list.clear();
-      for (int64_t i = begin + size * t / team; i < begin + size * (t + 1) / team; ++i) {
-        emit(i, push);
-      }
-#pragma omp barrier
+    for (int64_t begin = 0; begin < num_items; begin += block) {
+      const int64_t size = std::min(block, num_items - begin);
+      for (int o = 0; o < team; ++o) end[o] = own.data() + o * capacity;
+      emit_range(begin + size * t / team, begin + size * (t + 1) / team, push);
+      barrier->Wait(&sense);
       for (int slice = 0; slice < team; ++slice) {
-        for (const auto& [key, value] : (*values[slice])[t]) consume(key, value);
+        const Entry* entry = buffers[slice]->data() + t * capacity;
+        for (const Entry* last = (*ends[slice])[t]; entry != last; ++entry) {
+          consume(entry->first, entry->second);
+        }
       }
-#pragma omp barrier
+      barrier->Wait(&sense);
     }
   }
 }
 
+// Sorts a short run in place (rows of a mesh's adjacency: about six):
+// insertion sort, where std::sort's call cost per row was most of the time.
+inline void SortShort(int* first, int* last) {
+  if (last - first > 16) {
+    std::sort(first, last);
+    return;
+  }
+  for (int* i = first + 1; i < last; ++i) {
+    const int value = *i;
+    int* j = i;
+    for (; j > first && *(j - 1) > value; --j) *j = *(j - 1);
+    *j = value;
+  }
+}
+
 // The upper neighbours of every vertex, deduplicated and sorted: the far
-// ends b > a of the edges (a, b) are far[start[a] .. start[a + 1]). The far
-// ends are grouped by the lower end (a counting sort), then each small group
-// is sorted and deduplicated: linear time, where one sort of all 3 #F pairs
-// took most of a second on a 1.7M-vertex mesh. Every step's result is the
-// same whatever the threads (groups are sorted after filling).
+// ends b > a of the edges (a, b) are far[start[a] .. start[a] + size[a]) (a
+// row keeps the room of its repeats). The far ends are grouped by the lower
+// end (a counting sort), then each small group is sorted and deduplicated:
+// linear time, where one sort of all 3 #F pairs took most of a second on a
+// 1.7M-vertex mesh. Every step's result is the same whatever the threads
+// (groups are sorted after filling). The large array is left uninitialised
+// and first written by the threads: zeroing it on one thread (and its page
+// faults) was a serial part as long as the parallel ones.
 struct UpperNeighbors {
-  std::vector<int> start;  // #V + 1
-  std::vector<int> far;
+  std::vector<int> start;      // #V + 1
+  std::vector<int> size;       // #V
+  std::unique_ptr<int[]> far;  // start[#V]
 };
 
 UpperNeighbors ComputeUpperNeighbors(const Mesh& mesh, int num_threads) {
   const int num_vertices = mesh.num_vertices(), num_faces = mesh.num_faces();
-  // Face f's sides (a, b), a != b, as (lower end, far end).
-  auto sides = [&mesh](int64_t f, const auto& push) {
-    for (int c = 0; c < 3; ++c) {
-      const int a = mesh.faces(c, f), b = mesh.faces((c + 1) % 3, f);
-      if (a != b) push(std::min(a, b), std::max(a, b));
+  // The faces' sides (a, b), a != b, as (lower end, far end).
+  auto sides = [&mesh](int64_t begin, int64_t end, const auto& push) {
+    for (int64_t f = begin; f < end; ++f) {
+      for (int c = 0; c < 3; ++c) {
+        const int a = mesh.faces(c, f), b = mesh.faces((c + 1) % 3, f);
+        if (a != b) push(std::min(a, b), std::max(a, b));
+      }
     }
   };
-  std::vector<int> start(num_vertices + 1, 0);
-  OrderedScatter(num_faces, num_threads, sides, [&](int a, int) { ++start[a + 1]; });
-  InclusiveScan(start.data(), start.size(), num_threads);
-  std::vector<int> far_end(start[num_vertices]);
-  {
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    OrderedScatter(num_faces, num_threads, sides,
-                   [&](int a, int b) { far_end[fill[a]++] = b; });
-  }
-  // Sort each group and count its distinct far ends, then copy them down.
   UpperNeighbors upper;
-  upper.start.assign(num_vertices + 1, 0);
+  std::vector<int>& start = upper.start;
+  start.assign(num_vertices + 1, 0);
+  OrderedScatter<int, 3>(num_faces, num_threads, sides, [&](int a, int) { ++start[a + 1]; });
+  InclusiveScan(start.data(), start.size(), num_threads);
   const int vertex_threads = ThreadsFor(num_threads, num_vertices);
+  upper.far.reset(new int[start[num_vertices]]);
+  {
+    std::unique_ptr<int[]> fill(new int[num_vertices]);
 #pragma omp parallel for num_threads(vertex_threads) schedule(static)
-  for (int a = 0; a < num_vertices; ++a) {
-    const auto first = far_end.begin() + start[a], last = far_end.begin() + start[a + 1];
-    std::sort(first, last);
-    upper.start[a + 1] = static_cast<int>(std::unique(first, last) - first);
+    for (int a = 0; a < num_vertices; ++a) fill[a] = start[a];
+    OrderedScatter<int, 3>(num_faces, num_threads, sides,
+                           [&](int a, int b) { upper.far[fill[a]++] = b; });
   }
-  InclusiveScan(upper.start.data(), upper.start.size(), num_threads);
-  upper.far.resize(upper.start[num_vertices]);
+  upper.size.resize(num_vertices);
 #pragma omp parallel for num_threads(vertex_threads) schedule(static)
   for (int a = 0; a < num_vertices; ++a) {
-    std::copy(far_end.begin() + start[a],
-              far_end.begin() + start[a] + (upper.start[a + 1] - upper.start[a]),
-              upper.far.begin() + upper.start[a]);
+    int* const first = upper.far.get() + start[a];
+    int* const last = upper.far.get() + start[a + 1];
+    SortShort(first, last);
+    upper.size[a] = static_cast<int>(std::unique(first, last) - first);
   }
   return upper;
 }
@@ -173,10 +240,17 @@ double BoundingBoxDiagonal(const Mesh& mesh, int num_threads) {
 std::vector<std::pair<int, int>> UniqueEdges(const Mesh& mesh, int num_threads) {
   const UpperNeighbors upper = ComputeUpperNeighbors(mesh, num_threads);
   const int num_vertices = mesh.num_vertices();
-  std::vector<std::pair<int, int>> edges(upper.far.size());
-#pragma omp parallel for num_threads(ThreadsFor(num_threads, num_vertices)) schedule(static)
+  const int threads = ThreadsFor(num_threads, num_vertices);
+  std::vector<int> first_edge(num_vertices + 1, 0);
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int a = 0; a < num_vertices; ++a) first_edge[a + 1] = upper.size[a];
+  InclusiveScan(first_edge.data(), first_edge.size(), num_threads);
+  std::vector<std::pair<int, int>> edges(first_edge[num_vertices]);
+#pragma omp parallel for num_threads(threads) schedule(static)
   for (int a = 0; a < num_vertices; ++a) {
-    for (int i = upper.start[a]; i < upper.start[a + 1]; ++i) edges[i] = {a, upper.far[i]};
+    for (int i = 0; i < upper.size[a]; ++i) {
+      edges[first_edge[a] + i] = {a, upper.far[upper.start[a] + i]};
+    }
   }
   return edges;
 }
@@ -187,17 +261,26 @@ VertexAdjacency ComputeVertexAdjacency(const Mesh& mesh, int num_threads) {
   const UpperNeighbors upper = ComputeUpperNeighbors(mesh, num_threads);
   const int num_vertices = mesh.num_vertices();
   const int threads = ThreadsFor(num_threads, num_vertices);
-  // Vertex a's upper edges (b, a), keyed by b.
-  auto lower_ends = [&upper](int64_t a, const auto& push) {
-    for (int i = upper.start[a]; i < upper.start[a + 1]; ++i) push(upper.far[i], a);
+  // The upper edges (a, b), entries i of upper.far (but a row's repeats),
+  // as (b, a).
+  auto lower_ends = [&upper, num_vertices](int64_t begin, int64_t end, const auto& push) {
+    int a = static_cast<int>(std::upper_bound(upper.start.begin(),
+                                              upper.start.begin() + num_vertices + 1, begin) -
+                             upper.start.begin()) - 1;
+    for (int64_t i = begin; i < end; ++i) {
+      while (upper.start[a + 1] <= i) ++a;
+      if (i < upper.start[a] + upper.size[a]) push(upper.far[i], a);
+    }
   };
   std::vector<int> num_lower(num_vertices, 0);
-  OrderedScatter(num_vertices, num_threads, lower_ends, [&](int b, int) { ++num_lower[b]; });
+  const int64_t num_entries = upper.start[num_vertices];
+  OrderedScatter<int, 1>(num_entries, num_threads, lower_ends,
+                         [&](int b, int) { ++num_lower[b]; });
   VertexAdjacency adjacency;
   adjacency.offsets.assign(num_vertices + 1, 0);
 #pragma omp parallel for num_threads(threads) schedule(static)
   for (int v = 0; v < num_vertices; ++v) {
-    adjacency.offsets[v + 1] = num_lower[v] + upper.start[v + 1] - upper.start[v];
+    adjacency.offsets[v + 1] = num_lower[v] + upper.size[v];
   }
   InclusiveScan(adjacency.offsets.data(), adjacency.offsets.size(), num_threads);
   adjacency.neighbors.resize(adjacency.offsets.back());
@@ -206,11 +289,11 @@ VertexAdjacency ComputeVertexAdjacency(const Mesh& mesh, int num_threads) {
   for (int v = 0; v < num_vertices; ++v) {
     const int lower = fill[v];
     fill[v] = adjacency.offsets[v];
-    std::copy(upper.far.begin() + upper.start[v], upper.far.begin() + upper.start[v + 1],
+    std::copy(upper.far.get() + upper.start[v], upper.far.get() + upper.start[v] + upper.size[v],
               adjacency.neighbors.begin() + adjacency.offsets[v] + lower);
   }
-  OrderedScatter(num_vertices, num_threads, lower_ends,
-                 [&](int b, int a) { adjacency.neighbors[fill[b]++] = a; });
+  OrderedScatter<int, 1>(num_entries, num_threads, lower_ends,
+                         [&](int b, int a) { adjacency.neighbors[fill[b]++] = a; });
   return adjacency;
 }
 
@@ -320,7 +403,9 @@ Components ConnectedComponents(const Mesh& mesh, int num_threads) {
 
 Eigen::Matrix3Xd VertexNormals(const Mesh& mesh, int num_threads) {
   const int num_vertices = mesh.num_vertices(), num_faces = mesh.num_faces();
-  Eigen::Matrix3Xd normals = Eigen::Matrix3Xd::Zero(3, num_vertices);
+  Eigen::Matrix3Xd normals(3, num_vertices);  // zeroed by the threads below
+#pragma omp parallel for num_threads(ThreadsFor(num_threads, num_vertices)) schedule(static)
+  for (int v = 0; v < num_vertices; ++v) normals.col(v).setZero();
   auto area_normal = [&mesh](int f) -> Eigen::Vector3d {
     const Eigen::Vector3d a = mesh.vertices.col(mesh.faces(0, f));
     const Eigen::Vector3d b = mesh.vertices.col(mesh.faces(1, f));
@@ -335,16 +420,17 @@ Eigen::Matrix3Xd VertexNormals(const Mesh& mesh, int num_threads) {
     }
   } else {
     // A vertex's terms are added in face order, as on one thread, so the
-    // sums are the same bits: the face's term is computed once per block
-    // and handed to the threads owning its corners (OrderedScatter).
-    std::vector<Eigen::Vector3d> block_terms(kScatterBlock);
-    OrderedScatter(
+    // sums are the same bits: each face's term goes to the threads owning
+    // its corners (OrderedScatter).
+    OrderedScatter<Eigen::Vector3d, 3>(
         num_faces, num_threads,
-        [&](int64_t f, const auto& push) {
-          block_terms[f % kScatterBlock] = area_normal(static_cast<int>(f));
-          for (int k = 0; k < 3; ++k) push(mesh.faces(k, f), static_cast<int>(f % kScatterBlock));
+        [&](int64_t begin, int64_t end, const auto& push) {
+          for (int64_t f = begin; f < end; ++f) {
+            const Eigen::Vector3d term = area_normal(static_cast<int>(f));
+            for (int k = 0; k < 3; ++k) push(mesh.faces(k, f), term);
+          }
         },
-        [&](int v, int i) { normals.col(v) += block_terms[i]; });
+        [&](int v, const Eigen::Vector3d& term) { normals.col(v) += term; });
   }
 #pragma omp parallel for num_threads(ThreadsFor(num_threads, num_vertices)) schedule(static)
   for (int v = 0; v < num_vertices; ++v) {
