@@ -75,24 +75,24 @@ class YieldingBarrier {
 };
 
 // Hands keyed values from items to the threads that own the keys, in item
-// order: emit(i, push) calls push(key, value) for item i, and consume(key,
-// value) then sees, for each key, the values pushed for it in the order of
-// the items (and of the pushes of one item), as one thread looping over the
-// items would. Keys are dealt to the threads in runs of kRun (run r to thread
-// (hash(r) * team) >> 32: spread evenly whatever the keys' order), so each
-// thread writes only its own keys' data and no key's updates race or change
-// order.
-// The items go in blocks of at least kMinScatterBlock items, and at most
-// kMaxScatterBlocks of them: in each block every thread emits from one slice
-// of it, then every thread consumes its keys' values, slice by slice. Each
-// block costs two barriers, where a thread that the system suspends holds up
-// the others: on a busy 2-core machine, blocks of 8K items (600 per pass for
-// the 1.66M armadillo's adjacency) once took 1.8 s where 0.1 s is usual
-// (with OpenMP's barrier; YieldingBarrier). The
-// buffers hold one block (10 MB a thread for the 1.66M armadillo's normals on
-// 2 threads, 3 MB for its edges).
-constexpr int64_t kMinScatterBlock = 1 << 15;
-constexpr int64_t kMaxScatterBlocks = 16;
+// order: emit_range(begin, end, push) calls push(key, value) for the items
+// begin .. end - 1 in turn (at most kMaxPushes times an item), and
+// consume(key, value) then sees, for each key, the values pushed for it in
+// the order of the items (and of the pushes of one item), as one thread
+// looping over the items would. Keys are dealt to the threads in runs of 256
+// (run r to thread (hash(r) * team) >> 32: spread evenly whatever the keys'
+// order), so each thread writes only its own keys' data and no key's updates
+// race or change order.
+// The items go in blocks: in each block every thread emits from one slice
+// of it, then every thread consumes its keys' values, slice by slice. A
+// block's entries take at most kScatterBlockBytes (and each thread keeps that
+// much room, for its slice's entries to any owner), so that they are still in
+// the cache when consumed: blocks of 10 MB a thread made the normals' scatter
+// 30% slower. Each block costs two barriers, where a thread that the system
+// suspends holds up the others: OpenMP's barrier, which spins for
+// milliseconds, made 600 blocks a pass ten times slower on a 2-core machine
+// busy with other work; YieldingBarrier gives the core up.
+constexpr int64_t kScatterBlockBytes = 2 << 20;
 
 template <typename Value, int kMaxPushes, typename EmitRange, typename Consume>
 void OrderedScatter(int64_t num_items, int num_threads, const EmitRange& emit_range,
@@ -104,8 +104,8 @@ void OrderedScatter(int64_t num_items, int num_threads, const EmitRange& emit_ra
   }
   constexpr int kRunBits = 8;  // kRun = 256 keys
   using Entry = std::pair<int, Value>;
-  const int64_t block =
-      std::max(kMinScatterBlock, (num_items + kMaxScatterBlocks - 1) / kMaxScatterBlocks);
+  const int64_t block = std::max<int64_t>(
+      4 * threads, kScatterBlockBytes / (kMaxPushes * static_cast<int64_t>(sizeof(Entry))));
   // Thread t's entries for owner o: (*buffers[t])[o * capacity ..], (*ends[t])[o]
   // of them. Each thread's arrays are its own allocations (two threads'
   // counters on one cache line made every push a cache miss).
@@ -148,7 +148,7 @@ void OrderedScatter(int64_t num_items, int num_threads, const EmitRange& emit_ra
 }
 
 // Sorts a short run in place (rows of a mesh's adjacency: about six):
-// insertion sort, where std::sort's call cost per row was most of the time.
+// insertion sort, cheaper than std::sort's set-up for rows this short.
 inline void SortShort(int* first, int* last) {
   if (last - first > 16) {
     std::sort(first, last);
