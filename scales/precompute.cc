@@ -80,7 +80,9 @@ bool Precompute::Build(const Mesh& mesh, const DeformerOptions& options, std::st
   if (options_.method == Method::kMultiScale) {
     ScopedStage stage(&stages_, "rigidity_init");
     rigidity_estimator_ = std::make_unique<RigidityEstimator>();
-    if (!rigidity_estimator_->Init(lattice_, options_.rigidity, error)) return false;
+    if (!rigidity_estimator_->Init(lattice_, options_.rigidity, error, options_.num_threads)) {
+      return false;
+    }
   }
   build_ms_ = MillisecondsSince(start);
   return true;
