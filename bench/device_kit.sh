@@ -43,8 +43,8 @@ cat > "$kit/run.sh" <<'EOF'
 # Reports: $OUT/<mesh stem>_t<threads>.json (OUT default /tmp/kit-out), and
 # $OUT/machine.txt (cores, CPU), $OUT/load_before.txt, $OUT/load_after.txt.
 set -euo pipefail
+OUT=$(realpath -m "${OUT:-/tmp/kit-out}")
 cd "$(dirname "$0")"
-OUT=${OUT:-/tmp/kit-out}
 threads=("$@")
 [[ ${#threads[@]} -gt 0 ]] || threads=(1 2 4 8 16)
 run() { ./lib/ld-linux-x86-64.so.2 --library-path ./lib "$@"; }
