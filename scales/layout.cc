@@ -6,6 +6,7 @@
 
 #include <glog/logging.h>
 
+#include "msdeform/core/parallel.h"
 #include "msdeform/core/timing.h"
 #include "msdeform/scales/node_classes.h"
 
@@ -108,6 +109,20 @@ bool Layout::Build(const HandleLayout& handles, std::string* error) {
   return true;
 }
 
+std::vector<int> Layout::FixedVerticesWithAFreeNode() const {
+  const std::vector<int>& fixed = handles_.fixed;
+  const std::vector<int> positions =
+      SelectIndices(static_cast<int>(fixed.size()), precompute_->options().num_threads,
+                    [&](int i) {
+                      const int v = fixed[i];
+                      return (still_vertices_.empty() || !still_vertices_[v]) &&
+                             SkinnedByAFreeNode(graph().weights, node_classes_, v);
+                    });
+  std::vector<int> vertices(positions.size());
+  for (size_t i = 0; i < positions.size(); ++i) vertices[i] = fixed[positions[i]];
+  return vertices;
+}
+
 int Layout::num_variables() const {
   int variables = 0;
   for (NodeClass node_class : node_classes_) {
@@ -124,20 +139,16 @@ bool Layout::FindSkinnedVertices(std::string* error) {
   // vertices of still components, also where a coarse node spans two
   // components (merged when no edge was left) and moves with the other one.
   const SkinningWeights& weights = graph().weights;
-  skinned_vertices_.clear();
-  for (int v = 0; v < weights.num_vertices(); ++v) {
-    if (!still_vertices_.empty() && still_vertices_[v]) continue;
-    if (SkinnedByAFreeNode(weights, node_classes_, v)) skinned_vertices_.push_back(v);
-  }
+  const int num_threads = precompute_->options().num_threads;
+  skinned_vertices_ = SelectIndices(weights.num_vertices(), num_threads, [&](int v) {
+    return (still_vertices_.empty() || !still_vertices_[v]) &&
+           SkinnedByAFreeNode(weights, node_classes_, v);
+  });
   skin_all_ = static_cast<int>(skinned_vertices_.size()) == weights.num_vertices();
   if (skin_all_) std::vector<int>().swap(skinned_vertices_);
 
   // Fixed vertices skinned only by Fixed nodes stay at rest exactly.
-  fixed_region_exact_ = true;
-  for (int v : handles_.fixed) {
-    if (!still_vertices_.empty() && still_vertices_[v]) continue;
-    if (SkinnedByAFreeNode(weights, node_classes_, v)) fixed_region_exact_ = false;
-  }
+  fixed_region_exact_ = FixedVerticesWithAFreeNode().empty();
 
   // A moveable-handle vertex that no non-Fixed node skins cannot follow the
   // handle: every frame would leave it at rest.
@@ -239,10 +250,11 @@ void Layout::BuildEnergy() {
   // component. The multi-scale method needs a term only where a fixed vertex
   // has a non-Fixed node (a Half Free rotation or a Totally Free neighbour
   // would carry it along); elsewhere it stays at rest exactly.
-  if (!multiscale || options.hold_fixed_vertices) {
+  if (multiscale && options.hold_fixed_vertices) {
+    for (int v : FixedVerticesWithAFreeNode()) add_position(v, false);
+  } else if (!multiscale) {
     for (int v : handles_.fixed) {
       if (!still_vertices_.empty() && still_vertices_[v]) continue;
-      if (multiscale && !SkinnedByAFreeNode(graph.weights, node_classes_, v)) continue;
       add_position(v, false);
     }
   }

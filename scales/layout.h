@@ -85,6 +85,9 @@ class Layout {
   bool Build(const HandleLayout& handles, std::string* error);
   void BuildEnergy();
   bool FindSkinnedVertices(std::string* error);
+  // The fixed-handle vertices outside still components that a non-Fixed node
+  // skins, in handles_.fixed's order (a free node would carry them along).
+  std::vector<int> FixedVerticesWithAFreeNode() const;
 
   std::shared_ptr<const Precompute> precompute_;
   HandleLayout handles_;

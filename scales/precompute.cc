@@ -6,6 +6,7 @@
 
 #include <glog/logging.h>
 
+#include "msdeform/core/parallel.h"
 #include "msdeform/core/timing.h"
 
 namespace msdeform {
@@ -26,7 +27,8 @@ bool Precompute::Build(const Mesh& mesh, const DeformerOptions& options, std::st
   stages_ = StageTimes();
   {
     ScopedStage stage(&stages_, "mesh_copy");
-    mesh_ = mesh;
+    CopyColumns(mesh.vertices, options_.num_threads, &mesh_.vertices);
+    CopyColumns(mesh.faces, options_.num_threads, &mesh_.faces);
   }
   {
     ScopedStage stage(&stages_, "normals");
@@ -80,7 +82,9 @@ bool Precompute::Build(const Mesh& mesh, const DeformerOptions& options, std::st
   if (options_.method == Method::kMultiScale) {
     ScopedStage stage(&stages_, "rigidity_init");
     rigidity_estimator_ = std::make_unique<RigidityEstimator>();
-    if (!rigidity_estimator_->Init(lattice_, options_.rigidity, error)) return false;
+    if (!rigidity_estimator_->Init(lattice_, options_.rigidity, error, options_.num_threads)) {
+      return false;
+    }
   }
   build_ms_ = MillisecondsSince(start);
   return true;

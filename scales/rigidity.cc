@@ -11,6 +11,7 @@
 #include <Eigen/SparseCore>
 #include <glog/logging.h>
 
+#include "msdeform/core/parallel.h"
 #include "msdeform/scales/polar_decomposition.h"
 
 namespace msdeform {
@@ -29,31 +30,46 @@ Eigen::Vector3d RandomDirection(std::uint64_t seed) {
   return Eigen::Vector3d(radius * std::cos(phi), radius * std::sin(phi), z);
 }
 
-// Regions R_i: i and its r-ring in `adjacency`, sorted.
-CompressedLists RingsOf(const CompressedLists& adjacency, int half_width) {
+// Particles a task of the per-particle loops takes (a few hundred
+// microseconds of work; the lattice has a few thousand particles).
+constexpr int64_t kParticleChunk = 256;
+
+// Regions R_i: i and its r-ring in `adjacency`, sorted; each chunk of
+// particles on its own, the chunks' lists joined in order.
+CompressedLists RingsOf(const CompressedLists& adjacency, int half_width, int num_threads) {
   const int n = adjacency.num_rows();
-  CompressedLists rings;
-  rings.offsets.assign(1, 0);
-  rings.offsets.reserve(n + 1);
-  std::vector<int> stamp(n, -1);
-  std::vector<int> ring;
-  for (int i = 0; i < n; ++i) {
-    ring.assign(1, i);
-    stamp[i] = i;
-    std::size_t front = 0;
-    for (int depth = 0; depth < half_width; ++depth) {
-      const std::size_t back = ring.size();
-      for (; front < back; ++front) {
-        for (const int* j = adjacency.begin(ring[front]); j != adjacency.end(ring[front]); ++j) {
-          if (stamp[*j] == i) continue;
-          stamp[*j] = i;
-          ring.push_back(*j);
+  std::vector<std::vector<int>> chunk_values(NumChunks(n, kParticleChunk));
+  std::vector<int64_t> sizes(n);
+  ForEachChunk(n, kParticleChunk, num_threads, [&](int64_t begin, int64_t end, int64_t c) {
+    std::vector<int> stamp(n, -1);
+    std::vector<int> ring;
+    for (int i = static_cast<int>(begin); i < end; ++i) {
+      ring.assign(1, i);
+      stamp[i] = i;
+      std::size_t front = 0;
+      for (int depth = 0; depth < half_width; ++depth) {
+        const std::size_t back = ring.size();
+        for (; front < back; ++front) {
+          for (const int* j = adjacency.begin(ring[front]); j != adjacency.end(ring[front]);
+               ++j) {
+            if (stamp[*j] == i) continue;
+            stamp[*j] = i;
+            ring.push_back(*j);
+          }
         }
       }
+      std::sort(ring.begin(), ring.end());
+      chunk_values[c].insert(chunk_values[c].end(), ring.begin(), ring.end());
+      sizes[i] = static_cast<int64_t>(ring.size());
     }
-    std::sort(ring.begin(), ring.end());
-    rings.values.insert(rings.values.end(), ring.begin(), ring.end());
-    rings.offsets.push_back(static_cast<int64_t>(rings.values.size()));
+  });
+  CompressedLists rings;
+  rings.offsets.resize(n + 1);
+  rings.offsets[0] = 0;
+  for (int i = 0; i < n; ++i) rings.offsets[i + 1] = rings.offsets[i] + sizes[i];
+  rings.values.reserve(rings.offsets[n]);
+  for (const std::vector<int>& values : chunk_values) {
+    rings.values.insert(rings.values.end(), values.begin(), values.end());
   }
   return rings;
 }
@@ -143,13 +159,14 @@ bool ParticlesOfVertices(const Lattice& lattice, const std::vector<int>& vertice
 }
 
 bool RigidityEstimator::Init(const Lattice& lattice, const RigidityOptions& options,
-                             std::string* error) {
+                             std::string* error, int num_threads) {
   if (!options.Check(error)) return false;
   if (lattice.num_particles() == 0) {
     *error = "the lattice has no particles";
     return false;
   }
   options_ = options;
+  num_threads_ = num_threads;
   const int n = lattice.num_particles();
   const int r = options.region_half_width;
   cell_width_ = lattice.cell_width();
@@ -157,33 +174,13 @@ bool RigidityEstimator::Init(const Lattice& lattice, const RigidityOptions& opti
             0.5 * cell_width_ * (lattice.dims() - Eigen::Vector3i::Ones()).cast<double>();
   rest_ = (lattice.rest_positions().colwise() - centre_) / cell_width_;
 
-  regions_ = RingsOf(lattice.particle_adjacency(), r);
+  regions_ = RingsOf(lattice.particle_adjacency(), r, num_threads_);
   adjacency_ = lattice.particle_adjacency();
-  // Goals average over the regions holding i, which are R_i itself only when
-  // membership is symmetric; the lattice adjacency is.
-  for (int i = 0; i < n; ++i) {
-    for (const int* j = regions_.begin(i); j != regions_.end(i); ++j) {
-      CHECK(std::binary_search(regions_.begin(*j), regions_.end(*j), i))
-          << "particle adjacency is not symmetric at " << i << ", " << *j;
-    }
-  }
   inverse_region_size_.resize(n);
   rest_centroids_.resize(3, n);
-  for (int i = 0; i < n; ++i) {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (const int* j = regions_.begin(i); j != regions_.end(i); ++j) sum += rest_.col(*j);
-    inverse_region_size_[i] = 1.0 / regions_.size(i);
-    rest_centroids_.col(i) = sum * inverse_region_size_[i];
-  }
-
   // Box summation: particles whose region is exactly the particles of their
   // (2r+1)^3 box sum plates of bars; the others sum their lists.
-  box_particles_.clear();
-  listed_particles_.clear();
-  bar_members_ = CompressedLists();
-  plate_members_ = CompressedLists();
-  box_members_ = CompressedLists();
-  for (int i = 0; i < n; ++i) {
+  auto is_box_region = [&](int i) {
     bool is_box = options.region_summation == RegionSummation::kBox;
     const Eigen::Vector3i& c = lattice.cell_coords(i);
     for (const int* j = regions_.begin(i); j != regions_.end(i) && is_box; ++j) {
@@ -199,7 +196,31 @@ bool RigidityEstimator::Init(const Lattice& lattice, const RigidityOptions& opti
           is_box = count <= 1;
           box_count += count;
         }
-    if (is_box && box_count == regions_.size(i)) {
+    return is_box && box_count == regions_.size(i);
+  };
+  std::vector<char> is_box_particle(n, 0);
+  ForEachChunk(n, kParticleChunk, num_threads_, [&](int64_t begin, int64_t end, int64_t) {
+    for (int i = static_cast<int>(begin); i < end; ++i) {
+      // Goals average over the regions holding i, which are R_i itself only
+      // when membership is symmetric; the lattice adjacency is.
+      for (const int* j = regions_.begin(i); j != regions_.end(i); ++j) {
+        CHECK(std::binary_search(regions_.begin(*j), regions_.end(*j), i))
+            << "particle adjacency is not symmetric at " << i << ", " << *j;
+      }
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      for (const int* j = regions_.begin(i); j != regions_.end(i); ++j) sum += rest_.col(*j);
+      inverse_region_size_[i] = 1.0 / regions_.size(i);
+      rest_centroids_.col(i) = sum * inverse_region_size_[i];
+      is_box_particle[i] = is_box_region(i);
+    }
+  });
+  box_particles_.clear();
+  listed_particles_.clear();
+  bar_members_ = CompressedLists();
+  plate_members_ = CompressedLists();
+  box_members_ = CompressedLists();
+  for (int i = 0; i < n; ++i) {
+    if (is_box_particle[i]) {
       box_particles_.push_back(i);
     } else {
       listed_particles_.push_back(i);
@@ -249,11 +270,19 @@ bool RigidityEstimator::Init(const Lattice& lattice, const RigidityOptions& opti
 }
 
 void RigidityEstimator::SumOverRegions(const Matrix12Xd& values, Matrix12Xd* sums) {
-  for (int i : listed_particles_) {
+  // Every column of every pass is a sum of its own, in the same order on any
+  // number of threads.
+  auto for_each = [this](int64_t count, auto&& body) {
+    ForEachChunk(count, kParticleChunk, num_threads_, [&](int64_t begin, int64_t end, int64_t) {
+      for (int64_t k = begin; k < end; ++k) body(static_cast<int>(k));
+    });
+  };
+  for_each(static_cast<int64_t>(listed_particles_.size()), [&](int k) {
+    const int i = listed_particles_[k];
     Vector12d sum = Vector12d::Zero();
     for (const int* j = regions_.begin(i); j != regions_.end(i); ++j) sum += values.col(*j);
     sums->col(i) = sum;
-  }
+  });
   if (box_particles_.empty()) return;
   // Separable (2r+1)-wide sums along x (bars), y (plates), z (boxes).
   auto sum_rows = [](const CompressedLists& members, const Matrix12Xd& in, int row) {
@@ -261,55 +290,60 @@ void RigidityEstimator::SumOverRegions(const Matrix12Xd& values, Matrix12Xd* sum
     for (const int* j = members.begin(row); j != members.end(row); ++j) sum += in.col(*j);
     return sum;
   };
-  for (int k = 0; k < bar_members_.num_rows(); ++k) {
-    bar_sums_.col(k) = sum_rows(bar_members_, values, k);
-  }
-  for (int k = 0; k < plate_members_.num_rows(); ++k) {
-    plate_sums_.col(k) = sum_rows(plate_members_, bar_sums_, k);
-  }
-  for (int k = 0; k < box_members_.num_rows(); ++k) {
+  for_each(bar_members_.num_rows(),
+           [&](int k) { bar_sums_.col(k) = sum_rows(bar_members_, values, k); });
+  for_each(plate_members_.num_rows(),
+           [&](int k) { plate_sums_.col(k) = sum_rows(plate_members_, bar_sums_, k); });
+  for_each(box_members_.num_rows(), [&](int k) {
     sums->col(box_particles_[k]) = sum_rows(box_members_, plate_sums_, k);
-  }
+  });
 }
 
 void RigidityEstimator::ComputeGoalsInLatticeUnits(const Eigen::Matrix3Xd& positions,
                                                    Eigen::Matrix3Xd* goals,
                                                    long long* iterations) {
   const int n = num_particles();
+  const int64_t num_chunks = NumChunks(n, kParticleChunk);
   // Per particle: x_j and vec(x_j x0_j^T) (column-major).
-  for (int j = 0; j < n; ++j) {
-    const Eigen::Vector3d x = positions.col(j);
-    const Eigen::Vector3d x0 = rest_.col(j);
-    particle_values_.col(j).head<3>() = x;
-    particle_values_.col(j).segment<3>(3) = x * x0.x();
-    particle_values_.col(j).segment<3>(6) = x * x0.y();
-    particle_values_.col(j).segment<3>(9) = x * x0.z();
-  }
+  ForEachChunk(n, kParticleChunk, num_threads_, [&](int64_t begin, int64_t end, int64_t) {
+    for (int64_t j = begin; j < end; ++j) {
+      const Eigen::Vector3d x = positions.col(j);
+      const Eigen::Vector3d x0 = rest_.col(j);
+      particle_values_.col(j).head<3>() = x;
+      particle_values_.col(j).segment<3>(3) = x * x0.x();
+      particle_values_.col(j).segment<3>(6) = x * x0.y();
+      particle_values_.col(j).segment<3>(9) = x * x0.z();
+    }
+  });
   SumOverRegions(particle_values_, &region_sums_);
   // Per region: A = sum x x0^T - (sum x) c0^T, R = rotation of A,
   // t = c - R c0; stored as [vec(R); t].
-  long long updates = 0;
-  for (int i = 0; i < n; ++i) {
-    const Eigen::Vector3d sum_x = region_sums_.col(i).head<3>();
-    const Eigen::Vector3d c0 = rest_centroids_.col(i);
-    const Eigen::Matrix3d a =
-        Eigen::Map<const Eigen::Matrix3d>(region_sums_.col(i).data() + 3) -
-        sum_x * c0.transpose();
-    updates += ExtractRotation(a, options_.max_rotation_iterations,
-                               options_.rotation_tolerance, &rotations_[i]);
-    const Eigen::Matrix3d rotation = rotations_[i].toRotationMatrix();
-    Eigen::Map<Eigen::Matrix3d>(region_transforms_.col(i).data()) = rotation;
-    region_transforms_.col(i).tail<3>() = sum_x * inverse_region_size_[i] - rotation * c0;
-  }
-  *iterations += updates;
+  std::vector<long long> chunk_updates(num_chunks, 0);
+  ForEachChunk(n, kParticleChunk, num_threads_, [&](int64_t begin, int64_t end, int64_t c) {
+    for (int64_t i = begin; i < end; ++i) {
+      const Eigen::Vector3d sum_x = region_sums_.col(i).head<3>();
+      const Eigen::Vector3d c0 = rest_centroids_.col(i);
+      const Eigen::Matrix3d a =
+          Eigen::Map<const Eigen::Matrix3d>(region_sums_.col(i).data() + 3) -
+          sum_x * c0.transpose();
+      chunk_updates[c] += ExtractRotation(a, options_.max_rotation_iterations,
+                                          options_.rotation_tolerance, &rotations_[i]);
+      const Eigen::Matrix3d rotation = rotations_[i].toRotationMatrix();
+      Eigen::Map<Eigen::Matrix3d>(region_transforms_.col(i).data()) = rotation;
+      region_transforms_.col(i).tail<3>() = sum_x * inverse_region_size_[i] - rotation * c0;
+    }
+  });
+  for (long long updates : chunk_updates) *iterations += updates;
   // Eq. 2: g_i = (sum_r R_r x0_i + t_r) / |R_i| over the regions holding i.
   SumOverRegions(region_transforms_, &goal_sums_);
   goals->resize(3, n);
-  for (int i = 0; i < n; ++i) {
-    const Eigen::Map<const Eigen::Matrix3d> rotation_sum(goal_sums_.col(i).data());
-    goals->col(i) = (rotation_sum * rest_.col(i) + goal_sums_.col(i).tail<3>()) *
-                    inverse_region_size_[i];
-  }
+  ForEachChunk(n, kParticleChunk, num_threads_, [&](int64_t begin, int64_t end, int64_t) {
+    for (int64_t i = begin; i < end; ++i) {
+      const Eigen::Map<const Eigen::Matrix3d> rotation_sum(goal_sums_.col(i).data());
+      goals->col(i) = (rotation_sum * rest_.col(i) + goal_sums_.col(i).tail<3>()) *
+                      inverse_region_size_[i];
+    }
+  });
 }
 
 void RigidityEstimator::ComputeGoals(const Eigen::Matrix3Xd& positions,

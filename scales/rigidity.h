@@ -142,8 +142,11 @@ bool ParticlesOfVertices(const Lattice& lattice, const std::vector<int>& vertice
 class RigidityEstimator {
  public:
   // Returns false with a message when the options are invalid. The lattice is
-  // copied from; it need not outlive the estimator.
-  bool Init(const Lattice& lattice, const RigidityOptions& options, std::string* error);
+  // copied from; it need not outlive the estimator. Init and the shape-matching
+  // steps run their per-particle loops on `num_threads` threads (0: OpenMP's
+  // default); the results do not depend on it.
+  bool Init(const Lattice& lattice, const RigidityOptions& options, std::string* error,
+            int num_threads = 1);
 
   // Estimates e' for the given fixed and moveable handle particles (particle
   // ids, duplicates allowed; a particle in both stays fixed): the S steps with
@@ -192,6 +195,7 @@ class RigidityEstimator {
                                   Eigen::Matrix3Xd* goals, long long* iterations);
 
   RigidityOptions options_;
+  int num_threads_ = 1;
   // Lattice units: positions are (x - centre_) / cell_width_.
   double cell_width_ = 1.0;
   Eigen::Vector3d centre_ = Eigen::Vector3d::Zero();

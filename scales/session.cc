@@ -6,6 +6,7 @@
 
 #include <glog/logging.h>
 
+#include "msdeform/core/parallel.h"
 #include "msdeform/core/skinning.h"
 #include "msdeform/core/timing.h"
 #include "msdeform/scales/arap_solver.h"
@@ -39,7 +40,7 @@ std::unique_ptr<Session> Session::Create(std::shared_ptr<const Layout> layout,
   session->previous_transforms_ = session->transforms_;
   session->setup_ms_ = MillisecondsSince(start);
   // At rest; the normals are copied when first skinned (deformed_normals).
-  session->deformed_vertices_ = pre.mesh().vertices;
+  CopyColumns(pre.mesh().vertices, options.num_threads, &session->deformed_vertices_);
   return session;
 }
 

@@ -376,6 +376,37 @@ TEST(RigidityTest, SameSeedSameResultOtherSeedSameRanking) {
   }
 }
 
+TEST(RigidityTest, ThreadCountDoesNotChangeTheEstimate) {
+  // The bar's 1,225 particles make five chunks of the per-particle loops.
+  const BarSetup bar;
+  ASSERT_GT(bar.lattice.num_particles(), 4 * 256);
+  for (RigidityModel model : {RigidityModel::kShapeMatching, RigidityModel::kHarmonic}) {
+    for (RegionSummation summation : {RegionSummation::kBox, RegionSummation::kPerRegion}) {
+      RigidityOptions options = PaperOptions();
+      options.model = model;
+      options.region_summation = summation;
+      RigidityEstimate serial;
+      CompressedLists serial_regions;
+      for (int threads : {1, 2, 3}) {
+        RigidityEstimator estimator;
+        RigidityEstimate estimate;
+        std::string error;
+        ASSERT_TRUE(estimator.Init(bar.lattice, options, &error, threads)) << error;
+        ASSERT_TRUE(estimator.Estimate(bar.fixed, bar.moveable, &estimate, &error)) << error;
+        if (threads == 1) {
+          serial = estimate;
+          serial_regions = estimator.regions();
+          continue;
+        }
+        EXPECT_EQ(estimate.extent, serial.extent) << threads << " threads";  // bitwise
+        EXPECT_EQ(estimate.rotation_iterations, serial.rotation_iterations);
+        EXPECT_EQ(estimator.regions().offsets, serial_regions.offsets);
+        EXPECT_EQ(estimator.regions().values, serial_regions.values);
+      }
+    }
+  }
+}
+
 TEST(RigidityTest, BoxAndPerRegionSummationsAgree) {
   const BarSetup bar;
   for (int half_width : {1, 2}) {
