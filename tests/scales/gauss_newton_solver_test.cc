@@ -17,6 +17,7 @@
 #include "msdeform/energies/gauge_cost.h"
 #include "msdeform/energies/rot_cost.h"
 #include "msdeform/scales/deformer.h"
+#include "msdeform/scales/deformer_options.h"
 
 namespace msdeform {
 namespace {
@@ -396,7 +397,8 @@ TEST(GaussNewtonSolverTest, EveryGaussNewtonVariantReachesTheSameMinimum) {
   using Factorization = GaussNewtonOptions::Factorization;
   using Damping = GaussNewtonOptions::Damping;
   std::vector<GaussNewtonOptions> variants;
-  for (Cholesky cholesky : {Cholesky::kEigenLLT, Cholesky::kEigenLDLT, Cholesky::kCholmod}) {
+  for (Cholesky cholesky :
+       {Cholesky::kSupernodal, Cholesky::kEigenLLT, Cholesky::kEigenLDLT, Cholesky::kCholmod}) {
     GaussNewtonOptions gn;
     gn.cholesky = cholesky;
     variants.push_back(gn);
@@ -574,7 +576,8 @@ TEST(GaussNewtonSolverTest, AFrameThatNeverFactorisesFails) {
   energy.coherence = {{0, 1, Eigen::Vector3d(1.0, 0.0, 0.0), std::ldexp(1.0, 150)}};
   for (int budget : {1, 20, 1000}) {
     for (GaussNewtonOptions::Cholesky cholesky :
-         {GaussNewtonOptions::Cholesky::kEigenLLT, GaussNewtonOptions::Cholesky::kEigenLDLT}) {
+         {GaussNewtonOptions::Cholesky::kSupernodal, GaussNewtonOptions::Cholesky::kEigenLLT,
+          GaussNewtonOptions::Cholesky::kEigenLDLT}) {
       GaussNewtonOptions gn;
       gn.cholesky = cholesky;
       StoppingRule stopping;
@@ -594,6 +597,48 @@ TEST(GaussNewtonSolverTest, AFrameThatNeverFactorisesFails) {
       EXPECT_NE(summary.message.find("factoris"), std::string::npos) << what;
     }
   }
+}
+
+// The default Cholesky (supernodal) against the one before it (Eigen's
+// SimplicialLLT) at the default stopping rule: the same steps, so the same
+// iterations, factorisations and minimum up to round-off.
+TEST(GaussNewtonSolverTest, SupernodalCholeskyTakesTheStepsOfEigensLLT) {
+  const Edit edit = BarEdit(6);
+  DeformerOptions options;
+  options.num_threads = 1;
+  ASSERT_EQ(options.gauss_newton.cholesky, GaussNewtonOptions::Cholesky::kSupernodal);
+  DeformerOptions eigen = options;
+  eigen.gauss_newton.cholesky = GaussNewtonOptions::Cholesky::kEigenLLT;
+  Deformer a, b;
+  std::string error;
+  ASSERT_TRUE(a.Init(edit.mesh, options, &error)) << error;
+  ASSERT_TRUE(b.Init(edit.mesh, eigen, &error)) << error;
+  ASSERT_TRUE(a.SetHandles(edit.layout, &error)) << error;
+  ASSERT_TRUE(b.SetHandles(edit.layout, &error)) << error;
+  for (const Eigen::Affine3d& frame : edit.path) {
+    DragStats sa, sb;
+    ASSERT_TRUE(a.Drag(frame, &sa, &error)) << error;
+    ASSERT_TRUE(b.Drag(frame, &sb, &error)) << error;
+    EXPECT_EQ(sa.iterations, sb.iterations);
+    EXPECT_EQ(sa.factorizations, sb.factorizations);
+    EXPECT_NEAR(sa.final_cost, sb.final_cost, 1e-12 * sb.final_cost);
+  }
+  EXPECT_GT(a.num_variables(), 100);
+  const Eigen::Matrix3Xd& va = a.deformed_vertices();
+  const Eigen::Matrix3Xd& vb = b.deformed_vertices();
+  EXPECT_LE((va - vb).cwiseAbs().maxCoeff(), 1e-12 * a.diagonal());
+}
+
+TEST(GaussNewtonSolverTest, BadCholeskyNameIsOneLineNamingTheOption) {
+  DeformerOptions options;
+  std::string error;
+  EXPECT_FALSE(DeformerOptionTable().Set("gauss_newton.cholesky", "block", &options, &error));
+  EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+  EXPECT_NE(error.find("gauss_newton.cholesky"), std::string::npos) << error;
+  EXPECT_NE(error.find("supernodal"), std::string::npos) << error;
+  GaussNewtonOptions::Cholesky parsed;
+  EXPECT_TRUE(ParseCholesky("supernodal", &parsed));
+  EXPECT_EQ(parsed, GaussNewtonOptions::Cholesky::kSupernodal);
 }
 
 TEST(GaussNewtonSolverTest, OptionsCheckAndSolverNames) {

@@ -1,0 +1,242 @@
+#include "msdeform/scales/gauss_newton_supernodal_cholesky.h"
+
+#include <algorithm>
+#include <iterator>
+
+#include <Eigen/Cholesky>
+#include <Eigen/OrderingMethods>
+#include <glog/logging.h>
+
+namespace msdeform {
+namespace {
+
+using Panel = Eigen::Map<Eigen::MatrixXd>;
+
+// Position of `row` in the ascending `rows`; it must be there.
+int Find(const int* begin, const int* end, int row) {
+  const int* found = std::lower_bound(begin, end, row);
+  CHECK(found != end && *found == row) << "row " << row << " not in the supernode";
+  return static_cast<int>(found - begin);
+}
+
+}  // namespace
+
+void SupernodalCholesky::Analyze(const SparseMatrix& matrix) {
+  CHECK_EQ(matrix.rows(), matrix.cols());
+  CHECK(matrix.isCompressed());
+  n_ = static_cast<int>(matrix.rows());
+  // Eigen's SimplicialLLT takes the same AMD ordering: new index of row i.
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> inverse;
+  Eigen::AMDOrdering<int>()(matrix, inverse);
+  position_.resize(n_);
+  for (int i = 0; i < n_; ++i) position_[inverse.indices()[i]] = i;
+
+  // The permuted lower triangle by column, then L's column structures
+  // (rows below the diagonal) along the elimination tree: a column's
+  // structure is its own rows and its children's, less the children.
+  std::vector<std::vector<int>> lower(n_), structure(n_), children(n_);
+  std::vector<int> parent(n_, -1);
+  const int* outer = matrix.outerIndexPtr();
+  const int* inner = matrix.innerIndexPtr();
+  for (int c = 0; c < n_; ++c) {
+    for (int k = outer[c]; k < outer[c + 1]; ++k) {
+      const int i = position_[inner[k]], j = position_[c];
+      if (i > j) lower[j].push_back(i);
+    }
+  }
+  std::vector<int> merged;
+  for (int j = 0; j < n_; ++j) {
+    std::vector<int>& rows = structure[j];
+    rows = std::move(lower[j]);
+    std::sort(rows.begin(), rows.end());
+    for (int child : children[j]) {
+      const std::vector<int>& from = structure[child];
+      merged.clear();
+      std::set_union(rows.begin(), rows.end(), from.begin() + 1, from.end(),
+                     std::back_inserter(merged));  // from[0] == j
+      rows.swap(merged);
+    }
+    if (!rows.empty()) {
+      parent[j] = rows.front();
+      children[rows.front()].push_back(j);
+    }
+  }
+
+  // Supernodes: extend the current run by column j when j is the parent of
+  // the run's last column and the explicit zeros stay within relax_fraction_.
+  first_.assign(1, 0);
+  row_begin_.assign(1, 0);
+  rows_.clear();
+  std::vector<int> below;  // the current run's rows below its last column
+  auto close = [&](int end) {
+    for (int col = first_.back(); col < end; ++col) rows_.push_back(col);
+    rows_.insert(rows_.end(), below.begin(), below.end());
+    first_.push_back(end);
+    row_begin_.push_back(static_cast<int>(rows_.size()));
+  };
+  int64_t zeros = 0;
+  for (int j = 0; j < n_; ++j) {
+    const int width = j - first_.back();
+    if (width > 0 && parent[j - 1] == j) {
+      merged.clear();
+      std::set_union(below.begin() + 1, below.end(), structure[j].begin(), structure[j].end(),
+                     std::back_inserter(merged));  // below[0] == j
+      const int64_t size = static_cast<int64_t>(merged.size());
+      const int64_t added = width * (size - static_cast<int64_t>(below.size() - 1)) +
+                            (size - static_cast<int64_t>(structure[j].size()));
+      const int64_t entries = (width + 1) * (width + 2) / 2 + (width + 1) * size;
+      if (added == 0 || zeros + added <= relax_fraction_ * static_cast<double>(entries)) {
+        zeros += added;
+        below.swap(merged);
+        continue;
+      }
+    }
+    if (width > 0) close(j);
+    below = structure[j];
+    zeros = 0;
+  }
+  if (n_ > 0) close(n_);
+
+  const int num = num_supernodes();
+  std::vector<int> supernode_of(n_);
+  value_begin_.assign(1, 0);
+  for (int s = 0; s < num; ++s) {
+    for (int col = first_[s]; col < first_[s + 1]; ++col) supernode_of[col] = s;
+    const int64_t ld = row_begin_[s + 1] - row_begin_[s];
+    value_begin_.push_back(value_begin_.back() + ld * (first_[s + 1] - first_[s]));
+  }
+  values_.assign(value_begin_.back(), 0.0);
+
+  // Each supernode's update, grouped by the supernode of the column it
+  // lands in, with the rows' positions there.
+  update_begin_.assign(1, 0);
+  updates_.clear();
+  relative_.clear();
+  size_t largest = 0;
+  int largest_rows = 0;
+  for (int s = 0; s < num; ++s) {
+    const int k = first_[s + 1] - first_[s];
+    const int* off = rows_.data() + row_begin_[s] + k;
+    const int m = row_begin_[s + 1] - row_begin_[s] - k;
+    largest = std::max(largest, static_cast<size_t>(m) * m);
+    largest_rows = std::max(largest_rows, m);
+    for (int q = 0; q < m;) {
+      const int t = supernode_of[off[q]];
+      int end = q;
+      while (end < m && supernode_of[off[end]] == t) ++end;
+      updates_.push_back({t, q, end, static_cast<int>(relative_.size())});
+      const int* target = rows_.data() + row_begin_[t];
+      const int* target_end = rows_.data() + row_begin_[t + 1];
+      for (int p = q; p < m; ++p) relative_.push_back(Find(target, target_end, off[p]));
+      q = end;
+    }
+    update_begin_.push_back(static_cast<int>(updates_.size()));
+  }
+  scratch_.assign(largest, 0.0);
+
+  // Where each stored entry of the lower triangle goes in the panels.
+  destination_.assign(matrix.nonZeros(), -1);
+  for (int c = 0; c < n_; ++c) {
+    for (int k = outer[c]; k < outer[c + 1]; ++k) {
+      const int i = position_[inner[k]], j = position_[c];
+      if (i < j) continue;
+      const int s = supernode_of[j];
+      const int ld = row_begin_[s + 1] - row_begin_[s];
+      const int row = Find(rows_.data() + row_begin_[s], rows_.data() + row_begin_[s + 1], i);
+      destination_[k] = value_begin_[s] + static_cast<int64_t>(j - first_[s]) * ld + row;
+    }
+  }
+  permuted_.resize(n_);
+  buffer_.resize(largest_rows);
+}
+
+bool SupernodalCholesky::Factorize(const SparseMatrix& matrix) {
+  CHECK_EQ(static_cast<size_t>(matrix.nonZeros()), destination_.size()) << "Analyze first";
+  std::fill(values_.begin(), values_.end(), 0.0);
+  const double* a = matrix.valuePtr();
+  for (size_t e = 0; e < destination_.size(); ++e) {
+    if (destination_[e] >= 0) values_[destination_[e]] = a[e];
+  }
+  for (int s = 0; s < num_supernodes(); ++s) {
+    const int k = first_[s + 1] - first_[s];
+    const int ld = row_begin_[s + 1] - row_begin_[s];
+    const int m = ld - k;
+    Panel panel(values_.data() + value_begin_[s], ld, k);
+    // The diagonal block in place (LLT of a Ref factorises in place).
+    Eigen::Ref<Eigen::MatrixXd> diagonal = panel.topRows(k);
+    Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(diagonal);
+    if (llt.info() != Eigen::Success) return false;
+    if (m == 0) continue;
+    auto off = panel.bottomRows(m);
+    diagonal.transpose().triangularView<Eigen::Upper>().solveInPlace<Eigen::OnTheRight>(off);
+    // Its update off off^T (lower triangle) into the ancestors' panels.
+    Panel update(scratch_.data(), m, m);
+    update.triangularView<Eigen::Lower>().setZero();
+    update.selfadjointView<Eigen::Lower>().rankUpdate(off);
+    const int* rows = rows_.data() + row_begin_[s] + k;
+    for (int u = update_begin_[s]; u < update_begin_[s + 1]; ++u) {
+      const Update& to = updates_[u];
+      const int target_ld = row_begin_[to.target + 1] - row_begin_[to.target];
+      double* target = values_.data() + value_begin_[to.target];
+      const int* relative = relative_.data() + to.relative - to.column_begin;
+      for (int q = to.column_begin; q < to.column_end; ++q) {
+        double* column =
+            target + static_cast<int64_t>(rows[q] - first_[to.target]) * target_ld;
+        const double* from = update.data() + static_cast<int64_t>(q) * m;
+        for (int p = q; p < m; ++p) column[relative[p]] -= from[p];
+      }
+    }
+  }
+  return true;
+}
+
+void SupernodalCholesky::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x) const {
+  CHECK_EQ(rhs.size(), n_);
+  for (int i = 0; i < n_; ++i) permuted_[position_[i]] = rhs[i];
+  const int num = num_supernodes();
+  double* y = permuted_.data();
+  // By hand: the supernodes are narrow here (3 to 4 columns on average),
+  // where a dense kernel's call costs more than its work. The rows below a
+  // supernode's diagonal block are gathered or scattered once per supernode.
+  double* buffer = buffer_.data();
+  for (int s = 0; s < num; ++s) {  // L z = P rhs
+    const int k = first_[s + 1] - first_[s];
+    const int ld = row_begin_[s + 1] - row_begin_[s];
+    const int m = ld - k;
+    const double* panel = values_.data() + value_begin_[s];
+    double* z = y + first_[s];
+    for (int c = 0; c < k; ++c) {
+      const double* column = panel + static_cast<int64_t>(c) * ld;
+      z[c] /= column[c];
+      for (int r = c + 1; r < k; ++r) z[r] -= column[r] * z[c];
+    }
+    if (m == 0) continue;
+    std::fill(buffer, buffer + m, 0.0);
+    for (int c = 0; c < k; ++c) {
+      const double* column = panel + static_cast<int64_t>(c) * ld + k;
+      for (int r = 0; r < m; ++r) buffer[r] += column[r] * z[c];
+    }
+    const int* rows = rows_.data() + row_begin_[s] + k;
+    for (int r = 0; r < m; ++r) y[rows[r]] -= buffer[r];
+  }
+  for (int s = num - 1; s >= 0; --s) {  // L^T w = z
+    const int k = first_[s + 1] - first_[s];
+    const int ld = row_begin_[s + 1] - row_begin_[s];
+    const int m = ld - k;
+    const double* panel = values_.data() + value_begin_[s];
+    double* z = y + first_[s];
+    const int* rows = rows_.data() + row_begin_[s] + k;
+    for (int r = 0; r < m; ++r) buffer[r] = y[rows[r]];
+    for (int c = k - 1; c >= 0; --c) {
+      const double* column = panel + static_cast<int64_t>(c) * ld;
+      double sum = z[c];
+      for (int r = 0; r < m; ++r) sum -= column[k + r] * buffer[r];
+      for (int r = c + 1; r < k; ++r) sum -= column[r] * z[r];
+      z[c] = sum / column[c];
+    }
+  }
+  x->resize(n_);
+  for (int i = 0; i < n_; ++i) (*x)[i] = y[position_[i]];
+}
+
+}  // namespace msdeform
