@@ -52,6 +52,8 @@ int ValueIndex(const SparseMatrix& matrix, int row, int col) {
 
 struct GaussNewtonSolver::Impl {
   GaussNewtonOptions options;
+  GaussNewtonThreads threads;
+  mutable std::vector<double> chunk_sums;  // RotCost's, per chunk
   std::vector<int> offset;  // first variable of node j, or -1
   std::vector<char> totally_free;  // node j has t among the variables
   std::vector<int> rot_nodes;
@@ -140,21 +142,36 @@ struct GaussNewtonSolver::Impl {
   }
 
   // Rot cost at x; with gradient/blocks != nullptr also J_rot^T r (added to
-  // *gradient) and J_rot^T J_rot per rot node (9x9 each).
+  // *gradient) and J_rot^T J_rot per rot node (9x9 each). Each rot node
+  // writes only its own gradient entries and block; the cost is summed per
+  // chunk of GaussNewtonThreads::chunk_size nodes, then the chunks in order
+  // (one chunk: the plain sum).
   double RotCost(const Eigen::VectorXd& x, Eigen::VectorXd* gradient,
                  std::vector<Matrix9d>* blocks) const {
-    double sum = 0.0;
-    Eigen::Matrix<double, 6, 9> jacobian;
-    Eigen::Matrix<double, 6, 1> r;
-    for (size_t i = 0; i < rot_nodes.size(); ++i) {
-      const int o = offset[rot_nodes[i]];
-      RotResiduals(x.data() + o, sqrt_rot, r.data(), gradient != nullptr ? &jacobian : nullptr);
-      sum += r.squaredNorm();
-      if (gradient != nullptr) {
-        gradient->segment<9>(o) += jacobian.transpose() * r;
-        (*blocks)[i].noalias() = jacobian.transpose() * jacobian;
+    const int count = static_cast<int>(rot_nodes.size());
+    const int chunk = threads.chunk_size;
+    const int num_chunks = (count + chunk - 1) / chunk;
+    chunk_sums.assign(num_chunks, 0.0);
+    const bool parallel = threads.num_threads > 1 && num_chunks > 1 &&
+                          count >= threads.min_parallel_terms;
+#pragma omp parallel for schedule(static) num_threads(threads.num_threads) if (parallel)
+    for (int c = 0; c < num_chunks; ++c) {
+      Eigen::Matrix<double, 6, 9> jacobian;
+      Eigen::Matrix<double, 6, 1> r;
+      double sum = 0.0;
+      for (int i = c * chunk; i < std::min(count, (c + 1) * chunk); ++i) {
+        const int o = offset[rot_nodes[i]];
+        RotResiduals(x.data() + o, sqrt_rot, r.data(), gradient != nullptr ? &jacobian : nullptr);
+        sum += r.squaredNorm();
+        if (gradient != nullptr) {
+          gradient->segment<9>(o) += jacobian.transpose() * r;
+          (*blocks)[i].noalias() = jacobian.transpose() * jacobian;
+        }
       }
+      chunk_sums[c] = sum;
     }
+    double sum = 0.0;
+    for (double chunk_sum : chunk_sums) sum += chunk_sum;
     return 0.5 * sum;
   }
 
@@ -170,8 +187,9 @@ struct GaussNewtonSolver::Impl {
 };
 
 GaussNewtonSolver::GaussNewtonSolver(const GaussNewtonOptions& options,
-                                     const StoppingRule& stopping)
-    : options_(options), stopping_(stopping) {}
+                                     const StoppingRule& stopping,
+                                     const GaussNewtonThreads& threads)
+    : options_(options), stopping_(stopping), threads_(threads) {}
 GaussNewtonSolver::~GaussNewtonSolver() = default;
 
 bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransforms& transforms,
@@ -186,6 +204,9 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
   impl_ = std::make_unique<Impl>();
   Impl& impl = *impl_;
   impl.options = options_;
+  impl.threads = threads_;
+  impl.threads.num_threads = std::max(1, threads_.num_threads);
+  impl.threads.chunk_size = std::max(1, threads_.chunk_size);
   const int num_nodes = transforms.num_nodes();
   impl.offset.assign(num_nodes, -1);
   impl.totally_free.assign(num_nodes, 0);
@@ -198,8 +219,11 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
   }
   num_variables_ = n;
   impl.sqrt_rot = energy.sqrt_rot;
+  std::vector<char> has_rot(num_nodes, 0);
   for (int j : energy.rot_nodes) {
     CHECK_GE(impl.offset[j], 0) << "Rot term on a Fixed node";
+    CHECK(!has_rot[j]) << "two Rot terms on node " << j;  // RotCost's chunks write per node
+    has_rot[j] = 1;
     impl.rot_nodes.push_back(j);
   }
   if (!impl.terms.Setup(energy.terms, impl.offset, impl.totally_free, transforms, error))

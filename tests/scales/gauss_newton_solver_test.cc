@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <utility>
 #include <vector>
@@ -627,6 +628,56 @@ TEST(GaussNewtonSolverTest, SupernodalCholeskyTakesTheStepsOfEigensLLT) {
   const Eigen::Matrix3Xd& va = a.deformed_vertices();
   const Eigen::Matrix3Xd& vb = b.deformed_vertices();
   EXPECT_LE((va - vb).cwiseAbs().maxCoeff(), 1e-12 * a.diagonal());
+}
+
+// The Rot terms' assembly over fixed chunks: 1, 2 and 3 threads (chunks of
+// 4 nodes, parallel from one node, so the bar's nodes split over them) take
+// the same steps to the same bits as the serial one-chunk path up to the
+// order of the chunk sums; each frame's J^T J and right-hand side must be
+// bit-identical for the trajectories to be.
+TEST(GaussNewtonSolverTest, ChunkedRotAssemblyIsTheSameForAnyThreadCount) {
+  const Edit edit = BarEdit(4);
+  DeformerOptions options;
+  options.num_threads = 1;
+  Deformer deformer;
+  std::string error;
+  ASSERT_TRUE(deformer.Init(edit.mesh, options, &error)) << error;
+  ASSERT_TRUE(deformer.SetHandles(edit.layout, &error)) << error;
+  const DeformationEnergy& energy = deformer.energy();
+  ASSERT_GT(energy.rot_nodes.size(), 8u);
+  std::vector<NodeTransforms> results;
+  std::vector<std::vector<double>> costs;
+  for (int num_threads : {1, 2, 3}) {
+    GaussNewtonThreads threads;
+    threads.num_threads = num_threads;
+    threads.chunk_size = 4;
+    threads.min_parallel_terms = 1;
+    GaussNewtonSolver solver(GaussNewtonOptions(), StoppingRule(), threads);
+    NodeTransforms transforms = NodeTransforms::Identity(deformer.active().num_nodes());
+    ASSERT_TRUE(solver.Setup(energy, transforms, &error)) << error;
+    std::vector<double> cost;
+    for (const Eigen::Affine3d& frame : edit.path) {
+      const SolveSummary summary = solver.Solve(frame, &transforms);
+      ASSERT_FALSE(summary.failed) << summary.message;
+      for (const auto& point : summary.trace) cost.push_back(point.cost);
+    }
+    results.push_back(transforms);
+    costs.push_back(cost);
+  }
+  for (size_t t = 1; t < results.size(); ++t) {
+    EXPECT_EQ(costs[t], costs[0]) << t + 1 << " threads";
+    EXPECT_EQ(0, std::memcmp(results[t].rotations.data(), results[0].rotations.data(),
+                             sizeof(double) * results[0].rotations.size()));
+    EXPECT_EQ(0, std::memcmp(results[t].translations.data(), results[0].translations.data(),
+                             sizeof(double) * results[0].translations.size()));
+  }
+  // The serial one-chunk path reaches the same minimum (its sums in another order).
+  GaussNewtonSolver serial{GaussNewtonOptions(), StoppingRule()};
+  NodeTransforms transforms = NodeTransforms::Identity(deformer.active().num_nodes());
+  ASSERT_TRUE(serial.Setup(energy, transforms, &error)) << error;
+  SolveSummary summary;
+  for (const Eigen::Affine3d& frame : edit.path) summary = serial.Solve(frame, &transforms);
+  EXPECT_NEAR(summary.final_cost, costs[0].back(), 1e-12 * summary.final_cost);
 }
 
 TEST(GaussNewtonSolverTest, BadCholeskyNameIsOneLineNamingTheOption) {
