@@ -19,6 +19,30 @@ int Find(const int* begin, const int* end, int row) {
   return static_cast<int>(found - begin);
 }
 
+// local[r] -= sum_i column[i][r] * value[i] for r in [begin, end).
+template <int W>
+void SubtractColumns(const double* const* column, const double* value, int begin, int end,
+                     double* local) {
+  double v[W];  // copies, so that the stores to local need not reload them
+  for (int i = 0; i < W; ++i) v[i] = value[i];
+  for (int r = begin; r < end; ++r) {
+    double update = column[0][r] * v[0];
+    for (int i = 1; i < W; ++i) update += column[i][r] * v[i];
+    local[r] -= update;
+  }
+}
+
+// sum[i] = sum_r column[i][r] * local[r] for r in [begin, end).
+template <int W>
+void DotColumns(const double* const* column, const double* local, int begin, int end,
+                double* sum) {
+  double s[W] = {};  // in registers, not through `sum`
+  for (int r = begin; r < end; ++r) {
+    for (int i = 0; i < W; ++i) s[i] += column[i][r] * local[r];
+  }
+  for (int i = 0; i < W; ++i) sum[i] = s[i];
+}
+
 }  // namespace
 
 void SupernodalCholesky::Analyze(const SparseMatrix& matrix) {
@@ -119,7 +143,7 @@ void SupernodalCholesky::Analyze(const SparseMatrix& matrix) {
     const int* off = rows_.data() + row_begin_[s] + k;
     const int m = row_begin_[s + 1] - row_begin_[s] - k;
     largest = std::max(largest, static_cast<size_t>(m) * m);
-    largest_rows = std::max(largest_rows, m);
+    largest_rows = std::max(largest_rows, m + k);
     for (int q = 0; q < m;) {
       const int t = supernode_of[off[q]];
       int end = q;
@@ -196,44 +220,59 @@ void SupernodalCholesky::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x) c
   const int num = num_supernodes();
   double* y = permuted_.data();
   // By hand: the supernodes are narrow here (3 to 4 columns on average),
-  // where a dense kernel's call costs more than its work. The rows below a
-  // supernode's diagonal block are gathered or scattered once per supernode.
-  double* buffer = buffer_.data();
+  // where a dense kernel's call costs more than its work. Each supernode
+  // gathers its rows of y into `local` once, works on up to four of its
+  // columns at a time (one pass over the rows below them instead of four;
+  // four independent sums instead of one chain of additions), and scatters
+  // them back.
+  double* local = buffer_.data();
   for (int s = 0; s < num; ++s) {  // L z = P rhs
     const int k = first_[s + 1] - first_[s];
     const int ld = row_begin_[s + 1] - row_begin_[s];
-    const int m = ld - k;
     const double* panel = values_.data() + value_begin_[s];
-    double* z = y + first_[s];
-    for (int c = 0; c < k; ++c) {
-      const double* column = panel + static_cast<int64_t>(c) * ld;
-      z[c] /= column[c];
-      for (int r = c + 1; r < k; ++r) z[r] -= column[r] * z[c];
+    const int* rows = rows_.data() + row_begin_[s];
+    for (int r = 0; r < ld; ++r) local[r] = y[rows[r]];
+    for (int bottom = 0; bottom < k; bottom += 4) {
+      const int top = std::min(k - 1, bottom + 3);
+      const double* column[4];
+      for (int c = bottom; c <= top; ++c) {
+        column[c - bottom] = panel + static_cast<int64_t>(c) * ld;
+        local[c] /= column[c - bottom][c];
+        for (int r = c + 1; r <= top; ++r) local[r] -= column[c - bottom][r] * local[c];
+      }
+      switch (top - bottom) {
+        case 3: SubtractColumns<4>(column, local + bottom, top + 1, ld, local); break;
+        case 2: SubtractColumns<3>(column, local + bottom, top + 1, ld, local); break;
+        case 1: SubtractColumns<2>(column, local + bottom, top + 1, ld, local); break;
+        default: SubtractColumns<1>(column, local + bottom, top + 1, ld, local); break;
+      }
     }
-    if (m == 0) continue;
-    std::fill(buffer, buffer + m, 0.0);
-    for (int c = 0; c < k; ++c) {
-      const double* column = panel + static_cast<int64_t>(c) * ld + k;
-      for (int r = 0; r < m; ++r) buffer[r] += column[r] * z[c];
-    }
-    const int* rows = rows_.data() + row_begin_[s] + k;
-    for (int r = 0; r < m; ++r) y[rows[r]] -= buffer[r];
+    for (int r = 0; r < ld; ++r) y[rows[r]] = local[r];
   }
   for (int s = num - 1; s >= 0; --s) {  // L^T w = z
     const int k = first_[s + 1] - first_[s];
     const int ld = row_begin_[s + 1] - row_begin_[s];
-    const int m = ld - k;
     const double* panel = values_.data() + value_begin_[s];
-    double* z = y + first_[s];
-    const int* rows = rows_.data() + row_begin_[s] + k;
-    for (int r = 0; r < m; ++r) buffer[r] = y[rows[r]];
-    for (int c = k - 1; c >= 0; --c) {
-      const double* column = panel + static_cast<int64_t>(c) * ld;
-      double sum = z[c];
-      for (int r = 0; r < m; ++r) sum -= column[k + r] * buffer[r];
-      for (int r = c + 1; r < k; ++r) sum -= column[r] * z[r];
-      z[c] = sum / column[c];
+    const int* rows = rows_.data() + row_begin_[s];
+    for (int r = 0; r < ld; ++r) local[r] = y[rows[r]];
+    for (int top = k - 1; top >= 0; top -= 4) {
+      const int bottom = std::max(0, top - 3);
+      const double* column[4];
+      for (int c = bottom; c <= top; ++c) column[c - bottom] = panel + static_cast<int64_t>(c) * ld;
+      double sum[4] = {0.0, 0.0, 0.0, 0.0};
+      switch (top - bottom) {
+        case 3: DotColumns<4>(column, local, top + 1, ld, sum); break;
+        case 2: DotColumns<3>(column, local, top + 1, ld, sum); break;
+        case 1: DotColumns<2>(column, local, top + 1, ld, sum); break;
+        default: DotColumns<1>(column, local, top + 1, ld, sum); break;
+      }
+      for (int c = top; c >= bottom; --c) {
+        double value = local[c] - sum[c - bottom];
+        for (int r = c + 1; r <= top; ++r) value -= column[c - bottom][r] * local[r];
+        local[c] = value / column[c - bottom][c];
+      }
     }
+    for (int c = 0; c < k; ++c) y[first_[s] + c] = local[c];
   }
   x->resize(n_);
   for (int i = 0; i < n_; ++i) (*x)[i] = y[position_[i]];
