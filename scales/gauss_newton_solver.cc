@@ -59,6 +59,7 @@ struct GaussNewtonSolver::Impl {
   std::vector<int> rot_nodes;
   double sqrt_rot = 1.0;
   SparseMatrix hessian;        // H = A^T A (linear terms only)
+  RowSparseMatrix hessian_rows;  // the same, by rows (HessianTimes)
   Eigen::VectorXd linear_gradient;  // A^T c
   SparseMatrix handle_gradient;     // A^T P, #variables by 12
   // The linear residuals in a compressed form that keeps their sum of
@@ -101,6 +102,40 @@ struct GaussNewtonSolver::Impl {
     for (int index : diagonal_index) {
       double& diagonal = values[index];
       diagonal += mu * std::min(std::max(diagonal, 1e-6), 1e32);
+    }
+  }
+
+  // *product = H v, row by row, four rows at a time: each row's sum in
+  // the order of the column-major product's (so the same bits), four
+  // independent chains of additions instead of one (1.3x on the claw).
+  void HessianTimes(const Eigen::VectorXd& v, Eigen::VectorXd* product) const {
+    const int rows = static_cast<int>(hessian_rows.rows());
+    const int* outer = hessian_rows.outerIndexPtr();
+    const int* inner = hessian_rows.innerIndexPtr();
+    const double* values = hessian_rows.valuePtr();
+    product->resize(rows);
+    int i = 0;
+    for (; i + 4 <= rows; i += 4) {
+      double sum[4] = {0.0, 0.0, 0.0, 0.0};
+      int length = outer[i + 1] - outer[i];
+      for (int q = 1; q < 4; ++q) length = std::min(length, outer[i + q + 1] - outer[i + q]);
+      const int b0 = outer[i], b1 = outer[i + 1], b2 = outer[i + 2], b3 = outer[i + 3];
+      for (int k = 0; k < length; ++k) {
+        sum[0] += values[b0 + k] * v[inner[b0 + k]];
+        sum[1] += values[b1 + k] * v[inner[b1 + k]];
+        sum[2] += values[b2 + k] * v[inner[b2 + k]];
+        sum[3] += values[b3 + k] * v[inner[b3 + k]];
+      }
+      for (int q = 0; q < 4; ++q) {
+        for (int k = outer[i + q] + length; k < outer[i + q + 1]; ++k)
+          sum[q] += values[k] * v[inner[k]];
+        (*product)[i + q] = sum[q];
+      }
+    }
+    for (; i < rows; ++i) {
+      double sum = 0.0;
+      for (int k = outer[i]; k < outer[i + 1]; ++k) sum += values[k] * v[inner[k]];
+      (*product)[i] = sum;
     }
   }
 
@@ -229,6 +264,7 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
   LinearTerms linear;
   AssembleLinearTerms(energy, transforms, impl.offset, impl.terms, n, &linear);
   impl.hessian = std::move(linear.hessian);
+  impl.hessian_rows = impl.hessian;
   impl.linear_gradient = std::move(linear.linear_gradient);
   impl.handle_gradient = std::move(linear.handle_gradient);
   impl.root = std::move(linear.root);
@@ -290,7 +326,8 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
   const Eigen::VectorXd g0 = impl.HandleGradient(handle);
   const Eigen::VectorXd root_offset = impl.RootOffset(handle);
 
-  Eigen::VectorXd hx = impl.hessian * x;
+  Eigen::VectorXd hx;
+  impl.HessianTimes(x, &hx);
   // The linear terms' cost from their residuals at the start and after every
   // accepted step; a trial step's cost adds to it the change of the
   // quadratic, delta^T (H x + g0) + 1/2 delta^T H delta (small terms only:
@@ -376,7 +413,7 @@ SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
       break;
     }
     x_new = x + delta;
-    h_delta = impl.hessian * delta;
+    impl.HessianTimes(delta, &h_delta);
     const double new_linear_cost = linear_cost + delta.dot(hx + g0) + 0.5 * delta.dot(h_delta);
     const double new_cost = new_linear_cost + impl.NonlinearCost(x_new, nullptr);
     double rho = 1.0;  // gain ratio, Levenberg-Marquardt only
