@@ -12,13 +12,6 @@ namespace {
 
 using Panel = Eigen::Map<Eigen::MatrixXd>;
 
-// Position of `row` in the ascending `rows`; it must be there.
-int Find(const int* begin, const int* end, int row) {
-  const int* found = std::lower_bound(begin, end, row);
-  CHECK(found != end && *found == row) << "row " << row << " not in the supernode";
-  return static_cast<int>(found - begin);
-}
-
 // local[r] -= sum_i column[i][r] * value[i] for r in [begin, end).
 template <int W>
 void SubtractColumns(const double* const* column, const double* value, int begin, int end,
@@ -53,7 +46,11 @@ void SupernodalCholesky::Analyze(const SparseMatrix& matrix) {
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> inverse;
   Eigen::AMDOrdering<int>()(matrix, inverse);
   position_.resize(n_);
-  for (int i = 0; i < n_; ++i) position_[inverse.indices()[i]] = i;
+  std::vector<int> column_of_position(n_);
+  for (int i = 0; i < n_; ++i) {
+    position_[inverse.indices()[i]] = i;
+    column_of_position[i] = inverse.indices()[i];
+  }
 
   // The permuted lower triangle by column, then L's column structures
   // (rows below the diagonal) along the elimination tree: a column's
@@ -132,12 +129,14 @@ void SupernodalCholesky::Analyze(const SparseMatrix& matrix) {
   values_.assign(value_begin_.back(), 0.0);
 
   // Each supernode's update, grouped by the supernode of the column it
-  // lands in, with the rows' positions there.
+  // lands in; then, target by target, the rows' positions there (through
+  // `where`, a row's position in the target's rows, filled once per target).
   update_begin_.assign(1, 0);
   updates_.clear();
-  relative_.clear();
   size_t largest = 0;
   int largest_rows = 0;
+  int relative_size = 0;
+  std::vector<std::vector<int>> updates_of(num);  // per target: indices into updates_
   for (int s = 0; s < num; ++s) {
     const int k = first_[s + 1] - first_[s];
     const int* off = rows_.data() + row_begin_[s] + k;
@@ -148,27 +147,46 @@ void SupernodalCholesky::Analyze(const SparseMatrix& matrix) {
       const int t = supernode_of[off[q]];
       int end = q;
       while (end < m && supernode_of[off[end]] == t) ++end;
-      updates_.push_back({t, q, end, static_cast<int>(relative_.size())});
-      const int* target = rows_.data() + row_begin_[t];
-      const int* target_end = rows_.data() + row_begin_[t + 1];
-      for (int p = q; p < m; ++p) relative_.push_back(Find(target, target_end, off[p]));
+      updates_of[t].push_back(static_cast<int>(updates_.size()));
+      updates_.push_back({t, q, end, relative_size});
+      relative_size += m - q;
       q = end;
     }
     update_begin_.push_back(static_cast<int>(updates_.size()));
   }
   scratch_.assign(largest, 0.0);
-
-  // Where each stored entry of the lower triangle goes in the panels.
+  relative_.assign(relative_size, 0);
+  std::vector<int> update_source(updates_.size());
+  for (int s = 0; s < num; ++s)
+    for (int u = update_begin_[s]; u < update_begin_[s + 1]; ++u) update_source[u] = s;
+  std::vector<int> where(n_, -1);
   destination_.assign(matrix.nonZeros(), -1);
-  for (int c = 0; c < n_; ++c) {
-    for (int k = outer[c]; k < outer[c + 1]; ++k) {
-      const int i = position_[inner[k]], j = position_[c];
-      if (i < j) continue;
-      const int s = supernode_of[j];
-      const int ld = row_begin_[s + 1] - row_begin_[s];
-      const int row = Find(rows_.data() + row_begin_[s], rows_.data() + row_begin_[s + 1], i);
-      destination_[k] = value_begin_[s] + static_cast<int64_t>(j - first_[s]) * ld + row;
+  for (int t = 0; t < num; ++t) {
+    for (int r = row_begin_[t]; r < row_begin_[t + 1]; ++r) where[rows_[r]] = r - row_begin_[t];
+    for (int u : updates_of[t]) {
+      const int s = update_source[u];
+      const int k = first_[s + 1] - first_[s];
+      const int* off = rows_.data() + row_begin_[s] + k;
+      const int m = row_begin_[s + 1] - row_begin_[s] - k;
+      int* relative = relative_.data() + updates_[u].relative;
+      for (int p = updates_[u].column_begin; p < m; ++p) {
+        CHECK_GE(where[off[p]], 0) << "row " << off[p] << " not in supernode " << t;
+        *relative++ = where[off[p]];
+      }
     }
+    // Where each stored entry of the lower triangle of t's columns goes in
+    // its panel.
+    const int ld = row_begin_[t + 1] - row_begin_[t];
+    for (int j = first_[t]; j < first_[t + 1]; ++j) {
+      const int c = column_of_position[j];  // the column of `matrix` that is column j here
+      for (int k = outer[c]; k < outer[c + 1]; ++k) {
+        const int i = position_[inner[k]];
+        if (i < j) continue;
+        CHECK_GE(where[i], 0) << "row " << i << " not in supernode " << t;
+        destination_[k] = value_begin_[t] + static_cast<int64_t>(j - first_[t]) * ld + where[i];
+      }
+    }
+    for (int r = row_begin_[t]; r < row_begin_[t + 1]; ++r) where[rows_[r]] = -1;
   }
   permuted_.resize(n_);
   buffer_.resize(largest_rows);
