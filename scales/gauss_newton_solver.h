@@ -72,7 +72,7 @@ struct GaussNewtonOptions {
     kCholmod,    // CHOLMOD (SuiteSparse) supernodal LLT; kEigenLLT when not built in
   };
   // Supernodal: the same ordering and factor as Eigen's scalar LLT, with
-  // dense kernels per supernode: about 2.5x faster to factorise and 1.4x to
+  // dense kernels per supernode: about 2.3x faster to factorise and 1.7x to
   // solve on the 104K claw (docs/decisions.md, "Many cores (issue 30): the
   // Gauss-Newton solve").
   Cholesky cholesky = Cholesky::kSupernodal;

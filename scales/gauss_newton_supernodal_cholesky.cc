@@ -42,14 +42,15 @@ void SupernodalCholesky::Analyze(const SparseMatrix& matrix) {
   CHECK_EQ(matrix.rows(), matrix.cols());
   CHECK(matrix.isCompressed());
   n_ = static_cast<int>(matrix.rows());
-  // Eigen's SimplicialLLT takes the same AMD ordering: new index of row i.
-  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> inverse;
-  Eigen::AMDOrdering<int>()(matrix, inverse);
+  // The AMD ordering, as Eigen's SimplicialLLT takes it: its indices()[k]
+  // is the row of `matrix` at place k.
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> ordering;
+  Eigen::AMDOrdering<int>()(matrix, ordering);
   position_.resize(n_);
   std::vector<int> column_of_position(n_);
-  for (int i = 0; i < n_; ++i) {
-    position_[inverse.indices()[i]] = i;
-    column_of_position[i] = inverse.indices()[i];
+  for (int k = 0; k < n_; ++k) {
+    position_[ordering.indices()[k]] = k;
+    column_of_position[k] = ordering.indices()[k];
   }
 
   // The permuted lower triangle by column, then L's column structures
