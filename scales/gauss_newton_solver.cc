@@ -353,7 +353,8 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
   if (!impl.terms.Setup(energy.terms, impl.offset, impl.totally_free, transforms, error))
     return false;
   LinearTerms linear;
-  AssembleLinearTerms(energy, transforms, impl.offset, impl.terms, n, &linear);
+  AssembleLinearTerms(energy, transforms, impl.offset, impl.terms, n, &linear,
+                      impl.threads.num_threads, impl.threads.min_parallel_rows);
   impl.hessian = std::move(linear.hessian);
   impl.hessian_rows = impl.hessian;
   impl.CompactHessian();

@@ -145,6 +145,9 @@ struct GaussNewtonThreads {
   int num_threads = 1;
   int chunk_size = 512;
   int min_parallel_terms = 8192;
+  // Setup's QR of the position groups (scales/gauss_newton_linear_terms.h)
+  // in parallel from this many position rows in all.
+  int min_parallel_rows = 4096;
 };
 
 class GaussNewtonSolver : public FrameSolver {
