@@ -1,9 +1,10 @@
 // The deformer end to end on the default edit (data/scenarios/armadillo_claw.json:
 // feet fixed, a claw dragged over 30 frames) applied to the 26K, 104K and
 // 416K armadillo: precompute (Init), handle-layout change (SetHandles), and
-// the drag with the default solver and a few others, reporting median frame /
-// solve / skin milliseconds and the median iteration and factorisation counts
-// as counters.
+// the drag with the default solver and a few others (the _eigen_llt rows: the
+// Cholesky before the supernodal default, for a before/after in one run),
+// reporting median frame / solve / skin milliseconds and the median iteration
+// and factorisation counts as counters.
 //
 //   build/bench/deformer_benchmark --benchmark_filter=104k
 //
@@ -41,6 +42,9 @@ enum class Backend {
   kGaussNewton,          // the defaults
   kGaussNewtonExtrapolated,  // start from the extrapolated solution
   kGaussNewtonExact,     // J^T J factorised every iteration
+  kGaussNewtonEigenLLT,  // Eigen's SimplicialLLT, the Cholesky before the supernodal default
+  kGaussNewtonExactEigenLLT,  // both of the above
+  kGaussNewtonLevenbergMarquardt,  // Levenberg-Marquardt damping (a factorisation a step)
   kCeres,                // Ceres, Levenberg-Marquardt, EIGEN_SPARSE
   kCeresSuiteSparse,     // Ceres with CHOLMOD
   kArap,                 // --energy=arap: the subspace ARAP energy, local/global
@@ -58,6 +62,15 @@ DeformerOptions Options(Backend backend, int threads = 2) {
       break;
     case Backend::kGaussNewtonExact:
       options.gauss_newton.factorization = GaussNewtonOptions::Factorization::kEveryIteration;
+      break;
+    case Backend::kGaussNewtonExactEigenLLT:
+      options.gauss_newton.factorization = GaussNewtonOptions::Factorization::kEveryIteration;
+      [[fallthrough]];
+    case Backend::kGaussNewtonEigenLLT:
+      options.gauss_newton.cholesky = GaussNewtonOptions::Cholesky::kEigenLLT;
+      break;
+    case Backend::kGaussNewtonLevenbergMarquardt:
+      options.gauss_newton.damping = GaussNewtonOptions::Damping::kLevenbergMarquardt;
       break;
     case Backend::kCeresSuiteSparse:
       options.ceres.sparse_library = ceres::SUITE_SPARSE;
@@ -160,6 +173,10 @@ void BM_ClawDrag(benchmark::State& state, const std::string& name, Backend backe
   MSDEFORM_DRAG_BENCHMARK(label, file, _gauss_newton_extrapolated,                       \
                           Backend::kGaussNewtonExtrapolated);                              \
   MSDEFORM_DRAG_BENCHMARK(label, file, _gauss_newton_exact, Backend::kGaussNewtonExact);    \
+  MSDEFORM_DRAG_BENCHMARK(label, file, _gauss_newton_eigen_llt, Backend::kGaussNewtonEigenLLT); \
+  MSDEFORM_DRAG_BENCHMARK(label, file, _gauss_newton_exact_eigen_llt,                      \
+                          Backend::kGaussNewtonExactEigenLLT);                             \
+  MSDEFORM_DRAG_BENCHMARK(label, file, _gauss_newton_lm, Backend::kGaussNewtonLevenbergMarquardt); \
   MSDEFORM_DRAG_BENCHMARK(label, file, _ceres, Backend::kCeres);                            \
   MSDEFORM_DRAG_BENCHMARK(label, file, _ceres_suite_sparse, Backend::kCeresSuiteSparse);    \
   MSDEFORM_DRAG_BENCHMARK(label, file, _arap, Backend::kArap);                              \

@@ -602,6 +602,10 @@ std::vector<SolverVariant> SolverVariants() {
        [](DeformerOptions* o) {
          o->gauss_newton.linear_solver = GN::LinearSolver::kPcgIncompleteCholesky;
        }},
+      // Eigen's scalar SimplicialLLT: the default Cholesky before the
+      // supernodal one (2026-11-26); the same steps, slower.
+      {"gn_eigen_llt",
+       [](DeformerOptions* o) { o->gauss_newton.cholesky = GN::Cholesky::kEigenLLT; }},
       {"gn_ldlt", [](DeformerOptions* o) { o->gauss_newton.cholesky = GN::Cholesky::kEigenLDLT; }},
       {"gn_cholmod", [](DeformerOptions* o) { o->gauss_newton.cholesky = GN::Cholesky::kCholmod; }},
       {"gn_cold", [](DeformerOptions* o) { o->initial_guess = InitialGuess::kRest; }},

@@ -61,7 +61,7 @@ struct SolverVariant {
 };
 
 // Every variant, in table order: gn_lagged (the default options), gn_exact,
-// gn_per_frame, gn_lm, gn_pcg_jacobi, gn_pcg_ichol, gn_ldlt, gn_cholmod,
+// gn_per_frame, gn_lm, gn_pcg_jacobi, gn_pcg_ichol, gn_eigen_llt, gn_ldlt, gn_cholmod,
 // gn_cold, gn_previous, gn_extrapolated, gn_exact_extrapolated,
 // ceres_lm_<lib> and ceres_dogleg_<lib> for every lib of
 // CeresSparseLibraries(), ceres_cgnr, ceres_lm_per_vertex (one position

@@ -149,7 +149,7 @@ const OptionTable<GaussNewtonOptions>& GaussNewtonOptionTable() {
            "(inexact, forcing-term stop).");
     t.Enum("cholesky", &GN::cholesky,
            CholeskyNames(),
-           "Gauss-Newton sparse Cholesky: eigen_llt, eigen_ldlt or cholmod.");
+           "Gauss-Newton sparse Cholesky: supernodal, eigen_llt, eigen_ldlt or cholmod.");
     t.Enum("factorization", &GN::factorization,
            FactorizationNames(),
            "When Gauss-Newton refactorises J^T J: every_iteration, per_frame or lagged (kept "

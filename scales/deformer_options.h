@@ -119,7 +119,7 @@ struct DeformerOptions {
   // some multi-scale edits and costs many on others (the static cactus: 4.5x
   // the factorisations); docs/decisions.md, "Solver seam and defaults".
   InitialGuess initial_guess = InitialGuess::kPrevious;
-  // Gauss-Newton: sparse Cholesky (Eigen's SimplicialLLT), factorisation
+  // Gauss-Newton: sparse Cholesky (supernodal), factorisation
   // lagged across iterations and frames (refactorised when a step fails to
   // shrink the gradient), damping only as a safeguard.
   GaussNewtonOptions gauss_newton;

@@ -1,5 +1,7 @@
 #include "msdeform/scales/gauss_newton_linear_solver.h"
 
+#include "msdeform/scales/gauss_newton_supernodal_cholesky.h"
+
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 #ifdef MSDEFORM_HAVE_CHOLMOD
@@ -51,6 +53,22 @@ bool SparseCholesky<CholmodLLT>::Positive() const {
   return true;
 }
 #endif
+
+// SupernodalCholesky (scales/gauss_newton_supernodal_cholesky.h).
+class Supernodal : public GaussNewtonLinearSolver {
+ public:
+  void Analyze(const SparseMatrix& system) override { cholesky_.Analyze(system); }
+  bool Factorize(const SparseMatrix& system) override { return cholesky_.Factorize(system); }
+  bool Solve(const SparseMatrix&, const Eigen::VectorXd& rhs, double,
+             Eigen::VectorXd* delta) override {
+    cholesky_.Solve(rhs, delta);
+    return delta->allFinite();
+  }
+  bool direct() const override { return true; }
+
+ private:
+  SupernodalCholesky cholesky_;
+};
 
 // Preconditioned conjugate gradients on the current system; Factorize
 // builds the preconditioner.
@@ -135,6 +153,7 @@ std::unique_ptr<GaussNewtonLinearSolver> MakeGaussNewtonLinearSolver(
     case LinearSolver::kCholesky:
       break;
   }
+  if (options.cholesky == Cholesky::kSupernodal) return std::make_unique<Supernodal>();
   if (options.cholesky == Cholesky::kEigenLDLT) return std::make_unique<SparseCholesky<EigenLDLT>>();
 #ifdef MSDEFORM_HAVE_CHOLMOD
   if (options.cholesky == Cholesky::kCholmod) return std::make_unique<SparseCholesky<CholmodLLT>>();

@@ -15,7 +15,7 @@ namespace msdeform {
 
 void AssembleLinearTerms(const DeformationEnergy& energy, const NodeTransforms& transforms,
                          const std::vector<int>& offset, const GaussNewtonTerms& terms, int n,
-                         LinearTerms* out) {
+                         LinearTerms* out, int num_threads, int min_parallel_rows) {
   using SparseMatrix = LinearTerms::SparseMatrix;
   const int num_nodes = transforms.num_nodes();
   auto rotation_variable = [&](int j) { return offset[j]; };
@@ -214,17 +214,29 @@ void AssembleLinearTerms(const DeformationEnergy& energy, const NodeTransforms& 
   for (const Eigen::Triplet<double, int>& entry : p_entries)
     root_handle_entries.emplace_back(entry.row(), entry.col(), -entry.value());
   int root_rows = row;
-  for (const PositionGroup& group : groups) {
-    const int k = static_cast<int>(group.nodes.size());
-    const int width = 4 * k + 7;
+  const int num_groups = static_cast<int>(groups.size());
+  std::vector<Eigen::MatrixXd> factors(num_groups);
+  int64_t total_rows = 0;
+  for (const PositionGroup& group : groups)
+    total_rows += static_cast<int64_t>(group.rows.size()) / (4 * group.nodes.size() + 7);
+  const bool parallel = num_threads > 1 && num_groups > 1 && total_rows >= min_parallel_rows;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(1, num_threads)) if (parallel)
+  for (int g = 0; g < num_groups; ++g) {
+    const PositionGroup& group = groups[g];
+    const int width = 4 * static_cast<int>(group.nodes.size()) + 7;
     const int count = static_cast<int>(group.rows.size()) / width;
-    Eigen::MatrixXd factor = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic,
-                                                            Eigen::RowMajor>>(
-        group.rows.data(), count, width);
+    Eigen::MatrixXd& factor = factors[g];
+    factor = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic,
+                                            Eigen::RowMajor>>(group.rows.data(), count, width);
     if (count > width) {
       Eigen::HouseholderQR<Eigen::MatrixXd> qr(factor);
       factor = qr.matrixQR().topRows(width).triangularView<Eigen::Upper>();
     }
+  }
+  for (int g = 0; g < num_groups; ++g) {
+    const PositionGroup& group = groups[g];
+    const int k = static_cast<int>(group.nodes.size());
+    const Eigen::MatrixXd& factor = factors[g];
     for (int i = 0; i < factor.rows(); ++i) {
       for (int a = 0; a < 3; ++a) {
         for (int node = 0; node < k; ++node) {

@@ -45,7 +45,8 @@ const EnumNames<LinearSolver>& LinearSolverNames() {
 }
 
 const EnumNames<Cholesky>& CholeskyNames() {
-  static const EnumNames<Cholesky> names{{Cholesky::kEigenLLT, "eigen_llt"},
+  static const EnumNames<Cholesky> names{{Cholesky::kSupernodal, "supernodal"},
+                                         {Cholesky::kEigenLLT, "eigen_llt"},
                                          {Cholesky::kEigenLDLT, "eigen_ldlt"},
                                          {Cholesky::kCholmod, "cholmod"}};
   return names;

@@ -66,11 +66,16 @@ struct GaussNewtonOptions {
   LinearSolver linear_solver = LinearSolver::kCholesky;
   // The sparse Cholesky of LinearSolver::kCholesky.
   enum class Cholesky {
+    kSupernodal,  // our supernodal LLT, AMD ordering (scales/gauss_newton_supernodal_cholesky.h)
     kEigenLLT,   // Eigen::SimplicialLLT, AMD ordering
     kEigenLDLT,  // Eigen::SimplicialLDLT, AMD ordering
     kCholmod,    // CHOLMOD (SuiteSparse) supernodal LLT; kEigenLLT when not built in
   };
-  Cholesky cholesky = Cholesky::kEigenLLT;
+  // Supernodal: the same ordering and factor as Eigen's scalar LLT, with
+  // dense kernels per supernode: about 2.3x faster to factorise and 1.7x to
+  // solve on the 104K claw (docs/decisions.md, "Many cores (issue 30): the
+  // Gauss-Newton solve").
+  Cholesky cholesky = Cholesky::kSupernodal;
   // When J^T J is factorised (the Cholesky factor, or the PCG preconditioner).
   // Every iteration: Gauss-Newton proper. Per frame: at the first iteration of
   // each Solve, then kept while each accepted step shrinks the gradient's max
@@ -116,7 +121,7 @@ const EnumNames<GaussNewtonOptions::Factorization>& FactorizationNames();
 const EnumNames<GaussNewtonOptions::Damping>& DampingNames();
 const char* LinearSolverName(GaussNewtonOptions::LinearSolver solver);
 bool ParseLinearSolver(const std::string& name, GaussNewtonOptions::LinearSolver* solver);
-// "eigen_llt", "eigen_ldlt", "cholmod".
+// "supernodal", "eigen_llt", "eigen_ldlt", "cholmod".
 const char* CholeskyName(GaussNewtonOptions::Cholesky cholesky);
 bool ParseCholesky(const std::string& name, GaussNewtonOptions::Cholesky* cholesky);
 // "every_iteration", "per_frame", "lagged".
@@ -129,9 +134,26 @@ bool ParseDamping(const std::string& name, GaussNewtonOptions::Damping* damping)
 // True when CHOLMOD support was compiled in.
 bool GaussNewtonHasCholmod();
 
+// How an iteration's assembly of the Rot terms (residuals, J^T r into the
+// gradient, the 9x9 blocks of J^T J) splits over threads: fixed chunks of
+// `chunk_size` rot nodes, each chunk's cost summed alone and the chunk sums
+// added in chunk order, so the bits do not depend on num_threads. Parallel
+// only from `min_parallel_terms` rot nodes: a term takes about 80 ns, and a
+// frame's ~100 nodes (the claw at any mesh size) are far below what pays for
+// a parallel region (a few microseconds on a busy machine).
+struct GaussNewtonThreads {
+  int num_threads = 1;
+  int chunk_size = 512;
+  int min_parallel_terms = 8192;
+  // Setup's QR of the position groups (scales/gauss_newton_linear_terms.h)
+  // in parallel from this many position rows in all.
+  int min_parallel_rows = 4096;
+};
+
 class GaussNewtonSolver : public FrameSolver {
  public:
-  GaussNewtonSolver(const GaussNewtonOptions& options, const StoppingRule& stopping);
+  GaussNewtonSolver(const GaussNewtonOptions& options, const StoppingRule& stopping,
+                    const GaussNewtonThreads& threads = GaussNewtonThreads());
   ~GaussNewtonSolver() override;
 
   // Variables, H, A^T c, A^T P, the pattern and the symbolic factorisation.
@@ -146,6 +168,7 @@ class GaussNewtonSolver : public FrameSolver {
   std::unique_ptr<Impl> impl_;
   GaussNewtonOptions options_;
   StoppingRule stopping_;
+  GaussNewtonThreads threads_;
   int num_variables_ = 0;
 };
 

@@ -28,7 +28,10 @@ std::unique_ptr<Session> Session::Create(std::shared_ptr<const Layout> layout,
   if (session->layout_->energy().arap && options.backend == Solver::kGaussNewton) {
     session->solver_ = MakeArapSolver(options.arap.solver, options.stopping);
   } else if (options.backend == Solver::kGaussNewton) {
-    session->solver_ = std::make_unique<GaussNewtonSolver>(options.gauss_newton, options.stopping);
+    GaussNewtonThreads threads;
+    threads.num_threads = options.num_threads;
+    session->solver_ =
+        std::make_unique<GaussNewtonSolver>(options.gauss_newton, options.stopping, threads);
   } else {
     session->solver_ =
         std::make_unique<CeresSolver>(options.ceres, options.stopping, options.num_threads);

@@ -116,7 +116,7 @@ TEST(SolverVariantsTest, NamesAreUniqueAndOnlyTheSolverDiffers) {
   EXPECT_EQ(names.size(), variants.size());
   for (const char* name :
        {"gn_lagged", "gn_exact", "gn_per_frame", "gn_lm", "gn_pcg_jacobi", "gn_pcg_ichol",
-        "gn_ldlt", "gn_cholmod", "gn_cold", "gn_extrapolated", "gn_refactor_025",
+        "gn_eigen_llt", "gn_ldlt", "gn_cholmod", "gn_cold", "gn_extrapolated", "gn_refactor_025",
         "ceres_lm_eigen_sparse", "ceres_dogleg_eigen_sparse", "ceres_cgnr", "ceres_lm_per_vertex",
         "ceres_lm_autodiff", "arap_local_global"}) {
     EXPECT_TRUE(names.count(name)) << name;

@@ -136,7 +136,7 @@ TEST(DeformerOptionTableTest, DescribeOfTheDefaultsIsUnchanged) {
       {"stopping.parameter_tolerance", "1e-10"},
       {"initial_guess", "previous"},
       {"gauss_newton.linear_solver", "cholesky"},
-      {"gauss_newton.cholesky", "eigen_llt"},
+      {"gauss_newton.cholesky", "supernodal"},
       {"gauss_newton.factorization", "lagged"},
       {"gauss_newton.refactor_ratio", "0.80000000000000004"},
       {"gauss_newton.damping", "gauss_newton"},

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "msdeform/energies/gauge_cost.h"
 #include "msdeform/energies/rot_cost.h"
 #include "msdeform/scales/deformer.h"
+#include "msdeform/scales/deformer_options.h"
 
 namespace msdeform {
 namespace {
@@ -396,7 +398,8 @@ TEST(GaussNewtonSolverTest, EveryGaussNewtonVariantReachesTheSameMinimum) {
   using Factorization = GaussNewtonOptions::Factorization;
   using Damping = GaussNewtonOptions::Damping;
   std::vector<GaussNewtonOptions> variants;
-  for (Cholesky cholesky : {Cholesky::kEigenLLT, Cholesky::kEigenLDLT, Cholesky::kCholmod}) {
+  for (Cholesky cholesky :
+       {Cholesky::kSupernodal, Cholesky::kEigenLLT, Cholesky::kEigenLDLT, Cholesky::kCholmod}) {
     GaussNewtonOptions gn;
     gn.cholesky = cholesky;
     variants.push_back(gn);
@@ -574,7 +577,8 @@ TEST(GaussNewtonSolverTest, AFrameThatNeverFactorisesFails) {
   energy.coherence = {{0, 1, Eigen::Vector3d(1.0, 0.0, 0.0), std::ldexp(1.0, 150)}};
   for (int budget : {1, 20, 1000}) {
     for (GaussNewtonOptions::Cholesky cholesky :
-         {GaussNewtonOptions::Cholesky::kEigenLLT, GaussNewtonOptions::Cholesky::kEigenLDLT}) {
+         {GaussNewtonOptions::Cholesky::kSupernodal, GaussNewtonOptions::Cholesky::kEigenLLT,
+          GaussNewtonOptions::Cholesky::kEigenLDLT}) {
       GaussNewtonOptions gn;
       gn.cholesky = cholesky;
       StoppingRule stopping;
@@ -594,6 +598,98 @@ TEST(GaussNewtonSolverTest, AFrameThatNeverFactorisesFails) {
       EXPECT_NE(summary.message.find("factoris"), std::string::npos) << what;
     }
   }
+}
+
+// The default Cholesky (supernodal) against the one before it (Eigen's
+// SimplicialLLT) at the default stopping rule: the same steps, so the same
+// iterations, factorisations and minimum up to round-off.
+TEST(GaussNewtonSolverTest, SupernodalCholeskyTakesTheStepsOfEigensLLT) {
+  const Edit edit = BarEdit(6);
+  DeformerOptions options;
+  options.num_threads = 1;
+  ASSERT_EQ(options.gauss_newton.cholesky, GaussNewtonOptions::Cholesky::kSupernodal);
+  DeformerOptions eigen = options;
+  eigen.gauss_newton.cholesky = GaussNewtonOptions::Cholesky::kEigenLLT;
+  Deformer a, b;
+  std::string error;
+  ASSERT_TRUE(a.Init(edit.mesh, options, &error)) << error;
+  ASSERT_TRUE(b.Init(edit.mesh, eigen, &error)) << error;
+  ASSERT_TRUE(a.SetHandles(edit.layout, &error)) << error;
+  ASSERT_TRUE(b.SetHandles(edit.layout, &error)) << error;
+  for (const Eigen::Affine3d& frame : edit.path) {
+    DragStats sa, sb;
+    ASSERT_TRUE(a.Drag(frame, &sa, &error)) << error;
+    ASSERT_TRUE(b.Drag(frame, &sb, &error)) << error;
+    EXPECT_EQ(sa.iterations, sb.iterations);
+    EXPECT_EQ(sa.factorizations, sb.factorizations);
+    EXPECT_NEAR(sa.final_cost, sb.final_cost, 1e-12 * sb.final_cost);
+  }
+  EXPECT_GT(a.num_variables(), 100);
+  const Eigen::Matrix3Xd& va = a.deformed_vertices();
+  const Eigen::Matrix3Xd& vb = b.deformed_vertices();
+  EXPECT_LE((va - vb).cwiseAbs().maxCoeff(), 1e-12 * a.diagonal());
+}
+
+// The Rot terms' assembly over fixed chunks: 1, 2 and 3 threads (chunks of
+// 4 nodes, parallel from one node, so the bar's nodes split over them) take
+// the same steps to the same bits as the serial one-chunk path up to the
+// order of the chunk sums; each frame's J^T J and right-hand side must be
+// bit-identical for the trajectories to be.
+TEST(GaussNewtonSolverTest, ChunkedRotAssemblyIsTheSameForAnyThreadCount) {
+  const Edit edit = BarEdit(4);
+  DeformerOptions options;
+  options.num_threads = 1;
+  Deformer deformer;
+  std::string error;
+  ASSERT_TRUE(deformer.Init(edit.mesh, options, &error)) << error;
+  ASSERT_TRUE(deformer.SetHandles(edit.layout, &error)) << error;
+  const DeformationEnergy& energy = deformer.energy();
+  ASSERT_GT(energy.rot_nodes.size(), 8u);
+  std::vector<NodeTransforms> results;
+  std::vector<std::vector<double>> costs;
+  for (int num_threads : {1, 2, 3}) {
+    GaussNewtonThreads threads;
+    threads.num_threads = num_threads;
+    threads.chunk_size = 4;
+    threads.min_parallel_terms = 1;
+    GaussNewtonSolver solver(GaussNewtonOptions(), StoppingRule(), threads);
+    NodeTransforms transforms = NodeTransforms::Identity(deformer.active().num_nodes());
+    ASSERT_TRUE(solver.Setup(energy, transforms, &error)) << error;
+    std::vector<double> cost;
+    for (const Eigen::Affine3d& frame : edit.path) {
+      const SolveSummary summary = solver.Solve(frame, &transforms);
+      ASSERT_FALSE(summary.failed) << summary.message;
+      for (const auto& point : summary.trace) cost.push_back(point.cost);
+    }
+    results.push_back(transforms);
+    costs.push_back(cost);
+  }
+  for (size_t t = 1; t < results.size(); ++t) {
+    EXPECT_EQ(costs[t], costs[0]) << t + 1 << " threads";
+    EXPECT_EQ(0, std::memcmp(results[t].rotations.data(), results[0].rotations.data(),
+                             sizeof(double) * results[0].rotations.size()));
+    EXPECT_EQ(0, std::memcmp(results[t].translations.data(), results[0].translations.data(),
+                             sizeof(double) * results[0].translations.size()));
+  }
+  // The serial one-chunk path reaches the same minimum (its sums in another order).
+  GaussNewtonSolver serial{GaussNewtonOptions(), StoppingRule()};
+  NodeTransforms transforms = NodeTransforms::Identity(deformer.active().num_nodes());
+  ASSERT_TRUE(serial.Setup(energy, transforms, &error)) << error;
+  SolveSummary summary;
+  for (const Eigen::Affine3d& frame : edit.path) summary = serial.Solve(frame, &transforms);
+  EXPECT_NEAR(summary.final_cost, costs[0].back(), 1e-12 * summary.final_cost);
+}
+
+TEST(GaussNewtonSolverTest, BadCholeskyNameIsOneLineNamingTheOption) {
+  DeformerOptions options;
+  std::string error;
+  EXPECT_FALSE(DeformerOptionTable().Set("gauss_newton.cholesky", "block", &options, &error));
+  EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+  EXPECT_NE(error.find("gauss_newton.cholesky"), std::string::npos) << error;
+  EXPECT_NE(error.find("supernodal"), std::string::npos) << error;
+  GaussNewtonOptions::Cholesky parsed;
+  EXPECT_TRUE(ParseCholesky("supernodal", &parsed));
+  EXPECT_EQ(parsed, GaussNewtonOptions::Cholesky::kSupernodal);
 }
 
 TEST(GaussNewtonSolverTest, OptionsCheckAndSolverNames) {
