@@ -69,6 +69,28 @@ bool TextLines::NextWithContent() {
   return false;
 }
 
+std::string_view FirstToken(std::string_view line) {
+  size_t i = 0;
+  while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+  size_t j = i;
+  while (j < line.size() && line[j] != '#' && !std::isspace(static_cast<unsigned char>(line[j]))) {
+    ++j;
+  }
+  return line.substr(i, j - i);
+}
+
+std::vector<size_t> LineChunks(std::string_view text, size_t begin, size_t end,
+                               size_t chunk_bytes) {
+  std::vector<size_t> bounds = {begin};
+  while (end - bounds.back() > chunk_bytes) {
+    const size_t line_end = text.substr(0, end).find('\n', bounds.back() + chunk_bytes - 1);
+    if (line_end == std::string_view::npos || line_end + 1 >= end) break;
+    bounds.push_back(line_end + 1);
+  }
+  bounds.push_back(end);
+  return bounds;
+}
+
 std::string Quote(std::string_view token) {
   constexpr size_t kMax = 24;
   if (token.size() <= kMax) return "'" + std::string(token) + "'";
@@ -89,8 +111,8 @@ bool ParseFloat(std::string_view token, float* value) {
   return ParseReal<float>(token, std::strtof, value);
 }
 
-bool ReadVertexCoordinates(const TextLines& lines, size_t first, long long vertex,
-                           std::vector<double>* xyz, std::string* problem) {
+bool ReadVertexCoordinates(const TextLines& lines, size_t first, long long vertex, double xyz[3],
+                           std::string* problem) {
   const TextLines::Tokens& tokens = lines.tokens();
   if (tokens.size() < first + 3) {
     return lines.Fail(problem, "vertex ", vertex, " has fewer than 3 coordinates");
@@ -105,7 +127,7 @@ bool ReadVertexCoordinates(const TextLines& lines, size_t first, long long verte
       return lines.Fail(problem, "vertex ", vertex, " coordinate ", Quote(tokens[k]),
                         " is not finite");
     }
-    xyz->push_back(value);
+    xyz[k - first] = value;
   }
   return true;
 }
