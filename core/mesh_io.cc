@@ -95,7 +95,10 @@ class FileBytes {
   FileBytes& operator=(const FileBytes&) = delete;
   ~FileBytes() { Release(); }
 
-  bool Open(const std::string& path, std::string* problem) {
+  // With `populate` the pages are mapped before Open returns (one thread
+  // faulting them in); without, as the parse first reads them (on each of
+  // its threads).
+  bool Open(const std::string& path, bool populate, std::string* problem) {
     std::error_code ec;
     const fs::file_status status = fs::status(path, ec);
     if (!fs::exists(status)) {
@@ -114,7 +117,7 @@ class FileBytes {
     struct stat info;
     if (::fstat(fd, &info) == 0 && S_ISREG(info.st_mode) && info.st_size > 0) {
       void* map = ::mmap(nullptr, static_cast<size_t>(info.st_size), PROT_READ,
-                         MAP_PRIVATE | MAP_POPULATE, fd, 0);
+                         MAP_PRIVATE | (populate ? MAP_POPULATE : 0), fd, 0);
       if (map != MAP_FAILED) {
         map_ = map;
         size_ = static_cast<size_t>(info.st_size);
@@ -220,7 +223,9 @@ bool ReadMesh(const std::string& path, const MeshReadOptions& options, Mesh* mes
                 error);
   }
   FileBytes bytes;
-  if (!bytes.Open(path, &problem)) return Fail(path, problem, error);
+  if (!bytes.Open(path, /*populate=*/options.num_threads == 1, &problem)) {
+    return Fail(path, problem, error);
+  }
   // The format's check first: OpenMesh's readers trust what they read.
   FormatCheck check;
   check.options = options;

@@ -118,16 +118,17 @@ struct OffPiece {
   int lines = 0;             // its lines (CountOffPiece)
   long long items = 0;       // its lines with content (counted), or the items read
   SoupPiece soup;       // what it read
+  // Where vertex v goes, at xyz_out[3 v] (when the pieces were counted);
+  // nullptr: to soup.xyz.
+  double* xyz_out = nullptr;
   std::string problem;  // the piece's first bad line, "line N: ..."; empty when none
 };
 
 // Counts the piece's lines and those with content.
 void CountOffPiece(OffPiece* piece) {
-  long long items = 0;
-  piece->lines = ForEachLine(piece->text, [&items](std::string_view line) {
-    if (!FirstToken(line).empty()) ++items;
-  });
-  piece->items = items;
+  const LineCount count = CountLines(piece->text);
+  piece->lines = count.lines;
+  piece->items = count.with_content;
 }
 
 // Reads the piece's lines with content as items first_item, first_item + 1,
@@ -145,7 +146,11 @@ void ParseOffPiece(long long num_vertices, long long num_faces, OffPiece* piece)
     if (item < num_vertices) {
       double position[3];
       if (!ReadVertexCoordinates(lines, 0, item, position, &problem)) break;
-      piece->soup.xyz.insert(piece->soup.xyz.end(), position, position + 3);
+      if (piece->xyz_out != nullptr) {
+        std::copy(position, position + 3, piece->xyz_out + 3 * item);
+      } else {
+        piece->soup.xyz.insert(piece->soup.xyz.end(), position, position + 3);
+      }
       continue;
     }
     const long long face = item - num_vertices;
@@ -236,8 +241,17 @@ bool CheckOffText(std::string_view text, FormatCheck* check, std::string* proble
   for (size_t c = 0; c < pieces.size(); ++c) {
     pieces[c].text = text.substr(bounds[c], bounds[c + 1] - bounds[c]);
   }
-  ForEachChunk(static_cast<int>(pieces.size()) - 1, options.num_threads,
-               [&pieces](int c) { CountOffPiece(&pieces[c]); });
+  // Several pieces are counted first; their vertices then go straight to
+  // their place in `xyz` (as many as the lines can hold).
+  const bool counted = pieces.size() > 1;
+  UninitializedVector<double> xyz;
+  if (counted) {
+    ForEachChunk(static_cast<int>(pieces.size()), options.num_threads,
+                 [&pieces](int c) { CountOffPiece(&pieces[c]); });
+    long long lines_with_content = 0;
+    for (const OffPiece& piece : pieces) lines_with_content += piece.items;
+    xyz.resize(3 * static_cast<size_t>(std::min(num_vertices, lines_with_content)));
+  }
   for (size_t c = 0; c < pieces.size(); ++c) {
     OffPiece& piece = pieces[c];
     piece.lines_before = c == 0 ? counts_line : pieces[c - 1].lines_before + pieces[c - 1].lines;
@@ -245,7 +259,8 @@ bool CheckOffText(std::string_view text, FormatCheck* check, std::string* proble
     // Room for what the piece holds: its items when counted, else what its
     // bytes can hold ("0 0 0" and "3 0 1 2" with their line ends): the
     // header's counts are not trusted yet.
-    const long long items = c + 1 < pieces.size()
+    if (counted) piece.xyz_out = xyz.data();
+    const long long items = counted
                                 ? piece.items
                                 : static_cast<long long>(
                                       ReservationFor(total, piece.text.size(), 6));
@@ -253,7 +268,7 @@ bool CheckOffText(std::string_view text, FormatCheck* check, std::string* proble
         std::clamp(num_vertices - piece.first_item, 0LL, std::min(items, num_vertices));
     const size_t faces = ReservationFor(std::min(items - vertices, num_faces), piece.text.size(),
                                         8);
-    piece.soup.xyz.reserve(3 * static_cast<size_t>(vertices));
+    if (!counted) piece.soup.xyz.reserve(3 * static_cast<size_t>(vertices));
     piece.soup.face_offsets.reserve(faces + 1);
     piece.soup.face_ids.reserve(3 * faces);
   }
@@ -282,6 +297,7 @@ bool CheckOffText(std::string_view text, FormatCheck* check, std::string* proble
   if (!ConcatenateSoupPieces(parts, options.num_threads, &check->soup)) {
     return SetProblem(problem, "too many vertices or faces");
   }
+  if (counted) check->soup.xyz = std::move(xyz);
   check->read_data = true;
   return true;
 }

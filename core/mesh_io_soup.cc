@@ -154,7 +154,8 @@ bool SplitIntoTriangles(const PolygonSoup& soup, const MeshReadOptions& options,
 // grouped in two steps: by block of lowest ids (a stable scatter in face
 // chunks, each with its own row of block counts), then within each block by
 // the lowest id itself (a counting sort), so each group lists its triangles
-// in file order, as one counting sort over all of them did.
+// in file order, as one counting sort over all of them did. A triangle
+// travels with its key, so a block's work reads only the block's entries.
 void DropDegenerateAndDuplicateFaces(const MeshReadOptions& options, Mesh* mesh,
                                      MeshReadReport* report) {
   const int threads = options.num_threads;
@@ -168,39 +169,46 @@ void DropDegenerateAndDuplicateFaces(const MeshReadOptions& options, Mesh* mesh,
     *begin = static_cast<int>(c * face_per);
     *end = static_cast<int>(std::min<long long>(num_faces, (c + 1) * face_per));
   };
-
-  // Each triangle rotated to start at its lowest id: one key for the three
+  // Triangle f rotated to start at its lowest id: one key for the three
   // rotations of (a, b, c), another for the opposite orientation (a, c, b).
-  // A triangle that repeats a vertex is dropped, its key's first id -1.
-  UninitializedVector<std::array<int, 3>> keys(num_faces);
+  // False for a triangle that repeats a vertex.
+  auto key_of = [mesh](int f, std::array<int, 3>* key) {
+    const int a = mesh->faces(0, f), b = mesh->faces(1, f), c = mesh->faces(2, f);
+    if (a == b || b == c || a == c) return false;
+    const int first = a < b ? (a < c ? 0 : 2) : (b < c ? 1 : 2);
+    *key = {mesh->faces(first, f), mesh->faces((first + 1) % 3, f),
+            mesh->faces((first + 2) % 3, f)};
+    return true;
+  };
+
   UninitializedVector<char> drop(num_faces);
-  // Per face chunk: its triangles that repeat a vertex, then its row of
-  // counts per block.
+  // Per face chunk: its triangles that repeat a vertex, and its row of
+  // counts per block (then where its triangles of each block go).
   std::vector<int> degenerate(face_chunks, 0);
   std::vector<int> slot(static_cast<size_t>(face_chunks) * blocks, 0);
   ForEachChunk(face_chunks, threads, [&](int c) {
     int begin, end;
     face_range(c, &begin, &end);
-    int* row = slot.data() + static_cast<size_t>(c) * blocks;
+    // Counted apart and stored once: the rows of neighbouring chunks share
+    // cache lines.
+    std::vector<int> row(blocks, 0);
+    int repeats = 0;
+    std::array<int, 3> key;
     for (int f = begin; f < end; ++f) {
-      const int a = mesh->faces(0, f), b = mesh->faces(1, f), d = mesh->faces(2, f);
-      if (a == b || b == d || a == d) {
-        drop[f] = 1;
-        keys[f][0] = -1;
-        ++degenerate[c];
-        continue;
+      const bool valid = key_of(f, &key);
+      drop[f] = !valid;
+      if (valid) {
+        ++row[key[0] / block_per];
+      } else {
+        ++repeats;
       }
-      drop[f] = 0;
-      const int first = a < b ? (a < d ? 0 : 2) : (b < d ? 1 : 2);
-      keys[f] = {mesh->faces(first, f), mesh->faces((first + 1) % 3, f),
-                 mesh->faces((first + 2) % 3, f)};
-      ++row[keys[f][0] / block_per];
     }
+    std::copy(row.begin(), row.end(), slot.begin() + static_cast<size_t>(c) * blocks);
+    degenerate[c] = repeats;
   });
   for (int count : degenerate) report->dropped_degenerate_faces += count;
 
-  // Where each chunk's triangles of each block go: blocks in order, and
-  // within a block the chunks in order.
+  // Blocks in order, and within a block the chunks in order.
   std::vector<int> block_start(blocks + 1, 0);
   int running = 0;
   for (int b = 0; b < blocks; ++b) {
@@ -213,13 +221,21 @@ void DropDegenerateAndDuplicateFaces(const MeshReadOptions& options, Mesh* mesh,
     }
   }
   block_start[blocks] = running;
-  UninitializedVector<int> by_block(running);
+  struct KeyedFace {
+    std::array<int, 3> key;
+    int face;
+  };
+  UninitializedVector<KeyedFace> by_block(running);
   ForEachChunk(face_chunks, threads, [&](int c) {
     int begin, end;
     face_range(c, &begin, &end);
-    int* row = slot.data() + static_cast<size_t>(c) * blocks;
+    std::vector<int> row(slot.begin() + static_cast<size_t>(c) * blocks,
+                         slot.begin() + static_cast<size_t>(c + 1) * blocks);
+    KeyedFace entry;
     for (int f = begin; f < end; ++f) {
-      if (keys[f][0] >= 0) by_block[row[keys[f][0] / block_per]++] = f;
+      if (!key_of(f, &entry.key)) continue;
+      entry.face = f;
+      by_block[row[entry.key[0] / block_per]++] = entry;
     }
   });
 
@@ -234,42 +250,46 @@ void DropDegenerateAndDuplicateFaces(const MeshReadOptions& options, Mesh* mesh,
     const int block_vertices =
         static_cast<int>(std::min<long long>(num_vertices, first_vertex + block_per)) -
         first_vertex;
-    const int* in_block = by_block.data() + block_start[b];
+    const KeyedFace* in_block = by_block.data() + block_start[b];
     const int count = block_start[b + 1] - block_start[b];
     std::vector<int> start(block_vertices + 1, 0);
-    for (int i = 0; i < count; ++i) ++start[keys[in_block[i]][0] - first_vertex + 1];
+    for (int i = 0; i < count; ++i) ++start[in_block[i].key[0] - first_vertex + 1];
     for (int v = 0; v < block_vertices; ++v) start[v + 1] += start[v];
-    std::vector<int> grouped(count);
+    std::vector<KeyedFace> grouped(count);
     {
       std::vector<int> fill(start.begin(), start.end() - 1);
       for (int i = 0; i < count; ++i) {
-        grouped[fill[keys[in_block[i]][0] - first_vertex]++] = in_block[i];
+        grouped[fill[in_block[i].key[0] - first_vertex]++] = in_block[i];
       }
     }
     constexpr int kScanLimit = 16;
+    int found = 0;
     for (int v = 0; v < block_vertices; ++v) {
       const auto first = grouped.begin() + start[v], last = grouped.begin() + start[v + 1];
       if (last - first > kScanLimit) {
-        std::stable_sort(first, last, [&keys](int f, int g) { return keys[f] < keys[g]; });
+        std::stable_sort(first, last,
+                         [](const KeyedFace& f, const KeyedFace& g) { return f.key < g.key; });
         for (auto it = first + 1; it < last; ++it) {
-          if (keys[*it] == keys[*(it - 1)]) {
-            drop[*it] = 1;
-            ++duplicates[b];
+          if (it->key == (it - 1)->key) {
+            drop[it->face] = 1;
+            ++found;
           }
         }
         continue;
       }
       for (auto it = first + 1; it < last; ++it) {
         for (auto earlier = first; earlier < it; ++earlier) {
-          if (!drop[*earlier] && keys[*it] == keys[*earlier]) {
-            drop[*it] = 1;
-            ++duplicates[b];
+          if (!drop[earlier->face] && it->key == earlier->key) {
+            drop[it->face] = 1;
+            ++found;
             break;
           }
         }
       }
     }
+    duplicates[b] = found;
   });
+  UninitializedVector<KeyedFace>().swap(by_block);
   int dropped = 0;
   for (int b = 0; b < blocks; ++b) dropped += duplicates[b];
   report->dropped_duplicate_faces += dropped;
@@ -278,13 +298,13 @@ void DropDegenerateAndDuplicateFaces(const MeshReadOptions& options, Mesh* mesh,
 
   // The kept triangles, in order, into a new matrix (chunk c's go after
   // those of the chunks before it).
-  UninitializedVector<std::array<int, 3>>().swap(keys);
-  UninitializedVector<int>().swap(by_block);
   std::vector<long long> kept(face_chunks, 0);
   ForEachChunk(face_chunks, threads, [&](int c) {
     int begin, end;
     face_range(c, &begin, &end);
-    for (int f = begin; f < end; ++f) kept[c] += !drop[f];
+    long long count = 0;
+    for (int f = begin; f < end; ++f) count += !drop[f];
+    kept[c] = count;
   });
   const long long num_kept = PrefixSums(&kept);
   Eigen::Matrix3Xi faces(3, num_kept);

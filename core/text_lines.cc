@@ -11,6 +11,11 @@
 namespace msdeform {
 namespace {
 
+// std::isspace in the "C" locale (space, \t, \n, \v, \f, \r), inline: the
+// library call per character was a third of reading a text mesh, and a mesh
+// file's separators do not depend on the user's locale.
+inline bool IsSpace(unsigned char c) { return c == ' ' || (c >= '\t' && c <= '\r'); }
+
 // Splits `line` into whitespace-separated tokens, dropping a '#' comment;
 // sets *had_comment when there was one.
 void Tokenize(std::string_view line, TextLines::Tokens* tokens, bool* had_comment) {
@@ -23,9 +28,9 @@ void Tokenize(std::string_view line, TextLines::Tokens* tokens, bool* had_commen
   }
   size_t i = 0;
   while (i < line.size()) {
-    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    while (i < line.size() && IsSpace(static_cast<unsigned char>(line[i]))) ++i;
     size_t j = i;
-    while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
+    while (j < line.size() && !IsSpace(static_cast<unsigned char>(line[j]))) ++j;
     if (j > i) tokens->push_back(line.substr(i, j - i));
     i = j;
   }
@@ -71,12 +76,38 @@ bool TextLines::NextWithContent() {
 
 std::string_view FirstToken(std::string_view line) {
   size_t i = 0;
-  while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+  while (i < line.size() && IsSpace(static_cast<unsigned char>(line[i]))) ++i;
   size_t j = i;
-  while (j < line.size() && line[j] != '#' && !std::isspace(static_cast<unsigned char>(line[j]))) {
+  while (j < line.size() && line[j] != '#' && !IsSpace(static_cast<unsigned char>(line[j]))) {
     ++j;
   }
   return line.substr(i, j - i);
+}
+
+LineCount CountLines(std::string_view text) {
+  LineCount count;
+  const size_t n = text.size();
+  if (n == 0) return count;
+  const unsigned char* bytes = reinterpret_cast<const unsigned char*>(text.data());
+  // A line that may have no token: it starts with a space (a line end
+  // included) or a '#'.
+  auto maybe_blank = [](unsigned char c) { return IsSpace(c) || c == '#'; };
+  size_t newlines = 0;
+  size_t maybe_blank_lines = maybe_blank(bytes[0]);
+  for (size_t i = 0; i + 1 < n; ++i) {
+    const bool newline = bytes[i] == '\n';
+    newlines += newline;
+    maybe_blank_lines += newline & maybe_blank(bytes[i + 1]);
+  }
+  newlines += bytes[n - 1] == '\n';
+  count.lines = static_cast<int>(newlines + (bytes[n - 1] != '\n'));
+  count.with_content = count.lines;
+  if (maybe_blank_lines > 0) {
+    ForEachLine(text, [&count](std::string_view line) {
+      if (FirstToken(line).empty()) --count.with_content;
+    });
+  }
+  return count;
 }
 
 std::vector<size_t> LineChunks(std::string_view text, size_t begin, size_t end,

@@ -83,6 +83,16 @@ std::string_view FirstToken(std::string_view line);
 std::vector<size_t> LineChunks(std::string_view text, size_t begin, size_t end,
                                size_t chunk_bytes);
 
+// The lines of a text as TextLines walks them, and those with a token (as
+// NextWithContent finds them), counted in one pass over the bytes that
+// compilers vectorise: only when a line starts with a space, a '#' or its
+// end are the lines looked at one by one.
+struct LineCount {
+  int lines = 0;
+  long long with_content = 0;
+};
+LineCount CountLines(std::string_view text);
+
 // Calls visit(line) for each line of `text`, a line as TextLines::line()
 // would give it but for a '\r' kept at its end; returns the number of lines.
 template <typename Visit>
