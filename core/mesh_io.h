@@ -78,7 +78,7 @@ struct MeshReadOptions {
   // The steps after parsing, and binary PLY, work in chunks of this many
   // vertices or faces; at least 1. (Tests set both small to take the
   // parallel paths on small meshes.)
-  int items_per_chunk = 1 << 16;
+  int items_per_chunk = 1 << 14;
 
   bool Check(std::string* problem) const;
 };
