@@ -86,27 +86,9 @@ std::string_view FirstToken(std::string_view line) {
 
 LineCount CountLines(std::string_view text) {
   LineCount count;
-  const size_t n = text.size();
-  if (n == 0) return count;
-  const unsigned char* bytes = reinterpret_cast<const unsigned char*>(text.data());
-  // A line that may have no token: it starts with a space (a line end
-  // included) or a '#'.
-  auto maybe_blank = [](unsigned char c) { return IsSpace(c) || c == '#'; };
-  size_t newlines = 0;
-  size_t maybe_blank_lines = maybe_blank(bytes[0]);
-  for (size_t i = 0; i + 1 < n; ++i) {
-    const bool newline = bytes[i] == '\n';
-    newlines += newline;
-    maybe_blank_lines += newline & maybe_blank(bytes[i + 1]);
-  }
-  newlines += bytes[n - 1] == '\n';
-  count.lines = static_cast<int>(newlines + (bytes[n - 1] != '\n'));
-  count.with_content = count.lines;
-  if (maybe_blank_lines > 0) {
-    ForEachLine(text, [&count](std::string_view line) {
-      if (FirstToken(line).empty()) --count.with_content;
-    });
-  }
+  count.lines = ForEachLine(text, [&count](std::string_view line) {
+    count.with_content += !FirstToken(line).empty();
+  });
   return count;
 }
 

@@ -84,9 +84,9 @@ std::vector<size_t> LineChunks(std::string_view text, size_t begin, size_t end,
                                size_t chunk_bytes);
 
 // The lines of a text as TextLines walks them, and those with a token (as
-// NextWithContent finds them), counted in one pass over the bytes that
-// compilers vectorise: only when a line starts with a space, a '#' or its
-// end are the lines looked at one by one.
+// NextWithContent finds them), counted without splitting the lines into
+// tokens (ForEachLine and FirstToken): about a tenth of the time of parsing
+// the lines (10 ms of 83 for a 42 MB OFF).
 struct LineCount {
   int lines = 0;
   long long with_content = 0;
