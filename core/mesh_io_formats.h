@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <ostream>
 #include <string>
@@ -29,6 +30,7 @@
 
 #include "msdeform/core/mesh.h"
 #include "msdeform/core/mesh_io.h"
+#include "msdeform/core/parallel.h"
 
 namespace msdeform {
 
@@ -91,26 +93,24 @@ inline size_t ReservationFor(long long count, size_t bytes_left, size_t min_item
   return std::min({static_cast<size_t>(count), bytes_left / min_item_bytes, kCap});
 }
 
-// How many chunks of `per_chunk` items (at least 1) cover `count` items,
-// and how many items a chunk then holds: `per_chunk`, or more where that
-// would make over kMaxChunks chunks (so that tables with a row per chunk
-// stay small whatever the options). Depends only on the two numbers.
+// How many items a chunk holds when `count` items are cut into chunks of
+// `per_chunk` (at least 1): `per_chunk`, or more where that would make over
+// kMaxChunks chunks (so that tables with a row per chunk stay small whatever
+// the options). Depends only on the two numbers; NumChunks (core/parallel.h)
+// then gives the number of chunks.
 constexpr long long kMaxChunks = 1024;
 inline long long ChunkItems(long long count, long long per_chunk) {
   return std::max({per_chunk, (count + kMaxChunks - 1) / kMaxChunks, 1LL});
 }
-inline int NumChunks(long long count, long long chunk_items) {
-  return static_cast<int>((count + chunk_items - 1) / chunk_items);
-}
 
-// Calls body(c) for c in 0..num_chunks - 1, on up to `num_threads` threads
-// (OpenMP) when there is more than one chunk. Each body writes only its own
-// chunk's outputs, so the result does not depend on the threads.
+// Calls body(c) for c in 0..num_tasks - 1 on up to `num_threads` threads:
+// ForEachChunk (core/parallel.h) with one task per chunk, for work already
+// cut into chunks (pieces of text, chunks of ChunkItems). Each body writes
+// only its own task's outputs, so the result does not depend on the threads.
 template <typename Body>
-void ForEachChunk(int num_chunks, int num_threads, const Body& body) {
-#pragma omp parallel for num_threads(num_threads) schedule(dynamic, 1) \
-    if (num_threads > 1 && num_chunks > 1)
-  for (int c = 0; c < num_chunks; ++c) body(c);
+void ForEachTask(int num_tasks, int num_threads, const Body& body) {
+  ForEachChunk(num_tasks, 1, num_threads,
+               [&body](int64_t c, int64_t, int64_t) { body(static_cast<int>(c)); });
 }
 
 // What a format's check found in the file.

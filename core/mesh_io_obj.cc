@@ -159,13 +159,13 @@ bool ReadObjPieces(std::string_view text, const std::vector<size_t>& bounds, int
   for (size_t c = 0; c < pieces.size(); ++c) {
     pieces[c].text = text.substr(bounds[c], bounds[c + 1] - bounds[c]);
   }
-  ForEachChunk(static_cast<int>(pieces.size()) - 1, num_threads,
+  ForEachTask(static_cast<int>(pieces.size()) - 1, num_threads,
                [&pieces](int c) { CountObjPiece(&pieces[c]); });
   for (size_t c = 1; c < pieces.size(); ++c) {
     pieces[c].lines_before = pieces[c - 1].lines_before + pieces[c - 1].lines;
     pieces[c].vertices_before = pieces[c - 1].vertices_before + pieces[c - 1].vertices;
   }
-  ForEachChunk(static_cast<int>(pieces.size()), num_threads,
+  ForEachTask(static_cast<int>(pieces.size()), num_threads,
                [&pieces](int c) { ParseObjPiece(0, 0, &pieces[c]); });
   constexpr long long kIntMax = std::numeric_limits<int>::max();
   long long vertices = 0, faces = 0, face_ids = 0, dropped_triangles = 0;

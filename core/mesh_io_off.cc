@@ -246,7 +246,7 @@ bool CheckOffText(std::string_view text, FormatCheck* check, std::string* proble
   const bool counted = pieces.size() > 1;
   UninitializedVector<double> xyz;
   if (counted) {
-    ForEachChunk(static_cast<int>(pieces.size()), options.num_threads,
+    ForEachTask(static_cast<int>(pieces.size()), options.num_threads,
                  [&pieces](int c) { CountOffPiece(&pieces[c]); });
     long long lines_with_content = 0;
     for (const OffPiece& piece : pieces) lines_with_content += piece.items;
@@ -272,7 +272,7 @@ bool CheckOffText(std::string_view text, FormatCheck* check, std::string* proble
     piece.soup.face_offsets.reserve(faces + 1);
     piece.soup.face_ids.reserve(3 * faces);
   }
-  ForEachChunk(static_cast<int>(pieces.size()), options.num_threads, [&](int c) {
+  ForEachTask(static_cast<int>(pieces.size()), options.num_threads, [&](int c) {
     if (pieces[c].first_item < total) ParseOffPiece(num_vertices, num_faces, &pieces[c]);
   });
   long long item = 0;

@@ -390,7 +390,7 @@ bool ReadUniformBinaryFaces(std::string_view text, size_t at, long long num_face
   const long long per = ChunkItems(num_faces, options.items_per_chunk);
   const int chunks = NumChunks(num_faces, per);
   std::vector<char> uniform(chunks, 1);
-  ForEachChunk(chunks, options.num_threads, [&](int c) {
+  ForEachTask(chunks, options.num_threads, [&](int c) {
     const long long end = std::min(num_faces, (c + 1) * per);
     for (long long i = c * per; i < end; ++i) {
       if (LoadInt(data + i * face_bytes, count_size, count_signed) != k) {
@@ -406,7 +406,7 @@ bool ReadUniformBinaryFaces(std::string_view text, size_t at, long long num_face
   soup->face_offsets[0] = 0;
   // Each chunk's first face with an id out of range; -1 when none.
   std::vector<long long> first_bad(chunks, -1);
-  ForEachChunk(chunks, options.num_threads, [&](int c) {
+  ForEachTask(chunks, options.num_threads, [&](int c) {
     const long long end = std::min(num_faces, (c + 1) * per);
     for (long long i = c * per; i < end; ++i) {
       const char* ids = data + i * face_bytes + count_size;
@@ -486,7 +486,7 @@ bool ReadCommonBinaryPly(std::string_view text, size_t at, const PlyHeader& head
   const int threads = options.num_threads;
   soup->xyz.resize(3 * static_cast<size_t>(num_vertices));
   const long long vertex_per = ChunkItems(num_vertices, options.items_per_chunk);
-  ForEachChunk(NumChunks(num_vertices, vertex_per), threads, [&](int c) {
+  ForEachTask(NumChunks(num_vertices, vertex_per), threads, [&](int c) {
     const long long end = std::min(num_vertices, (c + 1) * vertex_per);
     for (long long v = c * vertex_per; v < end; ++v) {
       const char* data = text.data() + at + v * stride;

@@ -87,7 +87,7 @@ bool ConcatenateSoupPieces(const std::vector<SoupPiece*>& pieces, int num_thread
   soup->face_offsets.resize(polygon_start[n] + 1);
   soup->face_offsets[0] = 0;
   soup->face_ids.resize(id_start[n]);
-  ForEachChunk(static_cast<int>(n), num_threads, [&](int c) {
+  ForEachTask(static_cast<int>(n), num_threads, [&](int c) {
     SoupPiece& piece = *pieces[c];
     std::copy(piece.xyz.begin(), piece.xyz.end(), soup->xyz.begin() + xyz_start[c]);
     std::copy(piece.face_ids.begin(), piece.face_ids.end(), soup->face_ids.begin() + id_start[c]);
@@ -109,7 +109,7 @@ bool SplitIntoTriangles(const PolygonSoup& soup, const MeshReadOptions& options,
   const int chunks = NumChunks(num_polygons, per);
   // Each chunk's triangles, or -1 - (its first invalid polygon).
   std::vector<long long> triangles(chunks, 0);
-  ForEachChunk(chunks, threads, [&](int c) {
+  ForEachTask(chunks, threads, [&](int c) {
     const int end = static_cast<int>(std::min<long long>(num_polygons, (c + 1) * per));
     long long count = 0;
     for (int p = static_cast<int>(c * per); p < end; ++p) {
@@ -131,14 +131,14 @@ bool SplitIntoTriangles(const PolygonSoup& soup, const MeshReadOptions& options,
 
   mesh->vertices.resize(3, num_vertices);
   const long long vertex_per = ChunkItems(num_vertices, options.items_per_chunk);
-  ForEachChunk(NumChunks(num_vertices, vertex_per), threads, [&](int c) {
+  ForEachTask(NumChunks(num_vertices, vertex_per), threads, [&](int c) {
     const long long begin = c * vertex_per;
     const long long end = std::min<long long>(num_vertices, begin + vertex_per);
     std::memcpy(mesh->vertices.data() + 3 * begin, soup.xyz.data() + 3 * begin,
                 sizeof(double) * 3 * (end - begin));
   });
   mesh->faces.resize(3, num_triangles);
-  ForEachChunk(chunks, threads, [&](int c) {
+  ForEachTask(chunks, threads, [&](int c) {
     const int end = static_cast<int>(std::min<long long>(num_polygons, (c + 1) * per));
     long long t = triangles[c];
     for (int p = static_cast<int>(c * per); p < end; ++p) {
@@ -186,7 +186,7 @@ void DropDegenerateAndDuplicateFaces(const MeshReadOptions& options, Mesh* mesh,
   // counts per block (then where its triangles of each block go).
   std::vector<int> degenerate(face_chunks, 0);
   std::vector<int> slot(static_cast<size_t>(face_chunks) * blocks, 0);
-  ForEachChunk(face_chunks, threads, [&](int c) {
+  ForEachTask(face_chunks, threads, [&](int c) {
     int begin, end;
     face_range(c, &begin, &end);
     // Counted apart and stored once: the rows of neighbouring chunks share
@@ -226,7 +226,7 @@ void DropDegenerateAndDuplicateFaces(const MeshReadOptions& options, Mesh* mesh,
     int face;
   };
   UninitializedVector<KeyedFace> by_block(running);
-  ForEachChunk(face_chunks, threads, [&](int c) {
+  ForEachTask(face_chunks, threads, [&](int c) {
     int begin, end;
     face_range(c, &begin, &end);
     std::vector<int> row(slot.begin() + static_cast<size_t>(c) * blocks,
@@ -245,7 +245,7 @@ void DropDegenerateAndDuplicateFaces(const MeshReadOptions& options, Mesh* mesh,
   // earliest first) when large, so a vertex in a huge fan costs n log n, not
   // n^2.
   std::vector<int> duplicates(blocks, 0);
-  ForEachChunk(blocks, threads, [&](int b) {
+  ForEachTask(blocks, threads, [&](int b) {
     const int first_vertex = static_cast<int>(b * block_per);
     const int block_vertices =
         static_cast<int>(std::min<long long>(num_vertices, first_vertex + block_per)) -
@@ -299,7 +299,7 @@ void DropDegenerateAndDuplicateFaces(const MeshReadOptions& options, Mesh* mesh,
   // The kept triangles, in order, into a new matrix (chunk c's go after
   // those of the chunks before it).
   std::vector<long long> kept(face_chunks, 0);
-  ForEachChunk(face_chunks, threads, [&](int c) {
+  ForEachTask(face_chunks, threads, [&](int c) {
     int begin, end;
     face_range(c, &begin, &end);
     long long count = 0;
@@ -308,7 +308,7 @@ void DropDegenerateAndDuplicateFaces(const MeshReadOptions& options, Mesh* mesh,
   });
   const long long num_kept = PrefixSums(&kept);
   Eigen::Matrix3Xi faces(3, num_kept);
-  ForEachChunk(face_chunks, threads, [&](int c) {
+  ForEachTask(face_chunks, threads, [&](int c) {
     int begin, end;
     face_range(c, &begin, &end);
     long long k = kept[c];
@@ -324,7 +324,7 @@ bool AllVerticesFinite(const Mesh& mesh, const MeshReadOptions& options) {
   const long long per = ChunkItems(num_vertices, options.items_per_chunk);
   const int chunks = NumChunks(num_vertices, per);
   std::vector<char> finite(chunks, 1);
-  ForEachChunk(chunks, options.num_threads, [&](int c) {
+  ForEachTask(chunks, options.num_threads, [&](int c) {
     const double* xyz = mesh.vertices.data() + 3 * c * per;
     const long long size = 3 * (std::min<long long>(num_vertices, (c + 1) * per) - c * per);
     bool all = true;

@@ -14,6 +14,7 @@
 #include "msdeform/core/drag_path.h"
 #include "msdeform/core/handles.h"
 #include "msdeform/core/json_file.h"
+#include "msdeform/core/parallel.h"
 
 namespace msdeform {
 namespace {
@@ -357,27 +358,20 @@ struct MeshFrame {
   int num_threads = 1;  // for the passes over all vertices
 };
 
-// The passes over all vertices work in chunks of this many, on up to
-// num_threads threads when there is more than one chunk; what the chunks find
-// is combined in chunk order, so the result is the same for any thread count.
+// The passes over all vertices work in chunks of this many (ForEachChunk,
+// core/parallel.h); what the chunks find is combined in chunk order, so the
+// result is the same for any thread count.
 constexpr int kVerticesPerChunk = 1 << 16;
-
-int NumVertexChunks(const Mesh& mesh) {
-  return (mesh.num_vertices() + kVerticesPerChunk - 1) / kVerticesPerChunk;
-}
 
 // The mesh's bounding box, as BoundingBox (core/mesh.h) gives it: each
 // chunk's box grown vertex by vertex, then the chunks' boxes in order (the
 // minimum and maximum of the same numbers).
 Eigen::AlignedBox3d ChunkedBoundingBox(const Mesh& mesh, int num_threads) {
-  const int chunks = NumVertexChunks(mesh);
-  std::vector<Eigen::AlignedBox3d> boxes(chunks);
-#pragma omp parallel for num_threads(num_threads) schedule(static) \
-    if (num_threads > 1 && chunks > 1)
-  for (int c = 0; c < chunks; ++c) {
-    const int end = std::min(mesh.num_vertices(), (c + 1) * kVerticesPerChunk);
-    for (int v = c * kVerticesPerChunk; v < end; ++v) boxes[c].extend(mesh.vertices.col(v));
-  }
+  std::vector<Eigen::AlignedBox3d> boxes(NumChunks(mesh.num_vertices(), kVerticesPerChunk));
+  ForEachChunk(mesh.num_vertices(), kVerticesPerChunk, num_threads,
+               [&](int64_t begin, int64_t end, int64_t c) {
+                 for (int64_t v = begin; v < end; ++v) boxes[c].extend(mesh.vertices.col(v));
+               });
   Eigen::AlignedBox3d box;
   for (const Eigen::AlignedBox3d& chunk_box : boxes) box.extend(chunk_box);
   return box;
@@ -389,19 +383,16 @@ double ChunkedBoundingBoxDiagonal(const Mesh& mesh, int num_threads) {
   return ChunkedBoundingBox(mesh, num_threads).diagonal().norm();
 }
 
-// The vertices v in 0..#V - 1, in order, for which collect(begin, end, out)
-// pushes v to *out when called on each chunk [begin, end).
+// The vertices v in 0..#V - 1, in order, that collect(begin, end, out)
+// pushes to *out when called on each chunk [begin, end).
 template <typename Collect>
 void CollectVertices(const Mesh& mesh, int num_threads, const Collect& collect,
                      std::vector<int>* ids) {
-  const int chunks = NumVertexChunks(mesh);
-  std::vector<std::vector<int>> parts(chunks);
-#pragma omp parallel for num_threads(num_threads) schedule(static) \
-    if (num_threads > 1 && chunks > 1)
-  for (int c = 0; c < chunks; ++c) {
-    collect(c * kVerticesPerChunk, std::min(mesh.num_vertices(), (c + 1) * kVerticesPerChunk),
-            &parts[c]);
-  }
+  std::vector<std::vector<int>> parts(NumChunks(mesh.num_vertices(), kVerticesPerChunk));
+  ForEachChunk(mesh.num_vertices(), kVerticesPerChunk, num_threads,
+               [&](int64_t begin, int64_t end, int64_t c) {
+                 collect(static_cast<int>(begin), static_cast<int>(end), &parts[c]);
+               });
   for (const std::vector<int>& part : parts) ids->insert(ids->end(), part.begin(), part.end());
 }
 
