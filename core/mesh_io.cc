@@ -19,10 +19,12 @@
 #include <cstring>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <string_view>
 #include <system_error>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -165,6 +167,28 @@ class FileBytes {
   std::string copy_;
 };
 
+// Frees what it is given: at once, or with `in_background` on a thread of
+// its own (joined when the object goes), alongside the caller's next steps.
+class BackgroundRelease {
+ public:
+  explicit BackgroundRelease(bool in_background) : in_background_(in_background) {}
+  BackgroundRelease(const BackgroundRelease&) = delete;
+  BackgroundRelease& operator=(const BackgroundRelease&) = delete;
+  ~BackgroundRelease() {
+    for (std::thread& thread : threads_) thread.join();
+  }
+
+  template <typename T>
+  void Release(std::unique_ptr<T> object) {
+    if (!in_background_) return;  // freed here, as `object` goes
+    threads_.emplace_back([owned = std::move(object)]() mutable { owned.reset(); });
+  }
+
+ private:
+  bool in_background_;
+  std::vector<std::thread> threads_;
+};
+
 // Merges vertices at exactly equal positions (first appearance wins, order
 // kept). Triangles that collapse are left to DropDegenerateAndDuplicateFaces.
 void WeldExactDuplicates(Mesh* mesh) {
@@ -222,7 +246,12 @@ bool ReadMesh(const std::string& path, const MeshReadOptions& options, Mesh* mes
     return Fail(path, "unknown mesh format " + OtherFormatsHint(extension, /*for_writing=*/false),
                 error);
   }
-  FileBytes bytes;
+  // On more than one thread the file's mapping and the soup are given back
+  // on a thread of their own, alongside the steps that follow (unmapping and
+  // freeing them took 9 ms of the 1.66M PLY's load, on one core).
+  BackgroundRelease release(options.num_threads > 1);
+  auto bytes_owner = std::make_unique<FileBytes>();
+  FileBytes& bytes = *bytes_owner;
   if (!bytes.Open(path, /*populate=*/options.num_threads == 1, &problem)) {
     return Fail(path, problem, error);
   }
@@ -230,7 +259,7 @@ bool ReadMesh(const std::string& path, const MeshReadOptions& options, Mesh* mes
   FormatCheck check;
   check.options = options;
   if (!format->check(bytes.view(), &check, &problem)) return Fail(path, problem, error);
-  bytes.Release();
+  release.Release(std::move(bytes_owner));
   // Counted with the triangles dropped below.
   report->dropped_degenerate_faces = check.dropped_degenerate_faces;
 
@@ -241,7 +270,8 @@ bool ReadMesh(const std::string& path, const MeshReadOptions& options, Mesh* mes
     return Fail(path, problem, error);
   }
   if (!SplitIntoTriangles(soup, options, mesh, &problem)) return Fail(path, problem, error);
-  soup = PolygonSoup();  // its memory back before the steps below take theirs
+  // Its memory back before the steps below take theirs.
+  release.Release(std::make_unique<PolygonSoup>(std::move(soup)));
   if (format->weld_equal_positions) WeldExactDuplicates(mesh);
 
   DropDegenerateAndDuplicateFaces(options, mesh, report);
