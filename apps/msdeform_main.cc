@@ -110,8 +110,11 @@ std::string Absolute(const std::string& path) {
 
 // Reads the mesh; faces it drops (repeated vertex, exact duplicate) are
 // noted on stderr (unless --quiet) and in the report.
-bool LoadMesh(const std::string& path, Mesh* mesh, MeshReadReport* report, std::string* error) {
-  if (!ReadMesh(path, mesh, report, error)) return false;
+bool LoadMesh(const std::string& path, int num_threads, Mesh* mesh, MeshReadReport* report,
+              std::string* error) {
+  MeshReadOptions options;
+  options.num_threads = num_threads;
+  if (!ReadMesh(path, options, mesh, report, error)) return false;
   if (!report->notice.empty() && !FLAGS_quiet) {
     std::cerr << "msdeform: notice: " << report->notice << "\n";
   }
@@ -193,7 +196,9 @@ bool PrepareJob(Job* job, std::string* error) {
 
   // Read the inputs.
   const auto load_start = Clock::now();
-  if (!LoadMesh(job->mesh_path, &job->mesh, &job->read_report, error)) return false;
+  // The load uses --threads too (the same mesh and regions for any count).
+  const int threads = job->options.num_threads;
+  if (!LoadMesh(job->mesh_path, threads, &job->mesh, &job->read_report, error)) return false;
   if (job->scenario_path.empty()) {
     if (!ReadSel(job->sel_path, job->mesh.num_vertices(), &job->layout, error)) return false;
     Eigen::Affine3d deformed_from_rest;
@@ -205,10 +210,10 @@ bool PrepareJob(Job* job, std::string* error) {
   } else {
     Eigen::Affine3d deformed_from_rest;
     if (!ResolveScenario(scenario, job->mesh, &job->layout, &job->watch, &deformed_from_rest,
-                         error)) {
+                         error, threads)) {
       return false;
     }
-    job->path = DragPath(scenario, job->mesh, job->layout);
+    job->path = DragPath(scenario, job->mesh, job->layout, threads);
   }
   job->load_ms = MillisecondsSince(load_start);
   return true;

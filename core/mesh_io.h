@@ -66,12 +66,34 @@ struct MeshReadReport {
   std::string notice;
 };
 
+// How ReadMesh reads. The mesh, the report and every message are the same
+// for any value of these: they set how the work is shared out, not its result.
+struct MeshReadOptions {
+  // Threads (OpenMP) for parsing OFF, OBJ and binary PLY, and for the steps
+  // after it (fan split, dropped faces, the finiteness check); at least 1.
+  int num_threads = 1;
+  // A text file (OFF, OBJ) is parsed in pieces of about this many bytes,
+  // each ending at a line end; at least 1.
+  int text_chunk_bytes = 1 << 20;
+  // The steps after parsing, and binary PLY, work in chunks of this many
+  // vertices or faces; at least 1. (Tests set both small to take the
+  // parallel paths on small meshes.)
+  int items_per_chunk = 1 << 14;
+
+  bool Check(std::string* problem) const;
+};
+
 // Reads `path` into *mesh, drops the triangles described above (counted in
 // *report), and checks the result with ValidateMesh. On failure returns
 // false, leaves *mesh and *report unspecified, and puts one line in *error
 // naming the file and, where known, the line, vertex or face and what is
 // wrong (missing or empty file, wrong header, truncated data, non-finite
 // coordinate, face id out of range, no face left after dropping, ...).
+// Invalid `options` are refused the same way, with "ReadMesh options: ...".
+bool ReadMesh(const std::string& path, const MeshReadOptions& options, Mesh* mesh,
+              MeshReadReport* report, std::string* error);
+
+// The same on one thread.
 bool ReadMesh(const std::string& path, Mesh* mesh, MeshReadReport* report, std::string* error);
 
 // The same without the report, for callers that do not tell the user.

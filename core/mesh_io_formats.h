@@ -20,23 +20,67 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
+#include <memory>
 #include <ostream>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "msdeform/core/mesh.h"
+#include "msdeform/core/mesh_io.h"
+#include "msdeform/core/parallel.h"
 
 namespace msdeform {
 
+// An allocator whose construct() without a value leaves a trivial type
+// uninitialised: a vector resized to be filled in parallel is then not first
+// zeroed (and its pages faulted in) on one thread. Write before reading.
+template <typename T>
+struct UninitializedAllocator : std::allocator<T> {
+  template <typename U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  UninitializedAllocator() = default;
+  template <typename U>
+  UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+  template <typename U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <typename U, typename... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+template <typename T>
+using UninitializedVector = std::vector<T, UninitializedAllocator<T>>;
+
 // A file's vertices and polygons, in the file's order.
 struct PolygonSoup {
-  std::vector<double> xyz;           // 3 #V
-  std::vector<int> face_offsets{0};  // #polygons + 1
-  std::vector<int> face_ids;         // vertex ids of all polygons
+  UninitializedVector<double> xyz;           // 3 #V
+  UninitializedVector<int> face_offsets{0};  // #polygons + 1
+  UninitializedVector<int> face_ids;         // vertex ids of all polygons
   int num_vertices() const { return static_cast<int>(xyz.size() / 3); }
   int num_polygons() const { return static_cast<int>(face_offsets.size()) - 1; }
 };
+
+// What a piece of a text file holds (its vertices' x, y, z and its
+// polygons, face_offsets into its face_ids), read apart from the others.
+struct SoupPiece {
+  UninitializedVector<double> xyz;
+  UninitializedVector<int> face_offsets{0};
+  UninitializedVector<int> face_ids;
+};
+
+// Puts the pieces' vertices and polygons in *soup, in order: the only piece's
+// moved, several pieces' copied on up to `num_threads` threads (each piece
+// freed once copied). Returns false, *soup unspecified, when the ids or
+// polygons would be more than an int counts.
+bool ConcatenateSoupPieces(const std::vector<SoupPiece*>& pieces, int num_threads,
+                           PolygonSoup* soup);
 
 // How many items to reserve room for when a header announces `count` of them
 // and `bytes_left` bytes of the file remain, each item taking at least
@@ -49,8 +93,30 @@ inline size_t ReservationFor(long long count, size_t bytes_left, size_t min_item
   return std::min({static_cast<size_t>(count), bytes_left / min_item_bytes, kCap});
 }
 
+// How many items a chunk holds when `count` items are cut into chunks of
+// `per_chunk` (at least 1): `per_chunk`, or more where that would make over
+// kMaxChunks chunks (so that tables with a row per chunk stay small whatever
+// the options). Depends only on the two numbers; NumChunks (core/parallel.h)
+// then gives the number of chunks.
+constexpr long long kMaxChunks = 1024;
+inline long long ChunkItems(long long count, long long per_chunk) {
+  return std::max({per_chunk, (count + kMaxChunks - 1) / kMaxChunks, 1LL});
+}
+
+// Calls body(c) for c in 0..num_tasks - 1 on up to `num_threads` threads:
+// ForEachChunk (core/parallel.h) with one task per chunk, for work already
+// cut into chunks (pieces of text, chunks of ChunkItems). Each body writes
+// only its own task's outputs, so the result does not depend on the threads.
+template <typename Body>
+void ForEachTask(int num_tasks, int num_threads, const Body& body) {
+  ForEachChunk(num_tasks, 1, num_threads,
+               [&body](int64_t c, int64_t, int64_t) { body(static_cast<int>(c)); });
+}
+
 // What a format's check found in the file.
 struct FormatCheck {
+  // In: how to read (threads, chunk sizes); the rest is out.
+  MeshReadOptions options;
   // What OpenMesh must hand over; -1: the format does not say.
   int num_vertices = -1;
   int num_faces = -1;
@@ -78,6 +144,22 @@ bool CheckOff(std::string_view text, FormatCheck* check, std::string* problem);
 bool CheckObj(std::string_view text, FormatCheck* check, std::string* problem);
 bool CheckPly(std::string_view text, FormatCheck* check, std::string* problem);
 bool CheckStl(std::string_view text, FormatCheck* check, std::string* problem);
+
+// The steps after a format's check (core/mesh_io_soup.cc), in chunks of
+// options.items_per_chunk on options.num_threads threads, with the same
+// result for any options:
+//   - SplitIntoTriangles checks the polygons as the file numbers them (at
+//     least 3 vertices, ids in range; *problem names the first bad one) and
+//     splits each into the triangle fan (v0, vk, vk+1);
+//   - DropDegenerateAndDuplicateFaces drops the triangles that repeat a
+//     vertex and the exact duplicates of an earlier one (mesh_io.h), keeping
+//     the order of the rest, and adds their counts to *report;
+//   - AllVerticesFinite is true when every coordinate is finite.
+bool SplitIntoTriangles(const PolygonSoup& soup, const MeshReadOptions& options, Mesh* mesh,
+                        std::string* problem);
+void DropDegenerateAndDuplicateFaces(const MeshReadOptions& options, Mesh* mesh,
+                                     MeshReadReport* report);
+bool AllVerticesFinite(const Mesh& mesh, const MeshReadOptions& options);
 
 // A mesh format ReadMesh and WriteMesh know.
 struct MeshFormat {

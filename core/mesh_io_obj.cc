@@ -72,6 +72,130 @@ void RemoveRepeats(std::vector<long long>* ids, std::vector<int>* order) {
   v.resize(kept);
 }
 
+// A piece of an OBJ text (LineChunks), parsed apart from the others once the
+// line it starts at and the number of vertices before it are known.
+struct ObjPiece {
+  std::string_view text;
+  int lines_before = 0;         // the number of the line before the piece
+  long long vertices_before = 0;  // "v" lines before the piece
+  int lines = 0;                // its lines (CountObjPiece)
+  long long vertices = 0;       // its "v" lines
+  long long faces = 0;          // the faces it read
+  long long dropped_triangles = 0;
+  SoupPiece soup;               // what it read
+  std::string problem;  // its first bad line's message; empty when none
+};
+
+// Counts the piece's lines and "v" lines.
+void CountObjPiece(ObjPiece* piece) {
+  long long vertices = 0;
+  piece->lines = ForEachLine(piece->text, [&vertices](std::string_view line) {
+    if (FirstToken(line) == "v") ++vertices;
+  });
+  piece->vertices = vertices;
+}
+
+// Reads the piece's "v" and "f" lines (see CheckObj); `faces_before` and
+// `ids_before` are the faces and ids before it where known (else 0), for
+// the limit of an int. Stops at the first bad line, its message in
+// piece->problem.
+void ParseObjPiece(long long faces_before, long long ids_before, ObjPiece* piece) {
+  TextLines lines(piece->text, piece->lines_before);
+  long long count = piece->vertices_before;
+  std::vector<long long> ids;
+  std::vector<int> order;
+  SoupPiece& soup = piece->soup;
+  std::string* problem = &piece->problem;
+  while (lines.NextWithContent()) {
+    const TextLines::Tokens& tokens = lines.tokens();
+    if (tokens[0] == "v") {
+      double position[3];
+      if (!ReadVertexCoordinates(lines, 1, count, position, problem)) break;
+      soup.xyz.insert(soup.xyz.end(), position, position + 3);
+      ++count;
+      continue;
+    }
+    if (tokens[0] != "f") continue;
+    if (tokens.size() < 4) {
+      lines.Fail(problem, "a face has ", tokens.size() - 1, " vertices; need at least 3");
+      break;
+    }
+    ids.clear();
+    for (size_t k = 1; k < tokens.size(); ++k) {
+      long long id = 0;
+      if (!ParseObjFaceCorner(tokens[k], &id)) {
+        lines.Fail(problem, "face corner ", Quote(tokens[k]),
+                   " is not v, v/t, v//n or v/t/n with a non-zero vertex number");
+        break;
+      }
+      ids.push_back((id < 0 ? count + id + 1 : id) - 1);
+    }
+    if (!problem->empty()) break;
+    const long long corners = static_cast<long long>(ids.size());
+    RemoveRepeats(&ids, &order);
+    const long long distinct = static_cast<long long>(ids.size());
+    piece->dropped_triangles += (corners - 2) - std::max(distinct - 2, 0LL);
+    if (distinct < 3) continue;
+    if (faces_before + piece->faces == std::numeric_limits<int>::max() ||
+        ids_before + soup.face_ids.size() + ids.size() >
+            static_cast<size_t>(std::numeric_limits<int>::max())) {
+      SetProblem(problem, "too many vertices or faces");
+      break;
+    }
+    ++piece->faces;
+    for (long long id : ids) soup.face_ids.push_back(static_cast<int>(id));
+    soup.face_offsets.push_back(static_cast<int>(soup.face_ids.size()));
+  }
+  piece->vertices = count - piece->vertices_before;
+}
+
+// Reads the pieces of text[begin, end): on one thread (or for one piece)
+// one after another, else counted first and then read in parallel (each
+// piece's first line and vertex number known from the counts). Returns
+// false with the serial reading's message for the first bad line.
+bool ReadObjPieces(std::string_view text, const std::vector<size_t>& bounds, int num_threads,
+                   FormatCheck* check, std::string* problem) {
+  std::vector<ObjPiece> pieces(bounds.size() - 1);
+  for (size_t c = 0; c < pieces.size(); ++c) {
+    pieces[c].text = text.substr(bounds[c], bounds[c + 1] - bounds[c]);
+  }
+  ForEachTask(static_cast<int>(pieces.size()) - 1, num_threads,
+               [&pieces](int c) { CountObjPiece(&pieces[c]); });
+  for (size_t c = 1; c < pieces.size(); ++c) {
+    pieces[c].lines_before = pieces[c - 1].lines_before + pieces[c - 1].lines;
+    pieces[c].vertices_before = pieces[c - 1].vertices_before + pieces[c - 1].vertices;
+  }
+  ForEachTask(static_cast<int>(pieces.size()), num_threads,
+               [&pieces](int c) { ParseObjPiece(0, 0, &pieces[c]); });
+  constexpr long long kIntMax = std::numeric_limits<int>::max();
+  long long vertices = 0, faces = 0, face_ids = 0, dropped_triangles = 0;
+  for (const ObjPiece& piece : pieces) {
+    vertices += piece.vertices;
+    faces += piece.faces;
+    face_ids += static_cast<long long>(piece.soup.face_ids.size());
+    dropped_triangles += piece.dropped_triangles;
+    if (faces > kIntMax || face_ids > kIntMax) {
+      // Past an int's limit the message depends on where in the file it
+      // was passed: read the whole text as one piece, as on one thread.
+      return ReadObjPieces(text, {bounds.front(), bounds.back()}, 1, check, problem);
+    }
+    if (!piece.problem.empty()) return SetProblem(problem, piece.problem);
+  }
+  if (vertices > kIntMax || dropped_triangles > kIntMax) {
+    return SetProblem(problem, "too many vertices or faces");
+  }
+  std::vector<SoupPiece*> parts;
+  for (ObjPiece& piece : pieces) parts.push_back(&piece.soup);
+  if (!ConcatenateSoupPieces(parts, num_threads, &check->soup)) {
+    return SetProblem(problem, "too many vertices or faces");
+  }
+  check->num_vertices = static_cast<int>(vertices);
+  check->num_faces = static_cast<int>(faces);
+  check->dropped_degenerate_faces = static_cast<int>(dropped_triangles);
+  check->read_data = true;
+  return true;
+}
+
 }  // namespace
 
 // Reads the file into check->soup in the same pass: each "v" line's first
@@ -83,57 +207,15 @@ void RemoveRepeats(std::vector<long long>* ids, std::vector<int>* order) {
 // the fan triangles lost that way are counted. Ids out of range are refused
 // later, with the face's number (SplitIntoTriangles). (OpenMesh took
 // coordinates through float, and skipped a vertex beyond the float range.)
+// On more than one thread the text is read in pieces of about
+// options.text_chunk_bytes, in parallel (ReadObjPieces).
 bool CheckObj(std::string_view text, FormatCheck* check, std::string* problem) {
-  TextLines lines(text);
-  long long count = 0;
-  long long num_faces = 0;
-  long long dropped_triangles = 0;
-  std::vector<long long> ids;
-  std::vector<int> order;
-  PolygonSoup& soup = check->soup;
-  soup = PolygonSoup();
-  while (lines.NextWithContent()) {
-    const TextLines::Tokens& tokens = lines.tokens();
-    if (tokens[0] == "v") {
-      if (!ReadVertexCoordinates(lines, 1, count, &soup.xyz, problem)) return false;
-      ++count;
-      continue;
-    }
-    if (tokens[0] != "f") continue;
-    if (tokens.size() < 4) {
-      return lines.Fail(problem, "a face has ", tokens.size() - 1, " vertices; need at least 3");
-    }
-    ids.clear();
-    for (size_t k = 1; k < tokens.size(); ++k) {
-      long long id = 0;
-      if (!ParseObjFaceCorner(tokens[k], &id)) {
-        return lines.Fail(problem, "face corner ", Quote(tokens[k]),
-                          " is not v, v/t, v//n or v/t/n with a non-zero vertex number");
-      }
-      ids.push_back((id < 0 ? count + id + 1 : id) - 1);
-    }
-    const long long corners = static_cast<long long>(ids.size());
-    RemoveRepeats(&ids, &order);
-    const long long distinct = static_cast<long long>(ids.size());
-    dropped_triangles += (corners - 2) - std::max(distinct - 2, 0LL);
-    if (distinct < 3) continue;
-    if (num_faces == std::numeric_limits<int>::max() ||
-        soup.face_ids.size() + ids.size() > static_cast<size_t>(std::numeric_limits<int>::max())) {
-      return SetProblem(problem, "too many vertices or faces");
-    }
-    ++num_faces;
-    for (long long id : ids) soup.face_ids.push_back(static_cast<int>(id));
-    soup.face_offsets.push_back(static_cast<int>(soup.face_ids.size()));
-  }
-  if (count > std::numeric_limits<int>::max() ||
-      dropped_triangles > std::numeric_limits<int>::max()) {
-    return SetProblem(problem, "too many vertices or faces");
-  }
-  check->num_vertices = static_cast<int>(count);
-  check->num_faces = static_cast<int>(num_faces);
-  check->dropped_degenerate_faces = static_cast<int>(dropped_triangles);
-  check->read_data = true;
-  return true;
+  check->soup = PolygonSoup();
+  const MeshReadOptions& options = check->options;
+  const std::vector<size_t> bounds =
+      options.num_threads > 1 ? LineChunks(text, 0, text.size(), options.text_chunk_bytes)
+                              : std::vector<size_t>{0, text.size()};
+  return ReadObjPieces(text, bounds, options.num_threads, check, problem);
 }
 
 }  // namespace msdeform

@@ -5,12 +5,14 @@
 // reader would misread ('#' comments, counts on the header line, leading
 // blank lines, colours, normals) is rewritten in the plain layout.
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <limits>
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "msdeform/core/mesh_io_formats.h"
 #include "msdeform/core/text_lines.h"
@@ -106,14 +108,90 @@ bool FindOffCounts(TextLines* lines, Tokens* counts) {
   return true;
 }
 
+// A piece of an OFF text's vertex and face lines (LineChunks), parsed apart
+// from the others once the line and the item (vertex, then face) it starts
+// at are known.
+struct OffPiece {
+  std::string_view text;
+  int lines_before = 0;      // the number of the line before the piece
+  long long first_item = 0;  // the item of its first line with content
+  int lines = 0;             // its lines (CountOffPiece)
+  long long items = 0;       // its lines with content (counted), or the items read
+  SoupPiece soup;       // what it read
+  // Where vertex v goes, at xyz_out[3 v] (when the pieces were counted);
+  // nullptr: to soup.xyz.
+  double* xyz_out = nullptr;
+  std::string problem;  // the piece's first bad line, "line N: ..."; empty when none
+};
+
+// Counts the piece's lines and those with content.
+void CountOffPiece(OffPiece* piece) {
+  const LineCount count = CountLines(piece->text);
+  piece->lines = count.lines;
+  piece->items = count.with_content;
+}
+
+// Reads the piece's lines with content as items first_item, first_item + 1,
+// ..., up to item num_vertices + num_faces - 1: a vertex is the first three
+// numbers of its line, a face the ids after its count; colours, normals and
+// texture coordinates after them are skipped. Stops at the first bad line,
+// its message in piece->problem; piece->items is the number of items read.
+void ParseOffPiece(long long num_vertices, long long num_faces, OffPiece* piece) {
+  TextLines lines(piece->text, piece->lines_before);
+  const long long total = num_vertices + num_faces;
+  long long item = piece->first_item;
+  std::string& problem = piece->problem;
+  for (; item < total && lines.NextWithContent(); ++item) {
+    const Tokens& tokens = lines.tokens();
+    if (item < num_vertices) {
+      double position[3];
+      if (!ReadVertexCoordinates(lines, 0, item, position, &problem)) break;
+      if (piece->xyz_out != nullptr) {
+        std::copy(position, position + 3, piece->xyz_out + 3 * item);
+      } else {
+        piece->soup.xyz.insert(piece->soup.xyz.end(), position, position + 3);
+      }
+      continue;
+    }
+    const long long face = item - num_vertices;
+    long long size = 0;
+    if (!ParseInt(tokens[0], &size) || size < 3) {
+      lines.Fail(&problem, "face ", face, " starts with ", Quote(tokens[0]),
+                 "; expected its vertex count, at least 3");
+      break;
+    }
+    if (static_cast<long long>(tokens.size()) < 1 + size) {
+      lines.Fail(&problem, "face ", face, " announces ", size, " vertices but lists ",
+                 tokens.size() - 1);
+      break;
+    }
+    for (long long k = 1; k <= size && problem.empty(); ++k) {
+      long long id = 0;
+      if (!ParseInt(tokens[k], &id)) {
+        lines.Fail(&problem, "face ", face, " vertex id ", Quote(tokens[k]), " is not an integer");
+      } else if (id < 0 || id >= num_vertices) {
+        lines.Fail(&problem, "face ", face, " refers to vertex ", id, ", outside 0..",
+                   num_vertices - 1);
+      } else {
+        piece->soup.face_ids.push_back(static_cast<int>(id));
+      }
+    }
+    if (!problem.empty()) break;
+    piece->soup.face_offsets.push_back(static_cast<int>(piece->soup.face_ids.size()));
+  }
+  piece->items = item - piece->first_item;
+}
+
 // Checks the OFF text and reads it into check->soup in the same pass, line by
-// line: a vertex is the first three numbers of its line, a face the ids after
-// its count; colours, normals and texture coordinates after them are skipped.
-// (OpenMesh's reader, used before, reads ST/C/N values token by token across
-// line ends, so one vertex line without them shifted everything after it: a
-// coordinate became a face's vertex count, and a count of billions made it
-// allocate gigabytes, found by tests/fuzz/off_fuzzer.) Binary OFF is checked
-// here and read by OpenMesh.
+// line (ParseOffPiece). (OpenMesh's reader, used before, reads ST/C/N values
+// token by token across line ends, so one vertex line without them shifted
+// everything after it: a coordinate became a face's vertex count, and a count
+// of billions made it allocate gigabytes, found by tests/fuzz/off_fuzzer.)
+// Binary OFF is checked here and read by OpenMesh. On more than one thread a
+// text of more than one piece (LineChunks of options.text_chunk_bytes) is
+// read piece by piece in parallel: the pieces' lines and items are counted
+// first (in parallel), so each piece knows its first line and item; the
+// first bad line of the first piece that has one is the serial reading's.
 bool CheckOffText(std::string_view text, FormatCheck* check, std::string* problem) {
   TextLines lines(text);
   // Header: first line with content.
@@ -151,50 +229,56 @@ bool CheckOffText(std::string_view text, FormatCheck* check, std::string* proble
   }
   check->num_vertices = static_cast<int>(num_vertices);
   check->num_faces = static_cast<int>(num_faces);
-  // The mesh is read here, in the same pass: the first three numbers of a
-  // vertex line as doubles, the ids of a face line. Reservations are bounded by what the rest of the file can
-  // hold ("0 0 0" and "3 0 1 2" with their line ends): the counts are not
-  // trusted yet.
-  PolygonSoup& soup = check->soup;
-  soup = PolygonSoup();
-  const size_t bytes_left = text.size() - lines.next_offset();
-  const size_t max_faces = ReservationFor(num_faces, bytes_left, 8);
-  soup.xyz.reserve(3 * ReservationFor(num_vertices, bytes_left, 6));
-  soup.face_offsets.reserve(max_faces + 1);
-  soup.face_ids.reserve(3 * max_faces);
 
   // The remaining lines: vertices, then faces. Only lines with content count.
   const long long total = num_vertices + num_faces;
+  const MeshReadOptions& options = check->options;
+  const std::vector<size_t> bounds =
+      options.num_threads > 1
+          ? LineChunks(text, lines.next_offset(), text.size(), options.text_chunk_bytes)
+          : std::vector<size_t>{lines.next_offset(), text.size()};
+  std::vector<OffPiece> pieces(bounds.size() - 1);
+  for (size_t c = 0; c < pieces.size(); ++c) {
+    pieces[c].text = text.substr(bounds[c], bounds[c + 1] - bounds[c]);
+  }
+  // Several pieces are counted first; their vertices then go straight to
+  // their place in `xyz` (as many as the lines can hold).
+  const bool counted = pieces.size() > 1;
+  UninitializedVector<double> xyz;
+  if (counted) {
+    ForEachTask(static_cast<int>(pieces.size()), options.num_threads,
+                 [&pieces](int c) { CountOffPiece(&pieces[c]); });
+    long long lines_with_content = 0;
+    for (const OffPiece& piece : pieces) lines_with_content += piece.items;
+    xyz.resize(3 * static_cast<size_t>(std::min(num_vertices, lines_with_content)));
+  }
+  for (size_t c = 0; c < pieces.size(); ++c) {
+    OffPiece& piece = pieces[c];
+    piece.lines_before = c == 0 ? counts_line : pieces[c - 1].lines_before + pieces[c - 1].lines;
+    piece.first_item = c == 0 ? 0 : pieces[c - 1].first_item + pieces[c - 1].items;
+    // Room for what the piece holds: its items when counted, else what its
+    // bytes can hold ("0 0 0" and "3 0 1 2" with their line ends): the
+    // header's counts are not trusted yet.
+    if (counted) piece.xyz_out = xyz.data();
+    const long long items = counted
+                                ? piece.items
+                                : static_cast<long long>(
+                                      ReservationFor(total, piece.text.size(), 6));
+    const long long vertices =
+        std::clamp(num_vertices - piece.first_item, 0LL, std::min(items, num_vertices));
+    const size_t faces = ReservationFor(std::min(items - vertices, num_faces), piece.text.size(),
+                                        8);
+    if (!counted) piece.soup.xyz.reserve(3 * static_cast<size_t>(vertices));
+    piece.soup.face_offsets.reserve(faces + 1);
+    piece.soup.face_ids.reserve(3 * faces);
+  }
+  ForEachTask(static_cast<int>(pieces.size()), options.num_threads, [&](int c) {
+    if (pieces[c].first_item < total) ParseOffPiece(num_vertices, num_faces, &pieces[c]);
+  });
   long long item = 0;
-  for (; item < total && lines.NextWithContent(); ++item) {
-    const Tokens& tokens = lines.tokens();
-    if (item < num_vertices) {
-      if (!ReadVertexCoordinates(lines, 0, item, &soup.xyz, problem)) return false;
-      continue;
-    }
-    const long long face = item - num_vertices;
-    long long size = 0;
-    if (!ParseInt(tokens[0], &size) || size < 3) {
-      return lines.Fail(problem, "face ", face, " starts with ", Quote(tokens[0]),
-                        "; expected its vertex count, at least 3");
-    }
-    if (static_cast<long long>(tokens.size()) < 1 + size) {
-      return lines.Fail(problem, "face ", face, " announces ", size, " vertices but lists ",
-                        tokens.size() - 1);
-    }
-    for (long long k = 1; k <= size; ++k) {
-      long long id = 0;
-      if (!ParseInt(tokens[k], &id)) {
-        return lines.Fail(problem, "face ", face, " vertex id ", Quote(tokens[k]),
-                          " is not an integer");
-      }
-      if (id < 0 || id >= num_vertices) {
-        return lines.Fail(problem, "face ", face, " refers to vertex ", id, ", outside 0..",
-                          num_vertices - 1);
-      }
-      soup.face_ids.push_back(static_cast<int>(id));
-    }
-    soup.face_offsets.push_back(static_cast<int>(soup.face_ids.size()));
+  for (const OffPiece& piece : pieces) {
+    if (!piece.problem.empty()) return SetProblem(problem, piece.problem);
+    if (piece.first_item < total) item += piece.items;
   }
   if (item < total) {
     std::ostringstream message;
@@ -208,6 +292,12 @@ bool CheckOffText(std::string_view text, FormatCheck* check, std::string* proble
     *problem = message.str();
     return false;
   }
+  std::vector<SoupPiece*> parts;
+  for (OffPiece& piece : pieces) parts.push_back(&piece.soup);
+  if (!ConcatenateSoupPieces(parts, options.num_threads, &check->soup)) {
+    return SetProblem(problem, "too many vertices or faces");
+  }
+  if (counted) check->soup.xyz = std::move(xyz);
   check->read_data = true;
   return true;
 }

@@ -171,7 +171,7 @@ bool IsVertexFaceLayout(const PlyHeader& header) {
 bool CheckAsciiPlyData(TextLines* lines, const PlyHeader& header, long long num_vertex_ids,
                        bool read_faces, PolygonSoup* soup, std::string* problem) {
   const Tokens& tokens = lines->tokens();
-  std::vector<double>* xyz = &soup->xyz;
+  UninitializedVector<double>* xyz = &soup->xyz;
   for (const PlyElement& element : header.elements) {
     const bool faces = read_faces && element.name == "face";
     const std::vector<int> slots = CoordinateSlots(element);
@@ -186,7 +186,7 @@ bool CheckAsciiPlyData(TextLines* lines, const PlyHeader& header, long long num_
         }
         if (lines->had_comment()) return lines->Fail(problem, "'#' in PLY data");
       } while (tokens.empty());
-      if (has_coordinates) xyz->resize(xyz->size() + 3);
+      if (has_coordinates) xyz->insert(xyz->end(), 3, 0.0);
       for (const std::string_view& token : tokens) {
         double value = 0.0;
         if (!ParseDouble(token, &value) || !std::isfinite(value)) {
@@ -284,7 +284,7 @@ double ReadPlyReal(std::string_view text, size_t at, int size, bool big_endian) 
 // 0..num_vertex_ids - 1. The vertices' x, y, z (when CoordinateSlots finds
 // them) go to *xyz as they are stored (a float widened).
 bool CheckBinaryPlyData(std::string_view text, size_t at, const PlyHeader& header,
-                        long long num_vertex_ids, std::vector<double>* xyz,
+                        long long num_vertex_ids, UninitializedVector<double>* xyz,
                         std::string* problem) {
   const bool big_endian = header.format == "binary_big_endian";
   for (const PlyElement& element : header.elements) {
@@ -292,7 +292,7 @@ bool CheckBinaryPlyData(std::string_view text, size_t at, const PlyHeader& heade
     // Grown as the items are read: the header's count is not trusted yet.
     if (!slots.empty()) xyz->clear();
     for (long long item = 0; item < element.count; ++item) {
-      if (!slots.empty()) xyz->resize(xyz->size() + 3);
+      if (!slots.empty()) xyz->insert(xyz->end(), 3, 0.0);
       for (size_t p = 0; p < element.properties.size(); ++p) {
         const PlyProperty& property = element.properties[p];
         const size_t size = PlyTypeSize(property.is_list ? property.count_type : property.type);
@@ -369,6 +369,67 @@ double LoadCoordinate(const char* at, bool is_double) {
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
               "the binary PLY reader loads little-endian values as they are");
 
+// Binary faces that all have the first face's vertex count k >= 1, so that
+// face i starts at at + i * (count_size + k * item_size): sets *read and
+// reads them into soup->face_ids and face_offsets, or returns false with the
+// walk's message for the first face with an id out of range. Leaves *read
+// false when the faces are not of that kind or do not fit the file (the walk
+// one by one then reads them, with its messages).
+bool ReadUniformBinaryFaces(std::string_view text, size_t at, long long num_faces,
+                            int count_size, bool count_signed, int item_size, bool item_signed,
+                            long long num_vertices, const MeshReadOptions& options,
+                            PolygonSoup* soup, bool* read, std::string* problem) {
+  *read = false;
+  const size_t bytes_left = text.size() - at;
+  if (num_faces <= 0 || bytes_left < static_cast<size_t>(count_size)) return true;
+  const long long k = LoadInt(text.data() + at, count_size, count_signed);
+  if (k < 1 || k > std::numeric_limits<int>::max() / num_faces) return true;
+  const size_t face_bytes = count_size + static_cast<size_t>(k) * item_size;
+  if (static_cast<unsigned long long>(num_faces) > bytes_left / face_bytes) return true;
+  const char* data = text.data() + at;
+  const long long per = ChunkItems(num_faces, options.items_per_chunk);
+  const int chunks = NumChunks(num_faces, per);
+  std::vector<char> uniform(chunks, 1);
+  ForEachTask(chunks, options.num_threads, [&](int c) {
+    const long long end = std::min(num_faces, (c + 1) * per);
+    for (long long i = c * per; i < end; ++i) {
+      if (LoadInt(data + i * face_bytes, count_size, count_signed) != k) {
+        uniform[c] = 0;
+        return;
+      }
+    }
+  });
+  if (std::find(uniform.begin(), uniform.end(), 0) != uniform.end()) return true;
+  *read = true;
+  soup->face_ids.resize(static_cast<size_t>(k * num_faces));
+  soup->face_offsets.resize(static_cast<size_t>(num_faces) + 1);
+  soup->face_offsets[0] = 0;
+  // Each chunk's first face with an id out of range; -1 when none.
+  std::vector<long long> first_bad(chunks, -1);
+  ForEachTask(chunks, options.num_threads, [&](int c) {
+    const long long end = std::min(num_faces, (c + 1) * per);
+    for (long long i = c * per; i < end; ++i) {
+      const char* ids = data + i * face_bytes + count_size;
+      for (long long j = 0; j < k; ++j) {
+        const long long id = LoadInt(ids + j * item_size, item_size, item_signed);
+        if (id < 0 || id >= num_vertices) {
+          first_bad[c] = i;
+          return;
+        }
+        soup->face_ids[k * i + j] = static_cast<int>(id);
+      }
+      soup->face_offsets[i + 1] = static_cast<int>(k * (i + 1));
+    }
+  });
+  for (long long bad : first_bad) {
+    if (bad >= 0) {
+      return SetProblem(problem, "binary face ", bad, ": a vertex id is not in 0..",
+                        num_vertices - 1);
+    }
+  }
+  return true;
+}
+
 // The common binary layout, read in the check's one pass: little-endian, a
 // "vertex" element of scalar properties with float or double x, y, z, then a
 // "face" element whose one property is an integer list named vertex_indices
@@ -376,8 +437,15 @@ static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
 // another layout (CheckBinaryPlyData and OpenMesh take it); with a problem
 // when the data is bad. The checks are CheckBinaryPlyData's, with its
 // messages.
+// The vertices and faces are decoded in chunks of
+// ChunkItems(options.items_per_chunk) on options.num_threads threads: a
+// vertex's bytes are at a fixed stride, and so are a face's when every face
+// has the first face's vertex count (checked in parallel first, then each
+// face is where the walk one by one would find it); otherwise the faces are
+// walked one by one.
 bool ReadCommonBinaryPly(std::string_view text, size_t at, const PlyHeader& header,
-                         PolygonSoup* soup, bool* handled, std::string* problem) {
+                         const MeshReadOptions& options, PolygonSoup* soup, bool* handled,
+                         std::string* problem) {
   *handled = false;
   if (header.format != "binary_little_endian" || header.elements.size() != 2 ||
       header.elements[0].name != "vertex" || header.elements[1].name != "face") {
@@ -415,17 +483,30 @@ bool ReadCommonBinaryPly(std::string_view text, size_t at, const PlyHeader& head
     return SetProblem(problem, "truncated: the binary data ends in element 'vertex' ", complete,
                       " of ", num_vertices);
   }
+  const int threads = options.num_threads;
   soup->xyz.resize(3 * static_cast<size_t>(num_vertices));
-  const char* data = text.data() + at;
-  for (long long v = 0; v < num_vertices; ++v, data += stride) {
-    for (int k = 0; k < 3; ++k) soup->xyz[3 * v + k] = LoadCoordinate(data + offset[k], is_double[k]);
-  }
+  const long long vertex_per = ChunkItems(num_vertices, options.items_per_chunk);
+  ForEachTask(NumChunks(num_vertices, vertex_per), threads, [&](int c) {
+    const long long end = std::min(num_vertices, (c + 1) * vertex_per);
+    for (long long v = c * vertex_per; v < end; ++v) {
+      const char* data = text.data() + at + v * stride;
+      for (int k = 0; k < 3; ++k) {
+        soup->xyz[3 * v + k] = LoadCoordinate(data + offset[k], is_double[k]);
+      }
+    }
+  });
   at += static_cast<size_t>(num_vertices) * stride;
 
   const int count_size = PlyTypeSize(list.count_type);
   const bool count_signed = IsSignedType(list.count_type);
   const int item_size = PlyTypeSize(list.type);
   const bool item_signed = IsSignedType(list.type);
+  bool read = false;
+  if (!ReadUniformBinaryFaces(text, at, face.count, count_size, count_signed, item_size,
+                              item_signed, num_vertices, options, soup, &read, problem)) {
+    return false;
+  }
+  if (read) return true;
   soup->face_offsets.assign(1, 0);
   // A face takes at least its count and three ids; the header's count is not
   // trusted before the faces are read.
@@ -487,7 +568,8 @@ bool CheckPly(std::string_view text, FormatCheck* check, std::string* problem) {
     return true;
   }
   bool handled = false;
-  if (!ReadCommonBinaryPly(text, lines.next_offset(), header, &check->soup, &handled, problem)) {
+  if (!ReadCommonBinaryPly(text, lines.next_offset(), header, check->options, &check->soup,
+                           &handled, problem)) {
     return false;
   }
   if (handled) {

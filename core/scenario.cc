@@ -7,12 +7,15 @@
 #include <limits>
 #include <set>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "msdeform/core/drag_path.h"
 #include "msdeform/core/handles.h"
 #include "msdeform/core/json_file.h"
+#include "msdeform/core/parallel.h"
 
 namespace msdeform {
 namespace {
@@ -353,7 +356,52 @@ class ScenarioParser {
 struct MeshFrame {
   Eigen::AlignedBox3d box;
   double diagonal = 0.0;
+  int num_threads = 1;  // for the passes over all vertices
 };
+
+// The passes over all vertices work in chunks of this many (ForEachChunk,
+// core/parallel.h); what the chunks find is combined in chunk order, so the
+// result is the same for any thread count.
+constexpr int kVerticesPerChunk = 1 << 16;
+
+// The mesh's bounding box, as BoundingBox (core/mesh.h) gives it: each
+// chunk's box grown vertex by vertex, then the chunks' boxes in order (the
+// minimum and maximum of the same numbers).
+Eigen::AlignedBox3d ChunkedBoundingBox(const Mesh& mesh, int num_threads) {
+  std::vector<Eigen::AlignedBox3d> boxes(NumChunks(mesh.num_vertices(), kVerticesPerChunk));
+  ForEachChunk(mesh.num_vertices(), kVerticesPerChunk, num_threads,
+               [&](int64_t begin, int64_t end, int64_t c) {
+                 // Grown apart and stored once: neighbouring boxes share cache lines.
+                 Eigen::AlignedBox3d box;
+                 for (int64_t v = begin; v < end; ++v) box.extend(mesh.vertices.col(v));
+                 boxes[c] = box;
+               });
+  Eigen::AlignedBox3d box;
+  for (const Eigen::AlignedBox3d& chunk_box : boxes) box.extend(chunk_box);
+  return box;
+}
+
+// BoundingBoxDiagonal (core/mesh.h), from ChunkedBoundingBox.
+double ChunkedBoundingBoxDiagonal(const Mesh& mesh, int num_threads) {
+  if (mesh.num_vertices() == 0) return 0.0;
+  return ChunkedBoundingBox(mesh, num_threads).diagonal().norm();
+}
+
+// The vertices v in 0..#V - 1, in order, that collect(begin, end, out)
+// pushes to *out when called on each chunk [begin, end).
+template <typename Collect>
+void CollectVertices(const Mesh& mesh, int num_threads, const Collect& collect,
+                     std::vector<int>* ids) {
+  std::vector<std::vector<int>> parts(NumChunks(mesh.num_vertices(), kVerticesPerChunk));
+  ForEachChunk(mesh.num_vertices(), kVerticesPerChunk, num_threads,
+               [&](int64_t begin, int64_t end, int64_t c) {
+                 // Filled apart and moved once: neighbouring vectors share cache lines.
+                 std::vector<int> part;
+                 collect(static_cast<int>(begin), static_cast<int>(end), &part);
+                 parts[c] = std::move(part);
+               });
+  for (const std::vector<int>& part : parts) ids->insert(ids->end(), part.begin(), part.end());
+}
 
 std::string Point(const Eigen::Vector3d& p) {
   std::ostringstream text;
@@ -397,9 +445,16 @@ bool Select(const VertexRegion& region, const Mesh& mesh, const MeshFrame& frame
       }
       const double radius = region.radius * (region.radius_is_relative ? frame.diagonal : 1.0);
       const double radius_squared = radius * radius;
-      for (int v = 0; v < n; ++v) {
-        if ((mesh.vertices.col(v) - center).squaredNorm() <= radius_squared) ids->push_back(v);
-      }
+      CollectVertices(
+          mesh, frame.num_threads,
+          [&](int begin, int end, std::vector<int>* out) {
+            for (int v = begin; v < end; ++v) {
+              if ((mesh.vertices.col(v) - center).squaredNorm() <= radius_squared) {
+                out->push_back(v);
+              }
+            }
+          },
+          ids);
       std::ostringstream text;
       text << "sphere of radius " << radius << " around " << Point(center);
       what = text.str();
@@ -413,10 +468,15 @@ bool Select(const VertexRegion& region, const Mesh& mesh, const MeshFrame& frame
       const double slack = 1e-9 * extent;
       const double from = low + region.from * extent - slack;
       const double to = low + region.to * extent + slack;
-      for (int v = 0; v < n; ++v) {
-        const double x = mesh.vertices(region.axis, v);
-        if (x >= from && x <= to) ids->push_back(v);
-      }
+      CollectVertices(
+          mesh, frame.num_threads,
+          [&](int begin, int end, std::vector<int>* out) {
+            for (int v = begin; v < end; ++v) {
+              const double x = mesh.vertices(region.axis, v);
+              if (x >= from && x <= to) out->push_back(v);
+            }
+          },
+          ids);
       std::ostringstream text;
       text << "slab " << static_cast<char>('x' + region.axis) << " from " << region.from << " to "
            << region.to << " of the extent [" << low << ", " << low + extent << "]";
@@ -447,15 +507,20 @@ bool Select(const VertexRegion& region, const Mesh& mesh, const MeshFrame& frame
     case VertexRegion::Kind::kNot: {
       std::vector<int> excluded;
       if (!Select(region.children[0], mesh, frame, &excluded, problem)) return false;
-      // `excluded` is sorted and unique: walk it alongside 0..n-1.
-      size_t next = 0;
-      for (int v = 0; v < n; ++v) {
-        if (next < excluded.size() && excluded[next] == v) {
-          ++next;
-        } else {
-          ids->push_back(v);
-        }
-      }
+      // `excluded` is sorted and unique: walk it alongside each chunk.
+      CollectVertices(
+          mesh, frame.num_threads,
+          [&](int begin, int end, std::vector<int>* out) {
+            auto next = std::lower_bound(excluded.begin(), excluded.end(), begin);
+            for (int v = begin; v < end; ++v) {
+              if (next != excluded.end() && *next == v) {
+                ++next;
+              } else {
+                out->push_back(v);
+              }
+            }
+          },
+          ids);
       what = "complement of its region";
       break;
     }
@@ -504,15 +569,16 @@ bool ReadScenario(const std::string& path, Scenario* scenario, std::string* erro
 
 bool ResolveScenario(const Scenario& scenario, const Mesh& mesh, HandleLayout* layout,
                      std::vector<int>* watch, Eigen::Affine3d* deformed_from_rest,
-                     std::string* error) {
+                     std::string* error, int num_threads) {
   const std::string& where = scenario.path.empty() ? std::string("scenario") : scenario.path;
   if (mesh.num_vertices() == 0) {
     *error = where + ": the mesh has no vertices";
     return false;
   }
   MeshFrame frame;
-  frame.box = BoundingBox(mesh);
-  frame.diagonal = BoundingBoxDiagonal(mesh);
+  frame.box = ChunkedBoundingBox(mesh, num_threads);
+  frame.diagonal = frame.box.diagonal().norm();  // BoundingBoxDiagonal (the mesh has a vertex)
+  frame.num_threads = num_threads;
 
   HandleLayout result;
   std::string problem;
@@ -559,9 +625,9 @@ bool ResolveScenario(const Scenario& scenario, const Mesh& mesh, HandleLayout* l
 }
 
 std::vector<Eigen::Affine3d> DragPath(const Scenario& scenario, const Mesh& mesh,
-                                      const HandleLayout& layout) {
+                                      const HandleLayout& layout, int num_threads) {
   const Eigen::Vector3d centroid = Centroid(mesh, layout.moveable);
-  const double diagonal = BoundingBoxDiagonal(mesh);
+  const double diagonal = ChunkedBoundingBoxDiagonal(mesh, num_threads);
   const int frames = std::max(1, scenario.frames);
   if (scenario.uses_sel_def()) return InterpolateDragPath(scenario.def_transform, centroid, frames);
   return InterpolateDragPath(ScenarioDragMotion(scenario.motion, centroid, diagonal), frames);

@@ -136,19 +136,20 @@ bool ReadScenario(const std::string& path, Scenario* scenario, std::string* erro
 // and computes the final handle transform. Fails,
 // naming the region, when a region selects nothing or names a vertex outside
 // the mesh, or when the layout does not validate (e.g. a vertex both fixed
-// and moveable).
+// and moveable). The passes over all vertices (bounding box, regions) use up
+// to `num_threads` threads, with the same result for any count.
 bool ResolveScenario(const Scenario& scenario, const Mesh& mesh, HandleLayout* layout,
                      std::vector<int>* watch, Eigen::Affine3d* deformed_from_rest,
-                     std::string* error);
+                     std::string* error, int num_threads = 1);
 
 // The drag path: scenario.frames transforms, frame k (1-based) carrying the
 // fraction k / frames of the motion (core/drag_path.h: k / frames of the angle
 // about the rotation centre, which moves by k / frames of the translation;
 // a .def's rotation part slerped, its rest blended linearly); the last equals
 // ResolveScenario's transform. `layout` is the resolved layout (its handle
-// gives the centroid).
+// gives the centroid). The bounding box takes up to `num_threads` threads.
 std::vector<Eigen::Affine3d> DragPath(const Scenario& scenario, const Mesh& mesh,
-                                      const HandleLayout& layout);
+                                      const HandleLayout& layout, int num_threads = 1);
 
 }  // namespace msdeform
 

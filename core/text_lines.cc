@@ -11,6 +11,11 @@
 namespace msdeform {
 namespace {
 
+// std::isspace in the "C" locale (space, \t, \n, \v, \f, \r), inline: the
+// library call per character was a third of reading a text mesh, and a mesh
+// file's separators do not depend on the user's locale.
+inline bool IsSpace(unsigned char c) { return c == ' ' || (c >= '\t' && c <= '\r'); }
+
 // Splits `line` into whitespace-separated tokens, dropping a '#' comment;
 // sets *had_comment when there was one.
 void Tokenize(std::string_view line, TextLines::Tokens* tokens, bool* had_comment) {
@@ -23,9 +28,9 @@ void Tokenize(std::string_view line, TextLines::Tokens* tokens, bool* had_commen
   }
   size_t i = 0;
   while (i < line.size()) {
-    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    while (i < line.size() && IsSpace(static_cast<unsigned char>(line[i]))) ++i;
     size_t j = i;
-    while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
+    while (j < line.size() && !IsSpace(static_cast<unsigned char>(line[j]))) ++j;
     if (j > i) tokens->push_back(line.substr(i, j - i));
     i = j;
   }
@@ -69,6 +74,36 @@ bool TextLines::NextWithContent() {
   return false;
 }
 
+std::string_view FirstToken(std::string_view line) {
+  size_t i = 0;
+  while (i < line.size() && IsSpace(static_cast<unsigned char>(line[i]))) ++i;
+  size_t j = i;
+  while (j < line.size() && line[j] != '#' && !IsSpace(static_cast<unsigned char>(line[j]))) {
+    ++j;
+  }
+  return line.substr(i, j - i);
+}
+
+LineCount CountLines(std::string_view text) {
+  LineCount count;
+  count.lines = ForEachLine(text, [&count](std::string_view line) {
+    count.with_content += !FirstToken(line).empty();
+  });
+  return count;
+}
+
+std::vector<size_t> LineChunks(std::string_view text, size_t begin, size_t end,
+                               size_t chunk_bytes) {
+  std::vector<size_t> bounds = {begin};
+  while (end - bounds.back() > chunk_bytes) {
+    const size_t line_end = text.substr(0, end).find('\n', bounds.back() + chunk_bytes - 1);
+    if (line_end == std::string_view::npos || line_end + 1 >= end) break;
+    bounds.push_back(line_end + 1);
+  }
+  bounds.push_back(end);
+  return bounds;
+}
+
 std::string Quote(std::string_view token) {
   constexpr size_t kMax = 24;
   if (token.size() <= kMax) return "'" + std::string(token) + "'";
@@ -89,8 +124,8 @@ bool ParseFloat(std::string_view token, float* value) {
   return ParseReal<float>(token, std::strtof, value);
 }
 
-bool ReadVertexCoordinates(const TextLines& lines, size_t first, long long vertex,
-                           std::vector<double>* xyz, std::string* problem) {
+bool ReadVertexCoordinates(const TextLines& lines, size_t first, long long vertex, double xyz[3],
+                           std::string* problem) {
   const TextLines::Tokens& tokens = lines.tokens();
   if (tokens.size() < first + 3) {
     return lines.Fail(problem, "vertex ", vertex, " has fewer than 3 coordinates");
@@ -105,7 +140,7 @@ bool ReadVertexCoordinates(const TextLines& lines, size_t first, long long verte
       return lines.Fail(problem, "vertex ", vertex, " coordinate ", Quote(tokens[k]),
                         " is not finite");
     }
-    xyz->push_back(value);
+    xyz[k - first] = value;
   }
   return true;
 }

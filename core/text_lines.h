@@ -32,6 +32,10 @@ class TextLines {
   using Tokens = std::vector<std::string_view>;
 
   explicit TextLines(std::string_view text) : text_(text) {}
+  // A piece of a longer text that starts after its line `lines_before`: the
+  // line numbers (and so the messages) are the longer text's.
+  TextLines(std::string_view text, int lines_before)
+      : text_(text), line_number_(lines_before) {}
 
   // Moves to the next line; false (and nothing changed) at the end.
   bool Next();
@@ -66,6 +70,45 @@ class TextLines {
   bool had_comment_ = false;
 };
 
+// The first token of `line` as TextLines splits it ("" for a blank or
+// comment-only line): what NextWithContent and the readers' line kinds look
+// at, without splitting the whole line.
+std::string_view FirstToken(std::string_view line);
+
+// Splits text[begin, end) into pieces for parsing apart: each piece ends
+// right after the first '\n' at or beyond `chunk_bytes` bytes from its start
+// (the last one at `end`), so every line lies in one piece. Returns the
+// pieces' boundaries, `begin` first and `end` last. Depends only on the text
+// and `chunk_bytes`.
+std::vector<size_t> LineChunks(std::string_view text, size_t begin, size_t end,
+                               size_t chunk_bytes);
+
+// The lines of a text as TextLines walks them, and those with a token (as
+// NextWithContent finds them), counted without splitting the lines into
+// tokens (ForEachLine and FirstToken): about a tenth of the time of parsing
+// the lines (10 ms of 83 for a 42 MB OFF).
+struct LineCount {
+  int lines = 0;
+  long long with_content = 0;
+};
+LineCount CountLines(std::string_view text);
+
+// Calls visit(line) for each line of `text`, a line as TextLines::line()
+// would give it but for a '\r' kept at its end; returns the number of lines.
+template <typename Visit>
+int ForEachLine(std::string_view text, Visit visit) {
+  int count = 0;
+  size_t start = 0;
+  while (start < text.size()) {
+    size_t end = text.find('\n', start);
+    if (end == std::string_view::npos) end = text.size();
+    visit(text.substr(start, end - start));
+    ++count;
+    start = end + 1;
+  }
+  return count;
+}
+
 // The token in single quotes for a message, cut after 24 characters.
 std::string Quote(std::string_view token);
 
@@ -80,10 +123,10 @@ bool ParseFloat(std::string_view token, float* value);
 
 // Checks that tokens first, first + 1 and first + 2 of the current line are
 // finite doubles, the coordinates of vertex `vertex` of an OFF or OBJ text,
-// and appends them to *xyz. A decimal beyond the double range is refused as
-// not finite.
-bool ReadVertexCoordinates(const TextLines& lines, size_t first, long long vertex,
-                           std::vector<double>* xyz, std::string* problem);
+// and puts them in xyz[0..2]. A decimal beyond the double range is refused
+// as not finite.
+bool ReadVertexCoordinates(const TextLines& lines, size_t first, long long vertex, double xyz[3],
+                           std::string* problem);
 
 }  // namespace msdeform
 

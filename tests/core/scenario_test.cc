@@ -6,9 +6,11 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
+#include "msdeform/core/mesh.h"
 #include "msdeform/core/procedural_meshes.h"
 
 namespace msdeform {
@@ -422,6 +424,64 @@ TEST(ScenarioTest, DeeperRegionsAreRefusedNotRecursedInto) {
     EXPECT_NE(resolved.error.find("regions nest more than 64 deep"), std::string::npos)
         << resolved.error;
     EXPECT_LT(resolved.error.size(), 200u) << resolved.error;
+  }
+}
+
+// On a mesh of more than one chunk of vertices (76,500), the regions, the
+// transform and the drag path are the same on 1, 2 and 3 threads, and the
+// regions are those a plain walk over the vertices selects.
+TEST(ScenarioTest, SameRegionsAndPathAtAnyThreadCount) {
+  const Mesh sphere = MakeSphere(2.0, 300, 256);
+  ASSERT_GT(sphere.num_vertices(), 70000);
+  const std::string path = WriteText(FreshFolder() + "/scenario.json", R"({
+    "mesh": "m.off",
+    "fixed": [{"slab": {"axis": "y", "from": 0, "to": 0.1}}],
+    "handle": {"all": [{"sphere": {"center_vertex": 70000, "radius_rel": 0.3}},
+                       {"not": {"slab": {"axis": "z", "from": 0, "to": 0.5}}}]},
+    "watch": {"not": {"sphere": {"center": [0, 2, 0], "radius": 1.5}}},
+    "transform": {"translation_rel": [0.1, 0.2, 0.0]},
+    "frames": 5})");
+  Scenario scenario;
+  std::string error;
+  ASSERT_TRUE(ReadScenario(path, &scenario, &error)) << error;
+  HandleLayout reference;
+  std::vector<int> reference_watch;
+  Eigen::Affine3d reference_transform;
+  ASSERT_TRUE(ResolveScenario(scenario, sphere, &reference, &reference_watch,
+                              &reference_transform, &error, 1))
+      << error;
+  const std::vector<Eigen::Affine3d> reference_path = DragPath(scenario, sphere, reference, 1);
+
+  // The plain walk: the fixed slab and the watched vertices.
+  const Eigen::AlignedBox3d box = BoundingBox(sphere);
+  const double low = box.min().y(), extent = box.max().y() - box.min().y();
+  std::vector<int> slab, outside;
+  for (int v = 0; v < sphere.num_vertices(); ++v) {
+    const double y = sphere.vertices(1, v);
+    if (y >= low - 1e-9 * extent && y <= low + 0.1 * extent + 1e-9 * extent) slab.push_back(v);
+    if ((sphere.vertices.col(v) - Eigen::Vector3d(0, 2, 0)).squaredNorm() > 1.5 * 1.5) {
+      outside.push_back(v);
+    }
+  }
+  EXPECT_EQ(reference.fixed, slab);
+  EXPECT_EQ(reference_watch, outside);
+  EXPECT_FALSE(reference.moveable.empty());
+
+  for (int threads : {2, 3}) {
+    HandleLayout layout;
+    std::vector<int> watch;
+    Eigen::Affine3d transform;
+    ASSERT_TRUE(ResolveScenario(scenario, sphere, &layout, &watch, &transform, &error, threads))
+        << error;
+    EXPECT_EQ(layout.fixed, reference.fixed) << threads;
+    EXPECT_EQ(layout.moveable, reference.moveable) << threads;
+    EXPECT_EQ(watch, reference_watch) << threads;
+    EXPECT_EQ(transform.matrix(), reference_transform.matrix()) << threads;
+    const std::vector<Eigen::Affine3d> drag = DragPath(scenario, sphere, layout, threads);
+    ASSERT_EQ(drag.size(), reference_path.size());
+    for (size_t k = 0; k < drag.size(); ++k) {
+      EXPECT_EQ(drag[k].matrix(), reference_path[k].matrix()) << threads << " " << k;
+    }
   }
 }
 
