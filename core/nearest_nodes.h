@@ -20,6 +20,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <new>
 #include <string>
 #include <utility>
 #include <vector>
@@ -29,6 +31,8 @@
 #include "msdeform/core/lattice.h"
 
 namespace msdeform {
+
+struct NearestNodeOptions;
 
 // The k nearest nodes of every vertex and their weights, stored compactly:
 // skinning reads them for every moving vertex in every frame, so their bytes
@@ -86,12 +90,46 @@ class SkinningWeights {
   }
 
  private:
+  // An allocator whose resize leaves the elements unset: ComputeNearestNodes
+  // sets every slot in its parallel loop, so the pages are first touched
+  // there, by the threads that fill them, instead of in a serial zero pass
+  // (10 ms for the 1.66M-vertex armadillo).
+  template <typename T>
+  struct UnsetAllocator : std::allocator<T> {
+    template <typename U>
+    struct rebind {
+      using other = UnsetAllocator<U>;
+    };
+    UnsetAllocator() = default;
+    template <typename U>
+    UnsetAllocator(const UnsetAllocator<U>&) noexcept {}  // NOLINT: allocator conversion
+    template <typename U>
+    void construct(U* p) noexcept {
+      ::new (static_cast<void*>(p)) U;
+    }
+    template <typename U, typename... Args>
+    void construct(U* p, Args&&... args) {
+      ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+  };
+  template <typename T>
+  using Storage = std::vector<T, UnsetAllocator<T>>;
+
+  struct Unset {};
+  // k slots per vertex as above, left unset: the caller sets every vertex.
+  SkinningWeights(int k, int num_vertices, int num_nodes, Unset);
+  friend void ComputeNearestNodes(const Eigen::Matrix3Xd& vertices, const Lattice& lattice,
+                                  const Eigen::Matrix3Xd& node_positions,
+                                  const std::vector<int>& node_of_cell,
+                                  const NearestNodeOptions& options, SkinningWeights* weights,
+                                  std::vector<std::pair<int, int>>* edges);
+
   int k_ = 0;
   int num_vertices_ = 0;
   bool has_16bit_ids_ = true;
-  std::vector<uint16_t> ids16_;  // k by #V, when the graph has <= 65,536 nodes;
-  std::vector<int32_t> ids32_;   // otherwise these.
-  std::vector<float> weights_;   // k by #V.
+  Storage<uint16_t> ids16_;  // k by #V, when the graph has <= 65,536 nodes;
+  Storage<int32_t> ids32_;   // otherwise these.
+  Storage<float> weights_;   // k by #V.
 };
 
 // The most threads any option accepts (msdeform --threads has the same range).

@@ -218,6 +218,50 @@ TEST(DeformationGraphTest, ProceduralMeshesGiveExactNodeCountsAndValidGraphs) {
   }
 }
 
+// ConnectGraph of DG1 and of a coarse scale on 8K vertices (several chunks of
+// the nearest-node loop per thread): the same weights, edges and neighbour
+// lists bit for bit on 1, 2 and 3 threads, and the neighbour lists are the
+// edges both ways, sorted.
+TEST(DeformationGraphTest, ConnectGraphDoesNotDependOnThreadCount) {
+  const Mesh sphere = MakeSphere(1.0, 128, 64);
+  ASSERT_GT(sphere.num_vertices(), 6 * 1024);
+  const Lattice lattice = BuildTestLattice(sphere, 0.1);
+  GraphOptions options;
+  const int num_dg1 = lattice.num_surface_particles();
+  std::vector<DeformationGraph> graphs;
+  std::string error;
+  ASSERT_TRUE(BuildCollapsedGraphs(sphere, lattice, options, {num_dg1 / 8}, &graphs, &error,
+                                   Connect::kFinestOnly))
+      << error;
+  for (DeformationGraph& graph : graphs) {
+    std::vector<DeformationGraph> connected;
+    for (const int threads : {1, 2, 3}) {
+      options.num_threads = threads;
+      graph.Disconnect();
+      ConnectGraph(sphere, lattice, options, &graph);
+      connected.push_back(graph);
+    }
+    const DeformationGraph& one = connected[0];
+    std::vector<std::vector<int>> expected(one.num_nodes());
+    for (const auto& [a, b] : one.edges) {
+      expected[a].push_back(b);
+      expected[b].push_back(a);
+    }
+    for (int j = 0; j < one.num_nodes(); ++j) {
+      std::sort(expected[j].begin(), expected[j].end());
+      EXPECT_EQ(std::vector<int>(one.neighbors.begin(j), one.neighbors.end(j)), expected[j]);
+    }
+    for (int i = 1; i < 3; ++i) {
+      SCOPED_TRACE(std::to_string(i + 1) + " threads, " + std::to_string(graph.num_nodes()) +
+                   " nodes");
+      EXPECT_TRUE(connected[i].weights == one.weights);
+      EXPECT_EQ(connected[i].edges, one.edges);
+      EXPECT_EQ(connected[i].neighbors.offsets, one.neighbors.offsets);
+      EXPECT_EQ(connected[i].neighbors.values, one.neighbors.values);
+    }
+  }
+}
+
 TEST(DeformationGraphTest, ComponentsAreMergedOnlyWhenEdgesRunOut) {
   // 30 one-node cubes and a sphere: coarse scales have fewer nodes than there
   // are components, so components must be merged to reach D_i exactly, but

@@ -143,25 +143,40 @@ TEST(NearestNodesTest, WeightsFollowEq11OverTheRingCandidates) {
   EXPECT_EQ(edges, Edges(expected_edges.begin(), expected_edges.end()));
 }
 
+// 8K vertices: several of the parallel loop's 1,024-vertex chunks for each
+// of 2 and 3 threads. DG1-like (a node per cell) and coarse (a node per 7
+// cells, as a selected scale) node sets.
 TEST(NearestNodesTest, ResultDoesNotDependOnThreadCount) {
-  const Mesh sphere = MakeSphere(1.0, 64, 32);
+  const Mesh sphere = MakeSphere(1.0, 128, 64);
+  ASSERT_GT(sphere.num_vertices(), 6 * 1024);
   const Lattice lattice = BuildTestLattice(sphere, 0.1);
   const int num_cells = lattice.num_surface_particles();
-  Eigen::Matrix3Xd positions(3, num_cells);
-  std::vector<int> node_of_cell(num_cells);
-  for (int c = 0; c < num_cells; ++c) {
-    positions.col(c) = lattice.rest_positions().col(c);
-    node_of_cell[c] = c;
+  for (const int cells_per_node : {1, 7}) {
+    const int num_nodes = (num_cells + cells_per_node - 1) / cells_per_node;
+    Eigen::Matrix3Xd positions(3, num_nodes);
+    std::vector<int> node_of_cell(num_cells);
+    for (int c = 0; c < num_cells; ++c) {
+      node_of_cell[c] = c / cells_per_node;
+      positions.col(node_of_cell[c]) = lattice.rest_positions().col(c);
+    }
+    SkinningWeights one;
+    Edges edges_one;
+    NearestNodeOptions options;
+    options.num_threads = 1;
+    ComputeNearestNodes(sphere.vertices, lattice, positions, node_of_cell, options, &one,
+                        &edges_one);
+    ASSERT_FALSE(edges_one.empty());
+    for (const int threads : {2, 3}) {
+      SkinningWeights many;
+      Edges edges_many;
+      options.num_threads = threads;
+      ComputeNearestNodes(sphere.vertices, lattice, positions, node_of_cell, options, &many,
+                          &edges_many);
+      // Bit for bit: operator== compares the float weights and the ids exactly.
+      EXPECT_TRUE(one == many) << threads << " threads, " << cells_per_node << " cells per node";
+      EXPECT_EQ(edges_one, edges_many) << threads << " threads";
+    }
   }
-  SkinningWeights one, two;
-  std::vector<std::pair<int, int>> edges_one, edges_two;
-  NearestNodeOptions options;
-  options.num_threads = 1;
-  ComputeNearestNodes(sphere.vertices, lattice, positions, node_of_cell, options, &one, &edges_one);
-  options.num_threads = 2;
-  ComputeNearestNodes(sphere.vertices, lattice, positions, node_of_cell, options, &two, &edges_two);
-  EXPECT_TRUE(one == two);
-  EXPECT_EQ(edges_one, edges_two);
 }
 
 TEST(NearestNodesTest, VertexWithFewerThanKPlusOneCandidatesGetsValidWeights) {

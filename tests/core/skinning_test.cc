@@ -185,11 +185,13 @@ TEST(SkinningTest, SingularMatricesGiveFiniteNormals) {
   }
 }
 
-// On a mesh large enough for two threads and several chunks (see ChunkPool).
+// On a mesh large enough for several threads and several chunks (ChunkPool in
+// skinning.cc: 2,048-vertex chunks, one thread under 8,192 vertices): all
+// vertices and a subset of them, on 1, 2 and 3 threads, bit for bit.
 TEST(SkinningTest, ThreadCountDoesNotChangeTheResult) {
   std::mt19937 rng(6);
   const Fixture f = Build(MakeSphere(1.0, 160, 80), 0.1);
-  ASSERT_GT(f.mesh.num_vertices(), 2 * 4096);
+  ASSERT_GT(f.mesh.num_vertices(), 6 * 2048);
   const DeformationGraph& graph = f.graphs[1];
   NodeTransforms transforms = NodeTransforms::Identity(graph.num_nodes());
   for (int j = 0; j < graph.num_nodes(); ++j) {
@@ -197,21 +199,40 @@ TEST(SkinningTest, ThreadCountDoesNotChangeTheResult) {
     transforms.translations.col(j) = Eigen::Vector3d::Random();
   }
   const Eigen::Matrix3Xd normals = VertexNormals(f.mesh);
+  // Every vertex but each fifth: more than 8,192, in runs with gaps.
+  std::vector<int> subset;
+  for (int v = 0; v < f.mesh.num_vertices(); ++v) {
+    if (v % 5 != 0) subset.push_back(v);
+  }
+  ASSERT_GT(subset.size(), 4u * 2048);
   for (bool use_simd : {false, true}) {
-    Eigen::Matrix3Xd positions[2], deformed_normals[2], fused_positions[2], fused_normals[2];
-    for (int threads : {1, 2}) {
+    Eigen::Matrix3Xd positions[3], deformed_normals[3], fused_positions[3], fused_normals[3];
+    Eigen::Matrix3Xd subset_positions[3], subset_normals[3];
+    for (int threads : {1, 2, 3}) {
       SkinningOptions options;
       options.num_threads = threads;
       options.use_simd = use_simd;
-      SkinPositions(f.mesh.vertices, graph, transforms, &positions[threads - 1], options);
-      SkinNormals(normals, graph, transforms, &deformed_normals[threads - 1], options);
+      const int i = threads - 1;
+      SkinPositions(f.mesh.vertices, graph, transforms, &positions[i], options);
+      SkinNormals(normals, graph, transforms, &deformed_normals[i], options);
       SkinPositionsAndNormals(f.mesh.vertices, normals, graph, transforms, nullptr,
-                              &fused_positions[threads - 1], &fused_normals[threads - 1], options);
+                              &fused_positions[i], &fused_normals[i], options);
+      subset_positions[i] = f.mesh.vertices;
+      subset_normals[i] = normals;
+      SkinPositionsAndNormals(f.mesh.vertices, normals, graph, transforms, &subset,
+                              &subset_positions[i], &subset_normals[i], options);
     }
-    EXPECT_TRUE(positions[0] == positions[1]) << "use_simd " << use_simd;
-    EXPECT_TRUE(deformed_normals[0] == deformed_normals[1]) << "use_simd " << use_simd;
-    EXPECT_TRUE(fused_positions[0] == fused_positions[1]) << "use_simd " << use_simd;
-    EXPECT_TRUE(fused_normals[0] == fused_normals[1]) << "use_simd " << use_simd;
+    EXPECT_TRUE(subset_positions[0] != f.mesh.vertices) << "the subset should move";
+    for (int i = 1; i < 3; ++i) {
+      SCOPED_TRACE("use_simd " + std::to_string(use_simd) + ", " + std::to_string(i + 1) +
+                   " threads");
+      EXPECT_TRUE(positions[0] == positions[i]);
+      EXPECT_TRUE(deformed_normals[0] == deformed_normals[i]);
+      EXPECT_TRUE(fused_positions[0] == fused_positions[i]);
+      EXPECT_TRUE(fused_normals[0] == fused_normals[i]);
+      EXPECT_TRUE(subset_positions[0] == subset_positions[i]);
+      EXPECT_TRUE(subset_normals[0] == subset_normals[i]);
+    }
   }
 }
 
