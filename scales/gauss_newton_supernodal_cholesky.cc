@@ -42,6 +42,8 @@ void SupernodalCholesky::Analyze(const SparseMatrix& matrix) {
   CHECK_EQ(matrix.rows(), matrix.cols());
   CHECK(matrix.isCompressed());
   n_ = static_cast<int>(matrix.rows());
+  pattern_outer_.assign(matrix.outerIndexPtr(), matrix.outerIndexPtr() + n_ + 1);
+  pattern_inner_.assign(matrix.innerIndexPtr(), matrix.innerIndexPtr() + matrix.nonZeros());
   // The AMD ordering, as Eigen's SimplicialLLT takes it: its indices()[k]
   // is the row of `matrix` at place k.
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> ordering;
@@ -195,6 +197,11 @@ void SupernodalCholesky::Analyze(const SparseMatrix& matrix) {
 
 bool SupernodalCholesky::Factorize(const SparseMatrix& matrix) {
   CHECK_EQ(static_cast<size_t>(matrix.nonZeros()), destination_.size()) << "Analyze first";
+  CHECK(matrix.isCompressed() &&
+        matrix.cols() + 1 == static_cast<Eigen::Index>(pattern_outer_.size()) &&
+        std::equal(pattern_outer_.begin(), pattern_outer_.end(), matrix.outerIndexPtr()) &&
+        std::equal(pattern_inner_.begin(), pattern_inner_.end(), matrix.innerIndexPtr()))
+      << "Factorize got another pattern than Analyze";
   std::fill(values_.begin(), values_.end(), 0.0);
   const double* a = matrix.valuePtr();
   for (size_t e = 0; e < destination_.size(); ++e) {

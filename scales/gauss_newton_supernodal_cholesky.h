@@ -43,11 +43,13 @@ class SupernodalCholesky {
   explicit SupernodalCholesky(double relax_fraction = 0.2) : relax_fraction_(relax_fraction) {}
 
   // `matrix`: square, compressed, its pattern symmetric with both triangles
-  // stored (the lower one is read). Factorize must get the same pattern.
+  // stored (the lower one is read). Factorize must get the same pattern
+  // (checked).
   void Analyze(const SparseMatrix& matrix);
   // False when the matrix is not (numerically) positive definite.
   bool Factorize(const SparseMatrix& matrix);
-  // x with A x = rhs, by the last successful Factorize.
+  // x with A x = rhs, by the last Factorize, which must have succeeded (a
+  // failed one leaves the factor unusable until the next success).
   void Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd* x) const;
 
   int num_supernodes() const { return static_cast<int>(first_.size()) - 1; }
@@ -69,6 +71,8 @@ class SupernodalCholesky {
   double relax_fraction_;
   int n_ = 0;
   std::vector<int> position_;  // position_[i]: row i's place in the permuted order
+  // The pattern Analyze saw (outer and inner indices), checked by Factorize.
+  std::vector<int> pattern_outer_, pattern_inner_;
   std::vector<int> first_, row_begin_, rows_;
   std::vector<int64_t> value_begin_;
   std::vector<int> update_begin_;  // per supernode into updates_

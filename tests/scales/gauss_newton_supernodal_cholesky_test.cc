@@ -96,5 +96,24 @@ TEST(SupernodalCholeskyTest, AnIndefiniteSystemDoesNotFactorise) {
   EXPECT_FALSE(cholesky.Factorize(system));
 }
 
+TEST(SupernodalCholeskyDeathTest, AnotherPatternWithAsManyEntriesIsRefused) {
+  // Two 3x3 tridiagonal-like patterns with 7 entries each: the (1, 0) pair
+  // moved to (2, 0). Factorize would write the values to the wrong places.
+  auto matrix = [](int far_row) {
+    std::vector<Eigen::Triplet<double>> entries = {{0, 0, 4.0}, {1, 1, 4.0}, {2, 2, 4.0},
+                                                   {2, 1, 1.0}, {1, 2, 1.0}};
+    entries.emplace_back(far_row, 0, 1.0);
+    entries.emplace_back(0, far_row, 1.0);
+    SparseMatrix m(3, 3);
+    m.setFromTriplets(entries.begin(), entries.end());
+    m.makeCompressed();
+    return m;
+  };
+  SupernodalCholesky cholesky;
+  cholesky.Analyze(matrix(1));
+  EXPECT_TRUE(cholesky.Factorize(matrix(1)));
+  EXPECT_DEATH(cholesky.Factorize(matrix(2)), "another pattern");
+}
+
 }  // namespace
 }  // namespace msdeform
