@@ -24,13 +24,19 @@ TEST(TextLinesTest, NumbersParseAsStrtodParsesThem) {
     const bool expected_ok = !token.empty() && end == token.c_str() + token.size();
     double value = 0.0;
     EXPECT_EQ(ParseDouble(token, &value), expected_ok) << token;
-    if (expected_ok && !std::isnan(expected)) EXPECT_EQ(value, expected) << token;
-    if (expected_ok && std::isnan(expected)) EXPECT_TRUE(std::isnan(value)) << token;
+    if (expected_ok && !std::isnan(expected)) {
+      EXPECT_EQ(value, expected) << token;
+    }
+    if (expected_ok && std::isnan(expected)) {
+      EXPECT_TRUE(std::isnan(value)) << token;
+    }
 
     const float expected_float = std::strtof(token.c_str(), &end);
     float float_value = 0.0f;
     EXPECT_EQ(ParseFloat(token, &float_value), expected_ok) << token;
-    if (expected_ok && !std::isnan(expected_float)) EXPECT_EQ(float_value, expected_float) << token;
+    if (expected_ok && !std::isnan(expected_float)) {
+      EXPECT_EQ(float_value, expected_float) << token;
+    }
   }
 }
 
