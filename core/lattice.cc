@@ -11,6 +11,7 @@
 #include <omp.h>
 
 #include "msdeform/core/nearest_nodes.h"  // kMaxThreads
+#include "msdeform/core/parallel.h"
 
 namespace msdeform {
 namespace {
@@ -21,14 +22,6 @@ constexpr int kOutsideMark = -3;
 // A cell without a vertex that a triangle crosses: a wall for the flood fill
 // only (it becomes an interior particle, being inside the surface).
 constexpr int kWallMark = -4;
-
-// Passes over fewer items than this run on one thread: starting a team costs
-// more than it saves there.
-constexpr int64_t kParallelMinItems = 1 << 14;
-
-int ThreadsFor(int num_threads, int64_t items) {
-  return items >= kParallelMinItems ? std::max(1, num_threads) : 1;
-}
 
 // Builds compressed lists from (row, value) pairs: each row's values
 // ascending, duplicates removed. A counting sort by row, then a sort of each

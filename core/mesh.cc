@@ -11,17 +11,10 @@
 #include <sstream>
 #include <thread>
 
+#include "msdeform/core/parallel.h"
+
 namespace msdeform {
 namespace {
-
-// Passes over fewer items than this run on one thread: starting a team costs
-// more than it saves there.
-constexpr int64_t kParallelMinItems = 1 << 14;
-
-// Threads for a pass over `items` items.
-int ThreadsFor(int num_threads, int64_t items) {
-  return items >= kParallelMinItems ? std::max(1, num_threads) : 1;
-}
 
 // data[i] += data[i - 1] for i = 1 .. n - 1 (an inclusive scan of integers,
 // so any split gives the same sums).

@@ -95,11 +95,10 @@ void CountObjPiece(ObjPiece* piece) {
   piece->vertices = vertices;
 }
 
-// Reads the piece's "v" and "f" lines (see CheckObj); `faces_before` and
-// `ids_before` are the faces and ids before it where known (else 0), for
-// the limit of an int. Stops at the first bad line, its message in
-// piece->problem.
-void ParseObjPiece(long long faces_before, long long ids_before, ObjPiece* piece) {
+// Reads the piece's "v" and "f" lines (see CheckObj), its faces and ids
+// within the limit of an int (the pieces' sums are checked when they are
+// joined). Stops at the first bad line, its message in piece->problem.
+void ParseObjPiece(ObjPiece* piece) {
   TextLines lines(piece->text, piece->lines_before);
   long long count = piece->vertices_before;
   std::vector<long long> ids;
@@ -136,8 +135,8 @@ void ParseObjPiece(long long faces_before, long long ids_before, ObjPiece* piece
     const long long distinct = static_cast<long long>(ids.size());
     piece->dropped_triangles += (corners - 2) - std::max(distinct - 2, 0LL);
     if (distinct < 3) continue;
-    if (faces_before + piece->faces == std::numeric_limits<int>::max() ||
-        ids_before + soup.face_ids.size() + ids.size() >
+    if (piece->faces == std::numeric_limits<int>::max() ||
+        soup.face_ids.size() + ids.size() >
             static_cast<size_t>(std::numeric_limits<int>::max())) {
       SetProblem(problem, "too many vertices or faces");
       break;
@@ -166,7 +165,7 @@ bool ReadObjPieces(std::string_view text, const std::vector<size_t>& bounds, int
     pieces[c].vertices_before = pieces[c - 1].vertices_before + pieces[c - 1].vertices;
   }
   ForEachTask(static_cast<int>(pieces.size()), num_threads,
-               [&pieces](int c) { ParseObjPiece(0, 0, &pieces[c]); });
+               [&pieces](int c) { ParseObjPiece(&pieces[c]); });
   constexpr long long kIntMax = std::numeric_limits<int>::max();
   long long vertices = 0, faces = 0, face_ids = 0, dropped_triangles = 0;
   for (const ObjPiece& piece : pieces) {

@@ -1,9 +1,8 @@
-// The OFF check. OpenMesh's OFF reader trusts the header: on a truncated file
-// or an unparsable number it keeps calling add_vertex/add_face with stale
-// values. So the text is checked here line by line first, and the counts the
-// header announces are what OpenMesh must deliver. Valid OFF that OpenMesh's
-// reader would misread ('#' comments, counts on the header line, leading
-// blank lines, colours, normals) is rewritten in the plain layout.
+// The OFF reader. Text OFF is checked and read in one pass, line by line, by
+// msdeform's own parser ('#' comments, counts on the header line, leading
+// blank lines, colours and normals after the coordinates are accepted); the
+// counts the header announces are what the file must deliver. Binary OFF is
+// checked here and read by OpenMesh.
 
 #include <algorithm>
 #include <cstdint>

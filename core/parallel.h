@@ -17,6 +17,16 @@
 
 namespace msdeform {
 
+// Passes over fewer items than this run on one thread: starting a team costs
+// more than it saves there.
+constexpr int64_t kParallelMinItems = 1 << 14;
+
+// Threads for a pass over `items` items: num_threads (at least 1), or 1 for a
+// small pass.
+inline int ThreadsFor(int num_threads, int64_t items) {
+  return items >= kParallelMinItems ? std::max(1, num_threads) : 1;
+}
+
 // The number of chunks of at most `chunk` items that cover n items.
 inline int64_t NumChunks(int64_t n, int64_t chunk) { return n <= 0 ? 0 : (n + chunk - 1) / chunk; }
 
