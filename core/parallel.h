@@ -46,20 +46,26 @@ void ForEachChunk(int64_t n, int64_t chunk, int num_threads, Fn&& fn) {
   for (int64_t c = 0; c < num_chunks; ++c) fn(c * chunk, std::min(n, (c + 1) * chunk), c);
 }
 
-// The indices i of [0, n) with keep(i), in increasing order, for any thread count.
+// The indices i of [0, n) with keep(i), in increasing order, for any thread
+// count: keep is evaluated once per index into flags, each chunk's kept
+// indices are counted, and each chunk writes its own range of the result (no
+// list grows inside the parallel loops).
 template <class Keep>
 std::vector<int> SelectIndices(int n, int num_threads, Keep&& keep, int64_t chunk = 1 << 16) {
-  std::vector<std::vector<int>> parts(NumChunks(n, chunk));
+  std::vector<char> kept(n > 0 ? n : 0);
+  std::vector<int64_t> start(NumChunks(n, chunk) + 1, 0);
   ForEachChunk(n, chunk, num_threads, [&](int64_t begin, int64_t end, int64_t c) {
-    for (int64_t i = begin; i < end; ++i)
-      if (keep(static_cast<int>(i))) parts[c].push_back(static_cast<int>(i));
+    int64_t count = 0;
+    for (int64_t i = begin; i < end; ++i) count += kept[i] = keep(static_cast<int>(i)) ? 1 : 0;
+    start[c + 1] = count;
   });
-  if (parts.size() == 1) return std::move(parts[0]);
-  size_t total = 0;
-  for (const auto& part : parts) total += part.size();
-  std::vector<int> indices;
-  indices.reserve(total);
-  for (const auto& part : parts) indices.insert(indices.end(), part.begin(), part.end());
+  for (size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+  std::vector<int> indices(start.back());
+  ForEachChunk(n, chunk, num_threads, [&](int64_t begin, int64_t end, int64_t c) {
+    int* out = indices.data() + start[c];
+    for (int64_t i = begin; i < end; ++i)
+      if (kept[i]) *out++ = static_cast<int>(i);
+  });
   return indices;
 }
 
