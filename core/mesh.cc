@@ -209,19 +209,19 @@ UpperNeighbors ComputeUpperNeighbors(const Mesh& mesh, int num_threads) {
 }  // namespace
 
 Eigen::AlignedBox3d BoundingBox(const Mesh& mesh, int num_threads) {
-  // Boxes of fixed blocks merged in block order: min and max are exact, and
-  // the blocks do not depend on the threads.
-  constexpr int kBlock = 1 << 14;
+  // Boxes of fixed chunks merged in chunk order: min and max are exact, and
+  // the chunks do not depend on the threads.
+  constexpr int64_t kChunk = 1 << 14;
   const int n = mesh.num_vertices();
-  const int num_blocks = (n + kBlock - 1) / kBlock;
-  std::vector<Eigen::AlignedBox3d> blocks(num_blocks);
-#pragma omp parallel for num_threads(ThreadsFor(num_threads, n)) schedule(static)
-  for (int b = 0; b < num_blocks; ++b) {
-    const int end = std::min(n, (b + 1) * kBlock);
-    for (int v = b * kBlock; v < end; ++v) blocks[b].extend(mesh.vertices.col(v));
-  }
+  std::vector<Eigen::AlignedBox3d> boxes(NumChunks(n, kChunk));
+  ForEachChunk(n, kChunk, ThreadsFor(num_threads, n), [&](int64_t begin, int64_t end, int64_t c) {
+    // Grown apart and stored once: neighbouring boxes share cache lines.
+    Eigen::AlignedBox3d box;
+    for (int64_t v = begin; v < end; ++v) box.extend(mesh.vertices.col(v));
+    boxes[c] = box;
+  });
   Eigen::AlignedBox3d box;
-  for (const Eigen::AlignedBox3d& block : blocks) box.extend(block);
+  for (const Eigen::AlignedBox3d& chunk_box : boxes) box.extend(chunk_box);
   return box;
 }
 

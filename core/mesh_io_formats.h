@@ -31,32 +31,9 @@
 #include "msdeform/core/mesh.h"
 #include "msdeform/core/mesh_io.h"
 #include "msdeform/core/parallel.h"
+#include "msdeform/core/uninitialized_vector.h"
 
 namespace msdeform {
-
-// An allocator whose construct() without a value leaves a trivial type
-// uninitialised: a vector resized to be filled in parallel is then not first
-// zeroed (and its pages faulted in) on one thread. Write before reading.
-template <typename T>
-struct UninitializedAllocator : std::allocator<T> {
-  template <typename U>
-  struct rebind {
-    using other = UninitializedAllocator<U>;
-  };
-  UninitializedAllocator() = default;
-  template <typename U>
-  UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
-  template <typename U>
-  void construct(U* p) noexcept {
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <typename U, typename... Args>
-  void construct(U* p, Args&&... args) {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-};
-template <typename T>
-using UninitializedVector = std::vector<T, UninitializedAllocator<T>>;
 
 // A file's vertices and polygons, in the file's order.
 struct PolygonSoup {

@@ -20,8 +20,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <memory>
-#include <new>
 #include <string>
 #include <utility>
 #include <vector>
@@ -29,6 +27,7 @@
 #include <Eigen/Core>
 
 #include "msdeform/core/lattice.h"
+#include "msdeform/core/uninitialized_vector.h"
 
 namespace msdeform {
 
@@ -90,30 +89,11 @@ class SkinningWeights {
   }
 
  private:
-  // An allocator whose resize leaves the elements unset: ComputeNearestNodes
-  // sets every slot in its parallel loop, so the pages are first touched
-  // there, by the threads that fill them, instead of in a serial zero pass
-  // (10 ms for the 1.66M-vertex armadillo).
+  // Resized without a zero pass: ComputeNearestNodes sets every slot in its
+  // parallel loop, so the pages are first touched there, by the threads that
+  // fill them.
   template <typename T>
-  struct UnsetAllocator : std::allocator<T> {
-    template <typename U>
-    struct rebind {
-      using other = UnsetAllocator<U>;
-    };
-    UnsetAllocator() = default;
-    template <typename U>
-    UnsetAllocator(const UnsetAllocator<U>&) noexcept {}  // NOLINT: allocator conversion
-    template <typename U>
-    void construct(U* p) noexcept {
-      ::new (static_cast<void*>(p)) U;
-    }
-    template <typename U, typename... Args>
-    void construct(U* p, Args&&... args) {
-      ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-    }
-  };
-  template <typename T>
-  using Storage = std::vector<T, UnsetAllocator<T>>;
+  using Storage = UninitializedVector<T>;
 
   struct Unset {};
   // k slots per vertex as above, left unset: the caller sets every vertex.

@@ -359,50 +359,6 @@ struct MeshFrame {
   int num_threads = 1;  // for the passes over all vertices
 };
 
-// The passes over all vertices work in chunks of this many (ForEachChunk,
-// core/parallel.h); what the chunks find is combined in chunk order, so the
-// result is the same for any thread count.
-constexpr int kVerticesPerChunk = 1 << 16;
-
-// The mesh's bounding box, as BoundingBox (core/mesh.h) gives it: each
-// chunk's box grown vertex by vertex, then the chunks' boxes in order (the
-// minimum and maximum of the same numbers).
-Eigen::AlignedBox3d ChunkedBoundingBox(const Mesh& mesh, int num_threads) {
-  std::vector<Eigen::AlignedBox3d> boxes(NumChunks(mesh.num_vertices(), kVerticesPerChunk));
-  ForEachChunk(mesh.num_vertices(), kVerticesPerChunk, num_threads,
-               [&](int64_t begin, int64_t end, int64_t c) {
-                 // Grown apart and stored once: neighbouring boxes share cache lines.
-                 Eigen::AlignedBox3d box;
-                 for (int64_t v = begin; v < end; ++v) box.extend(mesh.vertices.col(v));
-                 boxes[c] = box;
-               });
-  Eigen::AlignedBox3d box;
-  for (const Eigen::AlignedBox3d& chunk_box : boxes) box.extend(chunk_box);
-  return box;
-}
-
-// BoundingBoxDiagonal (core/mesh.h), from ChunkedBoundingBox.
-double ChunkedBoundingBoxDiagonal(const Mesh& mesh, int num_threads) {
-  if (mesh.num_vertices() == 0) return 0.0;
-  return ChunkedBoundingBox(mesh, num_threads).diagonal().norm();
-}
-
-// The vertices v in 0..#V - 1, in order, that collect(begin, end, out)
-// pushes to *out when called on each chunk [begin, end).
-template <typename Collect>
-void CollectVertices(const Mesh& mesh, int num_threads, const Collect& collect,
-                     std::vector<int>* ids) {
-  std::vector<std::vector<int>> parts(NumChunks(mesh.num_vertices(), kVerticesPerChunk));
-  ForEachChunk(mesh.num_vertices(), kVerticesPerChunk, num_threads,
-               [&](int64_t begin, int64_t end, int64_t c) {
-                 // Filled apart and moved once: neighbouring vectors share cache lines.
-                 std::vector<int> part;
-                 collect(static_cast<int>(begin), static_cast<int>(end), &part);
-                 parts[c] = std::move(part);
-               });
-  for (const std::vector<int>& part : parts) ids->insert(ids->end(), part.begin(), part.end());
-}
-
 std::string Point(const Eigen::Vector3d& p) {
   std::ostringstream text;
   text << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
@@ -445,16 +401,9 @@ bool Select(const VertexRegion& region, const Mesh& mesh, const MeshFrame& frame
       }
       const double radius = region.radius * (region.radius_is_relative ? frame.diagonal : 1.0);
       const double radius_squared = radius * radius;
-      CollectVertices(
-          mesh, frame.num_threads,
-          [&](int begin, int end, std::vector<int>* out) {
-            for (int v = begin; v < end; ++v) {
-              if ((mesh.vertices.col(v) - center).squaredNorm() <= radius_squared) {
-                out->push_back(v);
-              }
-            }
-          },
-          ids);
+      *ids = SelectIndices(
+          n, frame.num_threads,
+          [&](int v) { return (mesh.vertices.col(v) - center).squaredNorm() <= radius_squared; });
       std::ostringstream text;
       text << "sphere of radius " << radius << " around " << Point(center);
       what = text.str();
@@ -468,15 +417,12 @@ bool Select(const VertexRegion& region, const Mesh& mesh, const MeshFrame& frame
       const double slack = 1e-9 * extent;
       const double from = low + region.from * extent - slack;
       const double to = low + region.to * extent + slack;
-      CollectVertices(
-          mesh, frame.num_threads,
-          [&](int begin, int end, std::vector<int>* out) {
-            for (int v = begin; v < end; ++v) {
-              const double x = mesh.vertices(region.axis, v);
-              if (x >= from && x <= to) out->push_back(v);
-            }
-          },
-          ids);
+      *ids = SelectIndices(
+          n, frame.num_threads,
+          [&](int v) {
+            const double x = mesh.vertices(region.axis, v);
+            return x >= from && x <= to;
+          });
       std::ostringstream text;
       text << "slab " << static_cast<char>('x' + region.axis) << " from " << region.from << " to "
            << region.to << " of the extent [" << low << ", " << low + extent << "]";
@@ -507,20 +453,9 @@ bool Select(const VertexRegion& region, const Mesh& mesh, const MeshFrame& frame
     case VertexRegion::Kind::kNot: {
       std::vector<int> excluded;
       if (!Select(region.children[0], mesh, frame, &excluded, problem)) return false;
-      // `excluded` is sorted and unique: walk it alongside each chunk.
-      CollectVertices(
-          mesh, frame.num_threads,
-          [&](int begin, int end, std::vector<int>* out) {
-            auto next = std::lower_bound(excluded.begin(), excluded.end(), begin);
-            for (int v = begin; v < end; ++v) {
-              if (next != excluded.end() && *next == v) {
-                ++next;
-              } else {
-                out->push_back(v);
-              }
-            }
-          },
-          ids);
+      std::vector<char> is_excluded(n, 0);
+      for (int v : excluded) is_excluded[v] = 1;
+      *ids = SelectIndices(n, frame.num_threads, [&](int v) { return !is_excluded[v]; });
       what = "complement of its region";
       break;
     }
@@ -576,7 +511,7 @@ bool ResolveScenario(const Scenario& scenario, const Mesh& mesh, HandleLayout* l
     return false;
   }
   MeshFrame frame;
-  frame.box = ChunkedBoundingBox(mesh, num_threads);
+  frame.box = BoundingBox(mesh, num_threads);
   frame.diagonal = frame.box.diagonal().norm();  // BoundingBoxDiagonal (the mesh has a vertex)
   frame.num_threads = num_threads;
 
@@ -627,7 +562,7 @@ bool ResolveScenario(const Scenario& scenario, const Mesh& mesh, HandleLayout* l
 std::vector<Eigen::Affine3d> DragPath(const Scenario& scenario, const Mesh& mesh,
                                       const HandleLayout& layout, int num_threads) {
   const Eigen::Vector3d centroid = Centroid(mesh, layout.moveable);
-  const double diagonal = ChunkedBoundingBoxDiagonal(mesh, num_threads);
+  const double diagonal = BoundingBoxDiagonal(mesh, num_threads);
   const int frames = std::max(1, scenario.frames);
   if (scenario.uses_sel_def()) return InterpolateDragPath(scenario.def_transform, centroid, frames);
   return InterpolateDragPath(ScenarioDragMotion(scenario.motion, centroid, diagonal), frames);
