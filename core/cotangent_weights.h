@@ -3,7 +3,7 @@
 //   w_ik = (cot a_ik + cot b_ik) / 2, clamped at 0,
 // with a_ik and b_ik the angles opposite the edge in its (one or two) faces;
 // a degenerate corner adds 0. The clamp keeps every ARAP term >= 0 on meshes
-// with obtuse triangles. experiments/metrics.h measures the ARAP energy with
+// with obtuse triangles. core/metrics.h measures the ARAP energy with
 // these weights, and the subspace ARAP energy (scales/subspace_arap.h)
 // minimises it.
 

@@ -10,7 +10,7 @@
 
 #include "msdeform/core/scenario.h"
 #include "msdeform/core/timing.h"
-#include "experiments/metrics.h"
+#include "msdeform/core/metrics.h"
 #include "experiments/tables.h"
 #include "msdeform/methods/registry.h"
 
@@ -490,7 +490,7 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
   const std::string units =
       "Times in ms (medians over the drag frames); *_rel lengths are divided by the bounding-box "
       "diagonal; arap_energy is the cotangent ARAP energy over the rest edge energy "
-      "(experiments/metrics.h); arap_energy_joint is the same over the vertices within 5% of the "
+      "(core/metrics.h); arap_energy_joint is the same over the vertices within 5% of the "
       "diagonal (along edges) of the fixed region. Empty cells: not applicable.";
   table1.notes.push_back(std::string("The run of table 2 with energy ") +
                          EnergyName(options.energies.front()) + ".");

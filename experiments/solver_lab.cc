@@ -12,7 +12,7 @@
 #include "msdeform/core/build_info.h"
 #include "msdeform/core/scenario.h"
 #include "msdeform/core/timing.h"
-#include "experiments/metrics.h"
+#include "msdeform/core/metrics.h"
 #include "experiments/tables.h"
 #include "msdeform/scales/deformation_energy.h"
 

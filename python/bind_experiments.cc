@@ -15,7 +15,7 @@
 #include "msdeform/methods/method_options.h"
 #include "msdeform/methods/registry.h"
 #include "experiments/experiment_scenario.h"
-#include "experiments/metrics.h"
+#include "msdeform/core/metrics.h"
 #include "experiments/runner.h"
 #include "msdeform/core/handles.h"
 #include "msdeform/core/mesh.h"
@@ -376,7 +376,7 @@ void BindMetrics(py::module_& m) {
       },
       py::arg("V"), py::arg("V2"), py::arg("handle"), py::arg("M"),
       "Root mean square of |V2[v] - M V[v]| over the handle's vertex ids, in mesh units "
-      "(experiments/metrics.h, HandleRmsError; divide by bounding_box_diagonal(V) for the "
+      "(core/metrics.h, HandleRmsError; divide by bounding_box_diagonal(V) for the "
       "tables' handle_rms_rel). 0 for an empty list.");
   m.def(
       "vertex_displacement",

@@ -18,7 +18,7 @@
 #include <gflags/gflags.h>
 #include <gtest/gtest.h>
 
-#include "experiments/metrics.h"
+#include "msdeform/core/metrics.h"
 #include "msdeform/scales/arap_solver.h"
 #include "msdeform/scales/deformer_flags.h"
 #include "tests/scales/subspace_arap_test_util.h"
@@ -77,7 +77,7 @@ TEST(SubspaceArapTest, ReducedEnergyEqualsTheFullMeshEvaluation) {
   }
 }
 
-// With clusters=vertices the energy is the ARAP energy experiments/metrics.h
+// With clusters=vertices the energy is the ARAP energy core/metrics.h
 // measures: sum_i E_i / (2 unit^2) at the full-mesh positions (plus the soft
 // terms when the constraints are soft).
 TEST(SubspaceArapTest, PerVertexClustersGiveTheMetricsArapEnergy) {

@@ -1,4 +1,4 @@
-#include "experiments/metrics.h"
+#include "msdeform/core/metrics.h"
 
 #include <algorithm>
 #include <cmath>

@@ -5,8 +5,8 @@
 // Every function takes the rest mesh and the deformed positions (3 by #V,
 // same vertex order) and is a small free function in the libigl style.
 
-#ifndef MSDEFORM_EXPERIMENTS_METRICS_H_
-#define MSDEFORM_EXPERIMENTS_METRICS_H_
+#ifndef MSDEFORM_CORE_METRICS_H_
+#define MSDEFORM_CORE_METRICS_H_
 
 #include <vector>
 
@@ -64,4 +64,4 @@ std::vector<int> VerticesNear(const Mesh& mesh, const std::vector<int>& sources,
 
 }  // namespace msdeform
 
-#endif  // MSDEFORM_EXPERIMENTS_METRICS_H_
+#endif  // MSDEFORM_CORE_METRICS_H_
