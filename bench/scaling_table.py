@@ -63,7 +63,7 @@ def main(run_dir, markdown_path, chart_path):
         "from msdeform's report (one run; frame columns are medians over the 30 frames), peak",
         "memory of the whole process from `/usr/bin/time -v`. *Layout change* is rigidity",
         "estimation plus set-up on a fresh Deformer: scale selection, the selected scale's",
-        "skinning data (built when a scale is first used, docs/decisions.md), node classes and",
+        "skinning data (built when a scale is first used, docs/decisions/millions-of-vertices.md), node classes and",
         "the Gauss-Newton system.",
         "",
         "- commit: %s" % rows[0]["commit"],

@@ -154,7 +154,7 @@ void BM_SkinDeformerFrame(benchmark::State& state, const std::string& name) {
 // on the same threads, with no arithmetic but a copy of the positions and a
 // vectorised reduction of the ids and of the weights. How close the kernel is
 // to it says whether more work on its instructions could pay
-// (docs/decisions.md, "Measured and not kept: rows instead of columns").
+// (docs/decisions/millions-of-vertices.md, "Measured and not kept: rows instead of columns").
 void BM_SkinMemoryFloor(benchmark::State& state, const std::string& name) {
   const Input& input = LoadInput(name);
   const SkinningWeights& weights = input.claw_graph.weights;

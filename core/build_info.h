@@ -38,7 +38,7 @@ std::string DataDir();
 // "<path>: cannot read" when it cannot be read. On a CPU with the x86 SHA
 // extensions (checked at run time) the blocks are hashed with them, about 6x
 // faster than the portable code (the 1.66M armadillo's 83 MB in 0.06 s;
-// docs/decisions.md).
+// docs/decisions/millions-of-vertices.md).
 bool Sha256File(const std::string& path, std::string* digest, std::string* error);
 // SHA-256 of a byte string (the same digest as the file holding those bytes).
 // use_cpu_extensions = false forces the portable code (tests compare the two).

@@ -13,7 +13,7 @@
 // scale has its own nearest nodes, skinning weights (Eq. 11) and edges
 // (core/nearest_nodes.h): its connection, which costs a pass over every mesh
 // vertex and can be made when the scale is first used (ConnectGraph; the
-// collapse needs only DG1's). Choices and timings: docs/decisions.md.
+// collapse needs only DG1's). Choices and timings: docs/decisions/graphs-and-skinning.md.
 //
 // A node j maps a point p to R_j (p - g_j) + g_j + t_j (Eq. 8); skinning with
 // these transforms is in core/skinning.h.
@@ -78,7 +78,7 @@ struct GraphOptions {
   // Seed of the random vertex chosen in each surface cell for DG1 (mt19937_64).
   uint64_t seed = 1;
   // Cell rings searched for candidates beyond the first ring that reaches
-  // k + 1 distinct nodes (core/nearest_nodes.h, docs/decisions.md).
+  // k + 1 distinct nodes (core/nearest_nodes.h, docs/decisions/graphs-and-skinning.md).
   int extra_rings = 1;
   // OpenMP threads for building; 0 uses the OpenMP default (the Deformer
   // passes its own num_threads instead).

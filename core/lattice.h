@@ -54,7 +54,7 @@ struct LatticeOptions {
   double cells_per_diagonal = 48.0;
   // Upper bound on the number of cells of the padded grid (memory guard).
   long long max_grid_cells = 1LL << 28;
-  // The topology-aware lattice (true; docs/decisions.md, "The two promises"):
+  // The topology-aware lattice (true; docs/decisions/lattice.md):
   // one particle per piece of surface in a cell, and interior cells joined
   // only to the surface particles they lie behind. False: the paper's, one
   // particle per cell and the 26 lattice neighbours.

@@ -88,7 +88,7 @@ std::string OtherFormatsHint(const std::string& extension, bool for_writing) {
 // A regular file is mapped read-only (the page cache's own pages: no copy and
 // no fresh memory to zero, where reading into a string through a stream
 // iterator made ReadMesh of the 1.66M binary PLY take 0.45-0.53 s instead of
-// 0.28 s; docs/decisions.md); anything else (a pipe, a device) is read into
+// 0.28 s; docs/decisions/millions-of-vertices.md); anything else (a pipe, a device) is read into
 // memory. The mapping lives as long as the object.
 class FileBytes {
  public:

@@ -13,7 +13,7 @@
 // The candidate set depends only on the cell, so it is found once per cell, by
 // a layered multi-source propagation over the L graph that is exactly the
 // per-cell ring search above but costs O(#cells x candidates x |L|) per scale,
-// whatever the node size (see docs/decisions.md).
+// whatever the node size (see docs/decisions/graphs-and-skinning.md).
 
 #ifndef MSDEFORM_CORE_NEAREST_NODES_H_
 #define MSDEFORM_CORE_NEAREST_NODES_H_
@@ -35,7 +35,7 @@ struct NearestNodeOptions;
 
 // The k nearest nodes of every vertex and their weights, stored compactly:
 // skinning reads them for every moving vertex in every frame, so their bytes
-// are a large part of its memory traffic (docs/decisions.md, "Compact
+// are a large part of its memory traffic (docs/decisions/millions-of-vertices.md, "Compact
 // skinning data").
 //
 // - Node ids are 16-bit when the graph has at most 65,536 nodes (every graph
@@ -124,7 +124,8 @@ struct NearestNodeOptions {
   // Nearest nodes per vertex (paper: 4); the (k+1)-th gives d_max.
   int k = 4;
   // Rings searched beyond the first ring that reaches k + 1 distinct nodes.
-  // 1 ranks a node just beyond that ring by its true distance (decisions.md).
+  // 1 ranks a node just beyond that ring by its true distance
+  // (docs/decisions/graphs-and-skinning.md).
   int extra_rings = 1;
   // OpenMP threads for the per-vertex work, 0..kMaxThreads; 0 uses the OpenMP
   // default.

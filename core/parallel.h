@@ -4,7 +4,7 @@
 // and never by the thread count; each chunk is one task. A result gathered per
 // chunk and combined in chunk order (a sum, a list) is then the same, bit for
 // bit, on 1 thread as on 64: the rule every parallel stage of msdeform keeps
-// (docs/decisions.md, "Many cores").
+// (docs/decisions/many-cores.md).
 
 #ifndef MSDEFORM_CORE_PARALLEL_H_
 #define MSDEFORM_CORE_PARALLEL_H_

@@ -48,7 +48,7 @@ void CheckInputs(const Eigen::Matrix3Xd& rest, const DeformationGraph& graph,
 // left in the others' ranges. Chunks dealt out one by one from a single
 // counter interleave the threads' memory streams every chunk, and that was
 // 30% slower (1.66M armadillo, 2 threads: 3.9 ms against 2.9 ms for
-// contiguous halves, one thread 5.7 ms; docs/decisions.md).
+// contiguous halves, one thread 5.7 ms; docs/decisions/many-cores-stages.md).
 class ChunkPool {
  public:
   static ChunkPool& Get() {
@@ -226,7 +226,7 @@ const int32_t* SkinJob::Ids<int32_t>() const {
 // blend runs over the 16 doubles of the wanted half (kRecord) in loops of
 // fixed length with no branch inside, which the compiler vectorises for
 // whatever the build targets (SSE2 on plain x86-64; a branch per lane instead
-// made this kernel 5x slower, docs/decisions.md).
+// made this kernel 5x slower, docs/decisions/millions-of-vertices.md).
 template <typename Id, bool kPositions, bool kNormals>
 void SkinRangePortable(const SkinJob& job, int begin, int end) {
   constexpr int kHalf = kQ0;  // doubles per half of a record
@@ -285,7 +285,7 @@ bool RunsAvx2() {
 
 // Stores lanes x, y, z of `value` at out[0..2]: a 2-wide and a 1-wide store
 // (on AMD's Zen a masked 4-wide store is microcoded and several times slower;
-// measured on the 1.66M armadillo, docs/decisions.md).
+// measured on the 1.66M armadillo, docs/decisions/millions-of-vertices.md).
 MSDEFORM_TARGET_AVX2 inline __attribute__((always_inline)) void Store3(__m256d value,
                                                                        double* out) {
   _mm_storeu_pd(out, _mm256_castpd256_pd128(value));
@@ -386,10 +386,10 @@ MSDEFORM_TARGET_AVX2 inline __attribute__((always_inline)) void SkinBlockAvx2(
 // 7; about 4% faster) and software prefetching (no gain). On AMD's Zen 3 with
 // the compact ids and weights the positions pass is bound by its FMAs instead
 // (1.66M vertices: 12.7 ms on one core, about 6.7 ms on two, against 4 ms
-// for reading and writing the positions alone; docs/decisions.md). On Zen 4
+// for reading and writing the positions alone; docs/decisions/millions-of-vertices.md). On Zen 4
 // it is within 1.2-1.4x of its bare memory traffic on two threads
 // (bench/skinning_benchmark, BM_SkinMemoryFloor), and a row layout with a
-// quarter fewer FMAs was no faster (docs/decisions.md).
+// quarter fewer FMAs was no faster (docs/decisions/millions-of-vertices.md).
 template <typename Id, bool kPositions, bool kNormals>
 MSDEFORM_TARGET_AVX2 void SkinRangeAvx2(const SkinJob& shared_job, int begin, int end) {
   // A local copy: the compiler then knows the stores to the outputs leave it

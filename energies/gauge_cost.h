@@ -1,5 +1,5 @@
 // Gauge fixing of a node's rotation about an axis n that Eq. 17 leaves free
-// (docs/decisions.md, "Gauge freedom"): a node whose Rot, Coherence-as-source
+// (docs/decisions/gauge-freedom.md): a node whose Rot, Coherence-as-source
 // and Position terms only see R_j through vectors parallel to n costs the same
 // under R_j -> Q_{R_j n}(theta) R_j (a spin about the deformed n), so one
 // linear residual picks the representative:

@@ -21,7 +21,7 @@
 // it is not (the vertices inside take that one frame, those just outside a
 // blend), so a large edit can open a seam there: on a 8 x 1 x 1 bar bent by
 // 0.6 rad the longest edge across such a wall stretched 3.6x (between free
-// cells 1.8x); docs/decisions.md, "FastLSM". A rigid motion of the whole
+// cells 1.8x); docs/decisions/method-interface.md, "FastLSM". A rigid motion of the whole
 // lattice is a fixed point of the steps and of the skinning.
 
 #ifndef MSDEFORM_METHODS_FASTLSM_H_

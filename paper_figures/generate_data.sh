@@ -21,7 +21,7 @@ run "$D/graphs_armadillo.json" --mode=graphs --mesh="$ROOT/data/meshes/armadillo
 run "$D/graphs_camel.json" --mode=graphs --mesh="$ROOT/data/meshes/camel.off" --scales=1
 run "$D/graphs_hand.json" --mode=graphs --mesh="$ROOT/data/meshes/hand.off" --scales=1
 
-# The paper's settings together ("paper mode"; docs/decisions.md): its rigidity estimate, every
+# The paper's settings together ("paper mode"; docs/decisions/README.md): its rigidity estimate, every
 # fixed-handle node Half Free, Fixed nodes at the border, no Position terms on fixed vertices,
 # the fixed region not pinned, one lattice particle per cell.
 PAPER=(--rigidity=paper --half_free=every_fixed_handle_node --border=fixed

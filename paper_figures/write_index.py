@@ -455,7 +455,7 @@ def main():
           "CGAL ARAP as 20 times its time per iteration. The machine was "
           "shared (load average in the title). " if have_perf else
           "Left: the armadillo at 26K, 104K and 416K vertices (Loop subdivision, "
-          "docs/decisions.md) with the default claw edit, 5 frames, 2 threads, measured by "
+          "docs/decisions/meshes.md) with the default claw edit, 5 frames, 2 threads, measured by "
           "paper_figures/measure_timing.sh on a shared 2-core machine; CGAL ARAP at these "
           "sizes is pending. ") +
          ("Right: every scenario of experiments/results/table2.csv, CGAL ARAP included."

@@ -29,7 +29,7 @@ struct CeresOptions {
   // normal equations, JACOBI preconditioner).
   ceres::LinearSolverType linear_solver = ceres::SPARSE_NORMAL_CHOLESKY;
   // The sparse Cholesky library of SPARSE_NORMAL_CHOLESKY. EIGEN_SPARSE is
-  // 1.45-1.6x faster than SUITE_SPARSE here (docs/decisions.md); the others
+  // 1.45-1.6x faster than SUITE_SPARSE here (docs/decisions/speed.md); the others
   // this Ceres has: SUITE_SPARSE, CX_SPARSE (CeresSparseLibraries()).
   ceres::SparseLinearAlgebraLibraryType sparse_library = ceres::EIGEN_SPARSE;
   // Handle vertices that share the same nodes become one exact

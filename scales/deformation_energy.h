@@ -5,7 +5,7 @@
 //
 // The Deformer builds a DeformationEnergy once per handle layout
 // (Deformer::SetHandles); a backend turns it into its own problem.
-// Lengths are already scaled into the sqrt weights (docs/decisions.md,
+// Lengths are already scaled into the sqrt weights (docs/decisions/length-unit.md,
 // "Length unit"). Costs are 1/2 sum of squared residuals, as Ceres reports.
 
 #ifndef MSDEFORM_SCALES_DEFORMATION_ENERGY_H_
@@ -52,7 +52,7 @@ struct DeformationEnergy {
     double sqrt_weight;
   };
   std::vector<Position> positions;
-  // Gauge fixing (energies/gauge_cost.h, docs/decisions.md "Gauge freedom"):
+  // Gauge fixing (energies/gauge_cost.h, docs/decisions/gauge-freedom.md):
   //   sqrt_weight * axis^T omega(R_node),  omega(R) = 1/2 (R32 - R23, R13 - R31, R21 - R12),
   // one per unit axis along which Eq. 17 leaves R_node free (GaugeTerms).
   // Zero on a member of every such family of minima, so the minimum value

@@ -84,11 +84,11 @@ struct DeformerOptions {
   double w_con = 100.0;
   // Unit of length of the coherence and position residuals (they are divided
   // by it), so that the weights above do not depend on the mesh's units; 0
-  // means the bounding-box diagonal (docs/decisions.md, "Length unit").
+  // means the bounding-box diagonal (docs/decisions/length-unit.md).
   double length_unit = 0.0;
   // Multi-scale: fixed-handle vertices skinned by a non-Fixed node get a
   // Position term to their rest position, as the static baselines' fixed
-  // handles do (the paper has none: false; docs/decisions.md, "Node classes
+  // handles do (the paper has none: false; docs/decisions/node-classes.md, "Node classes
   // on large fixed regions").
   bool hold_fixed_vertices = true;
   // Ablation "Deformed 2" (paper Fig. 5): keep E(j, k) for Half Free j.
@@ -117,7 +117,7 @@ struct DeformerOptions {
   StoppingRule stopping;
   // The previous frame's solution. The extrapolated guess saves iterations on
   // some multi-scale edits and costs many on others (the static cactus: 4.5x
-  // the factorisations); docs/decisions.md, "Solver seam and defaults".
+  // the factorisations); docs/decisions/solver-seam.md.
   InitialGuess initial_guess = InitialGuess::kPrevious;
   // Gauss-Newton: sparse Cholesky (supernodal), factorisation
   // lagged across iterations and frames (refactorised when a step fails to

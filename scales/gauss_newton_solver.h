@@ -73,7 +73,7 @@ struct GaussNewtonOptions {
   };
   // Supernodal: the same ordering and factor as Eigen's scalar LLT, with
   // dense kernels per supernode: about 2.3x faster to factorise and 1.7x to
-  // solve on the 104K claw (docs/decisions.md, "Many cores (issue 30): the
+  // solve on the 104K claw (docs/decisions/supernodal-cholesky.md, "The
   // Gauss-Newton solve").
   Cholesky cholesky = Cholesky::kSupernodal;
   // When J^T J is factorised (the Cholesky factor, or the PCG preconditioner).
@@ -92,7 +92,7 @@ struct GaussNewtonOptions {
   // factorisations; refactorising only when it grows (1) lets a stale factor
   // crawl (the cactus with the paper's fixed border: 3,045 iterations and
   // stuck at 45x the minimum's energy). 0.8 keeps both in check
-  // (docs/decisions.md, "Solver seam and defaults").
+  // (docs/decisions/solver-seam.md).
   double refactor_ratio = 0.8;
   // kGaussNewton: mu at min_damping, x10 after a rejected step, /10 after an
   // accepted one. kLevenbergMarquardt: mu from initial_damping, updated from

@@ -21,7 +21,7 @@
 // On the 104K claw drag (1,188 variables, 99 nodes; L has 58.7K entries by
 // AMD, the same as CHOLMOD's choice) this factorises in 0.56 ms against 1.2-1.4
 // ms for Eigen's scalar SimplicialLLT and solves in 0.038 ms against 0.064 ms
-// (docs/decisions.md, "Many cores (issue 30): the Gauss-Newton solve").
+// (docs/decisions/supernodal-cholesky.md, "The Gauss-Newton solve").
 
 #ifndef MSDEFORM_SCALES_GAUSS_NEWTON_SUPERNODAL_CHOLESKY_H_
 #define MSDEFORM_SCALES_GAUSS_NEWTON_SUPERNODAL_CHOLESKY_H_

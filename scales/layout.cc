@@ -261,7 +261,7 @@ void Layout::BuildEnergy() {
 
   // Rotations the terms above leave free to spin (a Half Free node with one
   // edge direction, or none) get a gauge term that picks one member of the
-  // family of equal-energy minima (docs/decisions.md, "Gauge freedom").
+  // family of equal-energy minima (docs/decisions/gauge-freedom.md).
   energy_.gauge = GaugeTerms(energy_);
   // Terms beyond Eq. 17 (energies/energy_term.h; docs/extending.md).
   if (options.add_energy_terms) options.add_energy_terms(graph, &energy_);

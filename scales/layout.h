@@ -13,7 +13,7 @@
 // scales. Lengths in the coherence and position residuals are measured in
 // bounding-box diagonals (the mesh as if scaled to a unit diagonal), so
 // results depend neither on the mesh's units nor on the cell width
-// (docs/decisions.md).
+// (docs/decisions/length-unit.md).
 
 #ifndef MSDEFORM_SCALES_LAYOUT_H_
 #define MSDEFORM_SCALES_LAYOUT_H_

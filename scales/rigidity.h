@@ -36,7 +36,7 @@
 // falls off about linearly; a thin part (ear, toe, finger) takes the whole
 // drop, so a small edit stays local. Particles whose piece of the lattice has
 // no handle particle get 0; a piece with a moveable and no fixed particle
-// moves as a whole (u = 1). No seed, no time step. docs/decisions.md,
+// moves as a whole (u = 1). No seed, no time step. docs/decisions/rigidity.md,
 // "Rigidity: the harmonic estimate".
 
 #ifndef MSDEFORM_SCALES_RIGIDITY_H_
@@ -85,7 +85,7 @@ bool ParseRigidityModel(const std::string& name, RigidityModel* model);
 constexpr int kMaxRegionHalfWidth = 8;
 
 struct RigidityOptions {
-  // Which estimate (docs/decisions.md, "Rigidity: the harmonic estimate").
+  // Which estimate (docs/decisions/rigidity.md).
   // The fields below up to `seed` and the rotation settings apply to
   // kShapeMatching only.
   RigidityModel model = RigidityModel::kHarmonic;
@@ -100,7 +100,7 @@ struct RigidityOptions {
   // k_ext carries no length unit: scaling the mesh scales every displacement
   // and e by the same factor and leaves e' unchanged. Check() asks for
   // k_ext h^2 <= 1 (a conservative stability bound).
-  double external_stiffness = 0.01;  // docs/decisions.md: "Rigidity defaults for scale selection"
+  double external_stiffness = 0.01;  // docs/decisions/rigidity-shape-matching.md
   // |v0| of the moveable-handle particles, in cell widths w per time step h
   // (docs/method.md: 0.5 w / h). Set before the first step, so damping applies.
   double initial_speed = 0.5;
@@ -108,11 +108,11 @@ struct RigidityOptions {
   double damping = 0.0;
   // r: a region is a particle and its r-ring in the particle adjacency, r in
   // 1..kMaxRegionHalfWidth.
-  int region_half_width = 2;  // the paper suggests 1; see docs/decisions.md
+  int region_half_width = 2;  // the paper suggests 1; see docs/decisions/rigidity-shape-matching.md
   // Seed of the direction of v0 (std::mt19937_64).
   std::uint64_t seed = 1;
   // How region sums are formed (kBox measured slightly faster; see
-  // docs/decisions.md).
+  // docs/decisions/rigidity-shape-matching.md).
   RegionSummation region_summation = RegionSummation::kBox;
   // Polar decomposition: at most this many warm-started updates per region and
   // step, stopping when an update rotates by less than rotation_tolerance

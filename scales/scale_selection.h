@@ -22,7 +22,7 @@
 // with non-zero weight is then Fixed, whatever the rules above said: a fixed
 // vertex is a blend of identities and stays exactly at rest, and the vertices
 // beyond it blend from rest into the free nodes' motion over the skinning
-// support (docs/decisions.md, "Exact fixed regions"). BorderRule then decides
+// support (docs/decisions/lattice.md, "Exact fixed regions"). BorderRule then decides
 // what the other Fixed nodes next to a Totally Free one become (by default
 // Totally Free: one more ring; the paper keeps them Fixed).
 // A node holding both fixed and moveable vertices cannot serve both, and
@@ -97,14 +97,14 @@ struct ScaleSelectionOptions {
   double omega_max = 4.0;
   // Ablation: alpha_jk = 1 for every edge.
   bool alpha_all_one = false;
-  // Half Free nodes (docs/decisions.md, "Node classes on large fixed regions").
+  // Half Free nodes (docs/decisions/node-classes.md).
   HalfFreeRule half_free = HalfFreeRule::kNextToTotallyFree;
-  // Fixed nodes bordering the Totally Free region (docs/decisions.md, "Node
+  // Fixed nodes bordering the Totally Free region (docs/decisions/node-classes.md, "Node
   // classes on large fixed regions": one more Totally Free ring distorted
   // least over the experiment edits; the paper keeps them Fixed).
   BorderRule border = BorderRule::kTotallyFree;
   // Nodes that skin a fixed-handle vertex are Fixed, so the fixed region
-  // stays exactly at rest (docs/decisions.md, "Exact fixed regions"); false:
+  // stays exactly at rest (docs/decisions/lattice.md, "Exact fixed regions"); false:
   // the paper's classes, where only Position terms hold the fixed vertices.
   bool pin_fixed_region = true;
 

@@ -5,7 +5,7 @@
 //
 // core/scenario.h reads scenarios from files only; these functions hand the
 // reader a one-off scenario file holding the inline part (see
-// docs/decisions.md, "Editor (issue 17)") and rewrite the file name and the
+// docs/decisions/editor.md) and rewrite the file name and the
 // field in its messages to `where` (e.g. "edit.json: actions[3]").
 
 #ifndef MSDEFORM_APPS_EDITOR_INLINE_SCENARIO_H_

@@ -3,7 +3,7 @@
 A sweep file names scenario files, methods, seeds, named variants (sets of options) and option
 axes; the task grid is their product, expanded in a fixed order, and every task has a stable id:
 the first 12 hex digits of the SHA-256 of its parameters as canonical JSON (sorted keys, no
-spaces). docs/decisions.md, "Sweeps on Dask (issue 18)", records the schema and the choices.
+spaces). docs/decisions/sweeps.md records the schema and the choices.
 
     {"scenarios": ["../scenarios/cactus.json"],          # relative to the sweep file
      "methods": ["multiscale", "static"],                 # default ["multiscale"]

@@ -212,7 +212,7 @@ TEST_P(SameMinimumTest, AllBackendsReachIt) {
     options.arap.constraints = GetParam();
     options.stopping.max_iterations = 5000;
     // Levenberg-Marquardt's tail is slow on this energy (5000 iterations
-    // end 1.9e-8 above the minimum; docs/decisions.md): dogleg for Ceres.
+    // end 1.9e-8 above the minimum; docs/decisions/arap-solvers.md): dogleg for Ceres.
     options.ceres.trust_region = ceres::DOGLEG;
     options.stopping.function_tolerance = 1e-16;
     options.stopping.gradient_tolerance = 1e-14;

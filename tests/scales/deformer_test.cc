@@ -212,8 +212,8 @@ TEST(DeformerTest, BotschSorkineCactusReachesItsTarget) {
   // fixed vertices stay within 0.3%, its handle at about 1.7% (1.67% with
   // the file's coordinates read exactly, 1.47% when they were rounded to
   // float, 1.5-1.6% with each coordinate moved by 1e-12 relative: which edges
-  // the coarse graph keeps turns on near-ties; docs/decisions.md,
-  // "Correctness review (issue 26): coordinates read exactly".)
+  // the coarse graph keeps turns on near-ties; docs/decisions/exact-coordinates.md,
+  // "Coordinates read exactly".)
   const auto [multiscale_rms, multiscale_fixed] =
       CactusErrors(Method::kMultiScale, Solver::kCeres);
   EXPECT_LT(multiscale_rms, 0.015);

@@ -160,7 +160,7 @@ TEST(SubspaceArapTest, RigidOptimumIsAFixedPointOfTheSolver) {
 // so the turn is solved by arap.solver=gauss_newton, which reaches it within
 // its default budget.
 // Both solvers stop where the reduced energy's rounding (about 1e-13 of the
-// rest spokes' sum C, docs/decisions.md) hides further progress: the result
+// rest spokes' sum C, docs/decisions/subspace-arap.md) hides further progress: the result
 // is then within about 1e-8 of the diagonal of H * rest at an energy near
 // 1e-17, where a misplaced column, a transposed rotation or the handle's
 // jump left in place give 1e-3 and more.
