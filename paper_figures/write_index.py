@@ -11,6 +11,8 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from figlib import DATA, OUT, ROOT, edit_metrics, group1_stats, read_off  # noqa: E402
 import energy_figure  # noqa: E402
+from captions import diag_fraction, moves_by  # noqa: E402
+import charts  # noqa: E402
 
 _meshes = {}
 
@@ -100,6 +102,14 @@ def solver_budgets_caption():
                      best["variant"], best["budget"], best["frame_ms"], best["iterations"],
                      best["energy_gap_max"]))
     return text + "From %s (experiments/solver_lab.h)." % label
+
+
+def table2_columns():
+    """The frame-time chart's columns in words: each mesh with its vertex count and
+    scenarios, from experiments/results/table2.csv (charts.table2_meshes)."""
+    rows = charts.read_table(os.path.join(ROOT, "experiments", "results", "table2.csv"))
+    return "; ".join("%s (%d vertices): %s" % (mesh, x, ", ".join(names))
+                     for x, mesh, names in charts.table2_meshes(rows))
 
 
 def fig4_caption():
@@ -238,8 +248,11 @@ def fig6_caption():
             "default edit, data/scenarios/armadillo_claw.json); camel: the neck swung down about "
             "its base, the front leg bent at the knee; when experiments/scenarios/ has them, its "
             "man leg lift and dino tail swing (translations of the foot and the tail tip). Blue: "
-            "fixed handles, red: the moveable handle. Each pair shares one camera; the selected "
-            "scale and the number of optimised variables are printed under the result.")
+            "fixed handles, red: the moveable handle. Each pair shares one camera, computed from "
+            "the edit (paper_figures/framing.py): the handle's motion and the lever from the "
+            "fixed region to the handle across the picture, from the side the handle's normals "
+            "face, at most 30 degrees above the model's horizon; the selected scale and the "
+            "number of optimised variables are printed under the result.")
     arm, claw = load_edit("edit_armadillo_arm_raise_multiscale"), load_edit(
         "edit_armadillo_claw_multiscale")
     if arm and claw:
@@ -250,9 +263,10 @@ def fig6_caption():
         text += (" With only the feet fixed, the harmonic estimate puts nearly the whole "
                  "armadillo in group 1 (%d and %d of %d DG1 nodes) and the default selects scale "
                  "%d and %d: the upper body leans with the arm and the claw (the top 15%% of the "
-                 "height, head and ears, moves by %.3f and %.3f of the diagonal on average)."
+                 "height, head and ears, moves by %s and %s of the diagonal on average)."
                  % (arm[0]["group1"], claw[0]["group1"], len(arm[0]["dg1"]["e_prime"]),
-                    arm[0]["selected_scale"], claw[0]["selected_scale"], top(arm), top(claw)))
+                    arm[0]["selected_scale"], claw[0]["selected_scale"], diag_fraction(top(arm)),
+                    diag_fraction(top(claw))))
     leg, leg_paper = load_edit("edit_camel_leg_bend_multiscale"), load_edit(
         "edit_camel_leg_bend_paper")
     if leg and leg_paper:
@@ -263,10 +277,10 @@ def fig6_caption():
             return float(np.linalg.norm(Vd[sel] - V[sel], axis=1).max()) / d["diag"]
         text += (" The camel leg: the other front leg, free and touching the edited one at the "
                  "knee (lattice cells there hold both knees: the default splits them into one "
-                 "particle per knee, paper mode keeps one per cell), moves by up to %.3f of the "
-                 "diagonal under the default and %.3f in paper mode "
+                 "particle per knee, paper mode keeps one per cell), %s under the default; in "
+                 "paper mode it %s "
                  "(paper_figures/scenarios/camel_leg_bend.json fixes only the body and a band "
-                 "above the edited knee)." % (other(leg), other(leg_paper)))
+                 "above the edited knee)." % (moves_by(other(leg)), moves_by(other(leg_paper))))
     return text
 
 
@@ -285,13 +299,14 @@ def fig7_caption():
             return disp[np.linalg.norm(V - c, axis=1) > 0.25 * d["diag"]].mean()
         text += (" Top: the thumb tip pulled outwards with only the wrist fixed "
                  "(paper_figures/scenarios/hand_thumb.json). Mean displacement of the vertices "
-                 "more than 0.25 diagonals from the handle: %.4f (default), %.4f (paper mode), "
-                 "%.4f (static graph). With the wrist the only fixed region, the harmonic "
+                 "more than 0.25 diagonals from the handle: %s (default), %s (paper mode), "
+                 "%s (static graph). With the wrist the only fixed region, the harmonic "
                  "estimate puts the whole fist between the thumb and the wrist in group 1 (%d of "
                  "%d DG1 nodes, against %d with the paper's), the default selects scale %d of %d "
                  "and moves the far vertices %.1fx as much as paper mode (scale %d) and %.2f "
                  "times as much as the static graph."
-                 % (far(th["multiscale"]), far(th["paper"]), far(th["static"]),
+                 % (diag_fraction(far(th["multiscale"])), diag_fraction(far(th["paper"])),
+                    diag_fraction(far(th["static"])),
                     th["multiscale"]["group1"], len(th["multiscale"]["dg1"]["e_prime"]),
                     th["paper"]["group1"], th["multiscale"]["selected_scale"],
                     th["multiscale"]["num_scales"],
@@ -303,10 +318,10 @@ def fig7_caption():
             return disp[np.asarray(d["watch"], dtype=int)].mean()
         text += (" Bottom (experiments/scenarios/hand_finger.json): the middle knuckle pulled "
                  "out, a band across the palm fixed, the neighbouring knuckles watched (yellow): "
-                 "mean watched displacement %.4f (default, scale %d), %.4f (paper mode), %.4f "
+                 "mean watched displacement %s (default, scale %d), %s (paper mode), %s "
                  "(static graph)."
-                 % (watch(fi["multiscale"]), fi["multiscale"]["selected_scale"],
-                    watch(fi["paper"]), watch(fi["static"])))
+                 % (diag_fraction(watch(fi["multiscale"])), fi["multiscale"]["selected_scale"],
+                    diag_fraction(watch(fi["paper"])), diag_fraction(watch(fi["static"]))))
     return text
 
 
@@ -389,14 +404,18 @@ def free_limb_caption():
             text += (" CGAL's ARAP moves it by %s of the diagonal at most "
                      "(experiments/results/table2.csv)." % rows[0]["leakage_max_rel"])
     if runs:
-        parts = []
+        parts, largest = [], 0.0
         for m, t, d in runs:
             disp = np.asarray(d["displacement"]) / d["diag"]
             w = disp[np.asarray(d["watch"], dtype=int)]
-            parts.append("%.4f (%s%s; mean %.4f)" % (
-                w.max(), t, ", scale %d" % d["selected_scale"] if m != "static" else "",
-                w.mean()))
-        text += (" The watched leg's largest displacement: " + ", ".join(parts) + ".")
+            largest = max(largest, float(w.max()))
+            parts.append("%s (%s%s; mean %s)" % (
+                diag_fraction(w.max()), t,
+                ", scale %d" % d["selected_scale"] if m != "static" else "",
+                diag_fraction(w.mean())))
+        text += (" The watched leg's largest displacement over the diagonal: " +
+                 ", ".join(parts) + "; under %s it %s." % (
+                     "all three" if len(runs) == 3 else "each", moves_by(largest)))
     return text
 
 
@@ -458,8 +477,9 @@ def main():
           "docs/decisions.md) with the default claw edit, 5 frames, 2 threads, measured by "
           "paper_figures/measure_timing.sh on a shared 2-core machine; CGAL ARAP at these "
           "sizes is pending. ") +
-         ("Right: every scenario of experiments/results/table2.csv, CGAL ARAP included."
-          if have_results else
+         ("Right: every scenario of experiments/results/table2.csv, CGAL ARAP included; "
+          "one column per mesh, labelled with its name and number of scenarios: " +
+          table2_columns() + "." if have_results else
           "Right: a preview from `msdeform_experiments --quick` (cactus and hand finger, 5 "
           "frames, 1 thread), CGAL ARAP included; experiments/results/ had no table2.csv yet."
           if have_quick else
