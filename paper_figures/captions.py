@@ -9,6 +9,8 @@ rounding (6 significant digits: about 1e-6 of the diagonal).
 Plain Python, no VTK or matplotlib: tests/paper_figures/ imports it.
 """
 
+import json
+
 # Displacements over the diagonal below this are "still" in running text.
 STILL_BELOW = 1e-4
 
@@ -35,3 +37,11 @@ def moves_by(x, qualifier="up to"):
         return "stays still (below %s of the diagonal)" % _short_exponent(STILL_BELOW)
     return "moves by %s%s of the diagonal" % (qualifier + " " if qualifier else "",
                                               diag_fraction(x))
+
+
+def rotation_deg(scenario_path):
+    """The angle (degrees, unsigned) of a scenario file's rotation transform (core/scenario.h),
+    e.g. 45 for experiments/scenarios/camel_hoof_lift_free_leg.json; None without one."""
+    with open(scenario_path) as f:
+        rotation = json.load(f).get("transform", {}).get("rotation")
+    return abs(rotation["angle_deg"]) if rotation else None

@@ -11,7 +11,7 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from figlib import DATA, OUT, ROOT, edit_metrics, group1_stats, read_off  # noqa: E402
 import energy_figure  # noqa: E402
-from captions import diag_fraction, moves_by  # noqa: E402
+from captions import diag_fraction, moves_by, rotation_deg  # noqa: E402
 import charts  # noqa: E402
 
 _meshes = {}
@@ -383,18 +383,81 @@ def leg_caption():
            a("static_dense")["local_max"], b("static_dense")["local_max"]))
 
 
+def free_components(V, F, fixed, seeds):
+    """The vertices connected to `seeds` by edges between free (not fixed) vertices: with the
+    body fixed, the leg that holds the seeds."""
+    free = np.ones(len(V), bool)
+    free[np.asarray(fixed, dtype=int)] = False
+    E = np.vstack([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])
+    E = E[free[E[:, 0]] & free[E[:, 1]]]
+    adj = [[] for _ in range(len(V))]
+    for a, b in E.tolist():
+        adj[a].append(b)
+        adj[b].append(a)
+    seen = np.zeros(len(V), bool)
+    stack = [int(v) for v in seeds]
+    seen[stack] = True
+    while stack:
+        for u in adj[stack.pop()]:
+            if not seen[u]:
+                seen[u] = True
+                stack.append(u)
+    return np.where(seen)[0]
+
+
+def surface_distance(V, F, a, b):
+    """The shortest path from vertex a to vertex b along the mesh's edges (Dijkstra)."""
+    import heapq
+    E = np.unique(np.sort(np.vstack([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1), axis=0)
+    length = np.linalg.norm(V[E[:, 0]] - V[E[:, 1]], axis=1)
+    adj = [[] for _ in range(len(V))]
+    for (p, q), l in zip(E.tolist(), length.tolist()):
+        adj[p].append((q, l))
+        adj[q].append((p, l))
+    dist = np.full(len(V), np.inf)
+    dist[a] = 0.0
+    heap = [(0.0, a)]
+    while heap:
+        d, v = heapq.heappop(heap)
+        if v == b:
+            return d
+        if d > dist[v]:
+            continue
+        for u, l in adj[v]:
+            if d + l < dist[u]:
+                dist[u] = d + l
+                heapq.heappush(heap, (d + l, u))
+    return float("inf")
+
+
+def legs_contact(d, V, F):
+    """(in space, along the surface) over the diagonal: the closest pair of vertices of the
+    leg that holds the moveable handle and the leg that holds the watched vertices."""
+    lifted = free_components(V, F, d["fixed"], d["moveable"][:1])
+    watched = free_components(V, F, d["fixed"], d["watch"][:1])
+    gaps = [np.linalg.norm(V[watched] - V[v], axis=1) for v in lifted]
+    i = int(np.argmin([g.min() for g in gaps]))
+    j = int(np.argmin(gaps[i]))
+    return (float(gaps[i][j]) / d["diag"],
+            surface_distance(V, F, int(lifted[i]), int(watched[j])) / d["diag"])
+
+
 def free_limb_caption():
     runs = [(m, t, load("edit_camel_hoof_lift_free_leg_%s" % m))
             for m, t in (("multiscale", "the default"), ("paper", "paper mode"),
                          ("static", "the 220-node static graph"))]
     runs = [(m, t, d) for m, t, d in runs if d]
+    edit = load_edit("edit_camel_hoof_lift_free_leg_multiscale")
+    space, surface = legs_contact(*edit[:3]) if edit else (float("nan"), float("nan"))
     text = ("experiments/scenarios/camel_hoof_lift_free_leg.json: the camel's body above the legs "
-            "fixed (blue), the left front hoof (red) swung forward and up by 45 degrees about the "
+            "fixed (blue), the left front hoof (red) swung forward and up by %g degrees about the "
             "knee, every leg free. The right front leg (yellow dots at rest; a translucent yellow "
-            "ghost of its rest pose in the results) touches the left at the knee, 0.0005 "
-            "diagonals apart in space and 0.40 along the surface, and no handle acts on it, so "
-            "it should stay where it is. Colour is displacement over the bounding-box diagonal, "
-            "on one scale.")
+            "ghost of its rest pose in the results) touches the left at the knee, %s "
+            "diagonals apart in space and %.2f along the surface (their closest vertices), and "
+            "no handle acts on it, so it should stay where it is. Colour is displacement over the bounding-box diagonal, "
+            "on one scale." % (rotation_deg(os.path.join(
+                ROOT, "experiments", "scenarios", "camel_hoof_lift_free_leg.json")),
+                diag_fraction(space), surface))
     table2 = os.path.join(ROOT, "experiments", "results", "table2.csv")
     if os.path.exists(table2):
         with open(table2) as f:

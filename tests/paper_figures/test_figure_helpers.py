@@ -73,3 +73,10 @@ def test_labels_do_not_overlap_labels_or_leaders():
         # Each label touches its own leader.
         assert l1 <= anchors[i] <= r1
     assert max(row for row, _ in places) <= 1
+
+
+def test_rotation_read_from_the_scenario():
+    from captions import rotation_deg
+    scenarios = pathlib.Path(__file__).resolve().parents[2] / "experiments" / "scenarios"
+    assert rotation_deg(scenarios / "camel_hoof_lift_free_leg.json") == 45
+    assert rotation_deg(scenarios / "dino_tail_swing.json") is None  # a translation
