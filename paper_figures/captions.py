@@ -45,3 +45,10 @@ def rotation_deg(scenario_path):
     with open(scenario_path) as f:
         rotation = json.load(f).get("transform", {}).get("rotation")
     return abs(rotation["angle_deg"]) if rotation else None
+
+
+def translation_rel(scenario_path):
+    """A scenario file's translation over the diagonal (translation_rel, 3 numbers), or
+    None without one."""
+    with open(scenario_path) as f:
+        return json.load(f).get("transform", {}).get("translation_rel")

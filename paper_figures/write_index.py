@@ -11,7 +11,7 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from figlib import DATA, OUT, ROOT, edit_metrics, group1_stats, read_off  # noqa: E402
 import energy_figure  # noqa: E402
-from captions import diag_fraction, moves_by, rotation_deg  # noqa: E402
+from captions import diag_fraction, moves_by, rotation_deg, translation_rel  # noqa: E402
 import charts  # noqa: E402
 
 _meshes = {}
@@ -352,11 +352,15 @@ def leg_caption():
                 "data of the man row is missing (experiments/scenarios/man_leg_lift.json).")
     a = lambda m: n[("armadillo_foot", m)]  # noqa: E731
     b = lambda m: n[("man_leg_lift", m)]  # noqa: E731
+    # The feet's translations from the scenario files: armadillo +y up, -z forward; man -y
+    # forward, +z up.
+    ta = translation_rel(os.path.join(ROOT, "paper_figures", "scenarios", "armadillo_foot.json"))
+    tb = translation_rel(os.path.join(ROOT, "experiments", "scenarios", "man_leg_lift.json"))
     return (
         "Not a paper figure. Lifting a foot: paper_figures/scenarios/armadillo_foot.json (the "
-        "other foot and the upper body fixed, the foot lifted by 0.08 and pulled forward by 0.06 "
+        "other foot and the upper body fixed, the foot lifted by %g and pulled forward by %g "
         "of the diagonal) and experiments/scenarios/man_leg_lift.json (a waist band and the other "
-        "foot fixed, the foot moved forward and up by 0.15 diagonals each). Per edit, the top row "
+        "foot fixed, the foot moved forward by %g and up by %g diagonals). Per edit, the top row "
         "shows the shapes (first the rest mesh with the default's e' and group 1, as in Fig. 4), "
         "the bottom row the same results coloured by the local ARAP distortion E_i / N_i. "
         "Paper mode, whose rigidity estimate makes group 1 only the lower leg (%d and %d DG1 "
@@ -372,7 +376,8 @@ def leg_caption():
         "curve the whole leg like a hose (an embedded deformation knows no joints). The fold of "
         "the earlier figure, the open problem it showed, is paper mode's; the default does not "
         "fold."
-        % (a("paper")["group1"], b("paper")["group1"], a("multiscale")["group1"],
+        % (ta[1], -ta[2], -tb[1], tb[2],
+           a("paper")["group1"], b("paper")["group1"], a("multiscale")["group1"],
            b("multiscale")["group1"], pct(a("paper")["moved_top"]), pct(b("paper")["moved_top"]),
            a("paper")["arap"], b("paper")["arap"], a("paper")["local_max"],
            b("paper")["local_max"], pct(a("multiscale")["moved_top"]),
