@@ -459,8 +459,8 @@ def free_limb_caption():
             "knee, every leg free. The right front leg (yellow dots at rest; a translucent yellow "
             "ghost of its rest pose in the results) touches the left at the knee, %s "
             "diagonals apart in space and %.2f along the surface (their closest vertices), and "
-            "no handle acts on it, so it should stay where it is. Colour is displacement over the bounding-box diagonal, "
-            "on one scale." % (rotation_deg(os.path.join(
+            "no handle acts on it, so it should stay where it is. Colour is displacement over "
+            "the bounding-box diagonal, on one scale." % (rotation_deg(os.path.join(
                 ROOT, "experiments", "scenarios", "camel_hoof_lift_free_leg.json")),
                 diag_fraction(space), surface))
     table2 = os.path.join(ROOT, "experiments", "results", "table2.csv")
