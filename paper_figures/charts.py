@@ -18,6 +18,7 @@ import os
 import sys
 
 import matplotlib
+import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -27,6 +28,7 @@ import matplotlib.transforms  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from figlib import DATA, OUT, ROOT, shrink_png  # noqa: E402
+from framing import place_labels  # noqa: E402
 
 RESULTS = os.path.join(ROOT, "experiments", "results")
 # generate_data.sh's preview from `msdeform_experiments --quick`, used when RESULTS lacks a table.
@@ -143,6 +145,56 @@ def performance_series():
     return (series, load) if series else None
 
 
+def table2_meshes(rows):
+    """[(vertices, mesh, [scenarios])] of table-2 rows, by vertex count: the mesh that
+    experiments/scenarios/<scenario>.json names, else the scenario name's first word."""
+    groups = {}
+    for r in rows:
+        path = os.path.join(ROOT, "experiments", "scenarios", r["scenario"] + ".json")
+        mesh = r["scenario"].split("_")[0]
+        if os.path.exists(path):
+            with open(path) as f:
+                mesh = os.path.splitext(os.path.basename(json.load(f)["mesh"]))[0]
+        these = groups.setdefault((num(r["vertices"]), mesh), [])
+        if r["scenario"] not in these:
+            these.append(r["scenario"])
+    return [(x, mesh, names) for (x, mesh), names in sorted(groups.items())]
+
+
+def label_columns(ax, groups, tops, fontsize=8, gap_px=4):
+    """One horizontal label per column of a log-x scatter ("camel (3)": the mesh and its
+    number of scenarios) in a band above the data, joined to its column's highest point by
+    a thin leader; rows and sideways shifts from framing.place_labels on the labels'
+    rendered widths, so that no label overlaps another or a leader. Call after the
+    figure's layout is final."""
+    renderer = ax.figure.canvas.get_renderer()
+    texts, anchors, widths = [], [], []
+    for x, mesh, names in groups:
+        t = ax.text(x, 1.0, "%s (%d)" % (mesh, len(names)) if len(names) > 1 else mesh,
+                    transform=ax.get_xaxis_transform(), fontsize=fontsize, color="#444444",
+                    ha="center", va="bottom")
+        box = t.get_window_extent(renderer)
+        texts.append(t)
+        anchors.append(ax.transData.transform((x, 1.0))[0])
+        widths.append(box.width)
+    places = place_labels(anchors, widths, gap=gap_px)
+    # The band: one text line per row (in axes fraction) over the data, which keeps its
+    # log range below it.
+    line = 1.4 * fontsize / 72 * ax.figure.dpi / ax.get_window_extent(renderer).height
+    band = 0.02 + line * (max(row for row, _ in places) + 1)
+    lo, hi = np.log10(ax.get_ylim())
+    ax.set_ylim(10 ** lo, 10 ** (lo + (hi - lo) / (1 - band)))
+    for t, (x, _, _), (row, offset), top in zip(texts, groups, places, tops):
+        y = 1 - band + 0.01 + line * row
+        t.set_position((x, y))
+        t.set_transform(ax.get_xaxis_transform() + matplotlib.transforms.ScaledTranslation(
+            offset / ax.figure.dpi, 0, ax.figure.dpi_scale_trans))
+        ax.annotate("", xy=(x, top), xycoords="data", xytext=(x, y),
+                    textcoords=ax.get_xaxis_transform(),
+                    arrowprops=dict(arrowstyle="-", color="#aaaaaa", lw=0.6, shrinkA=0,
+                                    shrinkB=4))
+
+
 def chart_frame_time():
     own = sorted(glob.glob(os.path.join(DATA, "timing", "*.json")))
     perf = performance_series()
@@ -207,18 +259,13 @@ def chart_frame_time():
             pts = [p for p in pts if p[1] == p[1]]
             if pts:
                 ax.plot([p[0] for p in pts], [p[1] for p in pts], linestyle="none", **style)
-        ax.set_title("Every scenario of table2.csv\n(%s)" % table2_label)
-        names = {}
-        for r in rows:
-            these = names.setdefault(num(r["vertices"]), [])
-            if r["scenario"] not in these:
-                these.append(r["scenario"])
-        names = {x: " / ".join(n) for x, n in names.items()}
-        for x, name in names.items():
-            ax.annotate(name, (x, 0), xycoords=("data", "axes fraction"), xytext=(7, 4),
-                        textcoords="offset points", rotation=90, fontsize=7, color="#555555",
-                        ha="left", va="bottom")
-        xs = list(names)
+        ax.set_title("Every scenario of table2.csv, by mesh (number of scenarios)\n(%s)"
+                     % table2_label)
+        groups = table2_meshes(rows)
+        tops = [max((num(r["frame_ms"]) for r in rows
+                     if num(r["vertices"]) == x and num(r["frame_ms"]) == num(r["frame_ms"])),
+                    default=float("nan")) for x, _, _ in groups]
+        xs = [x for x, _, _ in groups]
         ax.set_xlim(min(xs) / 1.6, max(xs) * 1.8)
         table2_ax = ax
     for ax in axes[0]:
@@ -229,7 +276,6 @@ def chart_frame_time():
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2)
     if have_table2:
-        pass
         table2_ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(
             lambda x, _: "%gK" % (x / 1000) if x >= 1000 else "%g" % x))
         table2_ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
@@ -238,6 +284,8 @@ def chart_frame_time():
         axes[0][0].set_xticklabels(["26K", "104K", "416K"])
         axes[0][0].minorticks_off()
     fig.tight_layout()
+    if have_table2:
+        label_columns(table2_ax, groups, tops)
     save(fig, "chart_frame_time.png")
     return notes
 

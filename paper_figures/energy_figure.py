@@ -14,6 +14,7 @@ import os
 
 import numpy as np
 
+from captions import rotation_deg
 from figlib import (DATA, OUT, ROOT, arap_energy_per_vertex, camera_for, handles_mesh_actor,
                     lut_viridis, mesh_actor, read_off, render_panels)
 
@@ -119,7 +120,7 @@ def energy_caption():
     return (
         "experiments/scenarios/camel_hoof_lift_free_leg.json (its 30 frames, as in table 2): the "
         "camel's body above the legs fixed (blue), the left front hoof (red) swung forward and up "
-        "by 45 degrees about the knee, every leg free. Left to right: the rest mesh; the "
+        "by %g degrees about the knee, every leg free. Left to right: the rest mesh; the "
         "multi-scale method with the defaults minimising Eq. 17 (`--energy=ed`, the paper's "
         "energy); the same method minimising the mesh's cotangent ARAP energy over the selected "
         "scale's free nodes (`--energy=arap`: %s rotation clusters of the skinning weights, "
@@ -131,7 +132,9 @@ def energy_caption():
         "computed from the exported meshes: %.3g (ed), %.3g (arap), %.3g (CGAL), that is %.2fx "
         "and %.2fx CGAL's; largest E_i / N_i %.2g, %.2g and %.2g. Mean distance to CGAL's "
         "result: %.2g (ed) and %.2g (arap) of the diagonal."
-        % (d_arap.get("arap_num_clusters", "?"), d_arap.get("arap_constraints", "?"),
+        % (rotation_deg(os.path.join(ROOT, "experiments", "scenarios",
+                                     "camel_hoof_lift_free_leg.json")),
+           d_arap.get("arap_num_clusters", "?"), d_arap.get("arap_constraints", "?"),
            shared_range(runs), PERCENTILE, energies[0], energies[1], energies[2],
            energies[0] / energies[2], energies[1] / energies[2], local_max[0], local_max[1],
            local_max[2], to_cgal[0], to_cgal[1]))

@@ -258,6 +258,9 @@ def scalar_bar(renderer, lut, title, rng=None, pos=(0.82, 0.12)):
         tp.ShadowOff()
         tp.ItalicOff()
     bar.GetTitleTextProperty().SetFontSize(16)
+    # The labels are centred on their ticks, so the top one reaches half a line above the
+    # bar: keep the title clear of it (without this "0.1" sits on "E_i/N_i").
+    bar.SetVerticalTitleSeparation(12)
     at = bar.GetAnnotationTextProperty()  # lut.SetAnnotation marks, e.g. a threshold
     at.SetColor(0, 0, 0)
     at.SetFontSize(14)

@@ -16,6 +16,8 @@ from figlib import (DATA, FIXED, MOVEABLE, OUT, ROOT, arap_energy_per_vertex,
                     camera_for, cubes_actor, edit_metrics, group1_stats, handles_mesh_actor,
                     lines_actor, load_json, lut_viridis, mesh_actor, read_off, render_panels,
                     spheres_actor)
+from captions import diag_fraction  # noqa: E402
+from framing import edit_view  # noqa: E402
 
 MESHES = os.path.join(ROOT, "data", "meshes")
 _mesh_cache = {}
@@ -262,11 +264,15 @@ def fig5_ablation(cfg=None, out="fig5_ablation.png"):
 
 
 def edits_figure(edits, path, panel_size=(400, 460)):
-    """Rest and deformed panels per edit (name, title, view, up, zoom[, part]);
-    the camera frames part(V) when given, else the rest and deformed meshes."""
+    """Rest and deformed panels per edit (name, title, view, up, zoom[, part]); view None:
+    framing.edit_view's direction from the data (the handle's motion, the lever from the
+    fixed region and the handle's normals). The camera frames part(V) when given, else the
+    rest and deformed meshes."""
     panels = []
     for name, title, view, up, zoom, *part in edits:
         d, V, F, Vd = edit(name)
+        if view is None:
+            view = edit_view(V, Vd, F, d["moveable"], d["fixed"], up)
         cam = camera_for(part[0](V) if part else np.vstack([V, Vd]), view, up, zoom)
         panels.append(dict(actors=[handles_mesh_actor(d, V, F)], camera=cam,
                            label="%s: rest" % title, label_size=16))
@@ -280,18 +286,17 @@ def edits_figure(edits, path, panel_size=(400, 460)):
 
 
 def fig6_fig8():
-    front = (0.25, 0.1, -1)
+    # Fig. 6: every camera from the data (edits_figure, view None); up is each model's axis.
     extra = []  # experiments/' edits of other models, when generate_data.sh found them
     if os.path.exists(os.path.join(DATA, "edit_man_leg_lift_multiscale.json")):
-        extra.append(("edit_man_leg_lift_multiscale", "man leg", (1, -0.6, 0.1), (0, 0, 1), 0.85))
+        extra.append(("edit_man_leg_lift_multiscale", "man leg", None, (0, 0, 1), 0.85))
     if os.path.exists(os.path.join(DATA, "edit_dino_tail_swing_multiscale.json")):
-        extra.append(("edit_dino_tail_swing_multiscale", "dino tail", (0.3, -0.2, 1), (0, 1, 0),
-                      1.0))
+        extra.append(("edit_dino_tail_swing_multiscale", "dino tail", None, (0, 0, 1), 1.0))
     edits_figure([
-        ("edit_armadillo_arm_raise_multiscale", "arm raise", front, (0, 1, 0), 1.0),
-        ("edit_armadillo_claw_multiscale", "claw", front, (0, 1, 0), 1.0),
-        ("edit_camel_neck_multiscale", "camel neck", (1, 0.1, 0.2), (0, 1, 0), 1.0),
-        ("edit_camel_leg_bend_multiscale", "camel leg", (1, 0.1, 0.2), (0, 1, 0), 1.0),
+        ("edit_armadillo_arm_raise_multiscale", "arm raise", None, (0, 1, 0), 1.0),
+        ("edit_armadillo_claw_multiscale", "claw", None, (0, 1, 0), 1.0),
+        ("edit_camel_neck_multiscale", "camel neck", None, (0, 1, 0), 1.0),
+        ("edit_camel_leg_bend_multiscale", "camel leg", None, (0, 1, 0), 1.0),
     ] + extra, os.path.join(OUT, "fig6_large_edits.png"))
     # Small edits: zoomed on the edited part.
     edits_figure([
@@ -333,8 +338,8 @@ def fig7_leakage():
             what = "far from the thumb"
 
         def stats(disp):
-            return "%s:\nmean %.4f, max %.4f of diag" % (what, disp[region].mean(),
-                                                         disp[region].max())
+            return "%s:\nmean %s, max %s of diag" % (what, diag_fraction(disp[region].mean()),
+                                                     diag_fraction(disp[region].max()))
 
         rest_actors = [handles_mesh_actor(d_ms, V, F)]
         if len(watch):
@@ -461,8 +466,9 @@ def fig_free_limb():
         panels.append(dict(
             actors=[mesh_actor(Vd, F, scalars=disp, lut=lut, rng=(0, hi)), ghost], camera=cam,
             label=t, label_size=16, bar=(lut, "|d|/diag"),
-            texts=[("%s\nwatched leg: max %.4f, mean %.4f of diag\nyellow ghost: its rest pose"
-                    % (head, disp[watch].max(), disp[watch].mean()), (0.02, 0.13), 13)]))
+            texts=[("%s\nwatched leg: max %s, mean %s of diag\nyellow ghost: its rest pose"
+                    % (head, diag_fraction(disp[watch].max()), diag_fraction(disp[watch].mean())),
+                    (0.02, 0.13), 13)]))
     render_panels(panels, os.path.join(OUT, "fig_free_limb.png"), panel_size=(420, 480),
                   columns=4)
 

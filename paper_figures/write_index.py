@@ -11,6 +11,8 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from figlib import DATA, OUT, ROOT, edit_metrics, group1_stats, read_off  # noqa: E402
 import energy_figure  # noqa: E402
+from captions import diag_fraction, moves_by, rotation_deg, translation_rel  # noqa: E402
+import charts  # noqa: E402
 
 _meshes = {}
 
@@ -100,6 +102,14 @@ def solver_budgets_caption():
                      best["variant"], best["budget"], best["frame_ms"], best["iterations"],
                      best["energy_gap_max"]))
     return text + "From %s (experiments/solver_lab.h)." % label
+
+
+def table2_columns():
+    """The frame-time chart's columns in words: each mesh with its vertex count and
+    scenarios, from experiments/results/table2.csv (charts.table2_meshes)."""
+    rows = charts.read_table(os.path.join(ROOT, "experiments", "results", "table2.csv"))
+    return "; ".join("%s (%d vertices): %s" % (mesh, x, ", ".join(names))
+                     for x, mesh, names in charts.table2_meshes(rows))
 
 
 def fig4_caption():
@@ -238,8 +248,11 @@ def fig6_caption():
             "default edit, data/scenarios/armadillo_claw.json); camel: the neck swung down about "
             "its base, the front leg bent at the knee; when experiments/scenarios/ has them, its "
             "man leg lift and dino tail swing (translations of the foot and the tail tip). Blue: "
-            "fixed handles, red: the moveable handle. Each pair shares one camera; the selected "
-            "scale and the number of optimised variables are printed under the result.")
+            "fixed handles, red: the moveable handle. Each pair shares one camera, computed from "
+            "the edit (paper_figures/framing.py): the handle's motion and the lever from the "
+            "fixed region to the handle across the picture, from the side the handle's normals "
+            "face, at most 30 degrees above the model's horizon; the selected scale and the "
+            "number of optimised variables are printed under the result.")
     arm, claw = load_edit("edit_armadillo_arm_raise_multiscale"), load_edit(
         "edit_armadillo_claw_multiscale")
     if arm and claw:
@@ -250,9 +263,10 @@ def fig6_caption():
         text += (" With only the feet fixed, the harmonic estimate puts nearly the whole "
                  "armadillo in group 1 (%d and %d of %d DG1 nodes) and the default selects scale "
                  "%d and %d: the upper body leans with the arm and the claw (the top 15%% of the "
-                 "height, head and ears, moves by %.3f and %.3f of the diagonal on average)."
+                 "height, head and ears, moves by %s and %s of the diagonal on average)."
                  % (arm[0]["group1"], claw[0]["group1"], len(arm[0]["dg1"]["e_prime"]),
-                    arm[0]["selected_scale"], claw[0]["selected_scale"], top(arm), top(claw)))
+                    arm[0]["selected_scale"], claw[0]["selected_scale"], diag_fraction(top(arm)),
+                    diag_fraction(top(claw))))
     leg, leg_paper = load_edit("edit_camel_leg_bend_multiscale"), load_edit(
         "edit_camel_leg_bend_paper")
     if leg and leg_paper:
@@ -263,10 +277,10 @@ def fig6_caption():
             return float(np.linalg.norm(Vd[sel] - V[sel], axis=1).max()) / d["diag"]
         text += (" The camel leg: the other front leg, free and touching the edited one at the "
                  "knee (lattice cells there hold both knees: the default splits them into one "
-                 "particle per knee, paper mode keeps one per cell), moves by up to %.3f of the "
-                 "diagonal under the default and %.3f in paper mode "
+                 "particle per knee, paper mode keeps one per cell), %s under the default; in "
+                 "paper mode it %s "
                  "(paper_figures/scenarios/camel_leg_bend.json fixes only the body and a band "
-                 "above the edited knee)." % (other(leg), other(leg_paper)))
+                 "above the edited knee)." % (moves_by(other(leg)), moves_by(other(leg_paper))))
     return text
 
 
@@ -285,13 +299,14 @@ def fig7_caption():
             return disp[np.linalg.norm(V - c, axis=1) > 0.25 * d["diag"]].mean()
         text += (" Top: the thumb tip pulled outwards with only the wrist fixed "
                  "(paper_figures/scenarios/hand_thumb.json). Mean displacement of the vertices "
-                 "more than 0.25 diagonals from the handle: %.4f (default), %.4f (paper mode), "
-                 "%.4f (static graph). With the wrist the only fixed region, the harmonic "
+                 "more than 0.25 diagonals from the handle: %s (default), %s (paper mode), "
+                 "%s (static graph). With the wrist the only fixed region, the harmonic "
                  "estimate puts the whole fist between the thumb and the wrist in group 1 (%d of "
                  "%d DG1 nodes, against %d with the paper's), the default selects scale %d of %d "
                  "and moves the far vertices %.1fx as much as paper mode (scale %d) and %.2f "
                  "times as much as the static graph."
-                 % (far(th["multiscale"]), far(th["paper"]), far(th["static"]),
+                 % (diag_fraction(far(th["multiscale"])), diag_fraction(far(th["paper"])),
+                    diag_fraction(far(th["static"])),
                     th["multiscale"]["group1"], len(th["multiscale"]["dg1"]["e_prime"]),
                     th["paper"]["group1"], th["multiscale"]["selected_scale"],
                     th["multiscale"]["num_scales"],
@@ -303,10 +318,10 @@ def fig7_caption():
             return disp[np.asarray(d["watch"], dtype=int)].mean()
         text += (" Bottom (experiments/scenarios/hand_finger.json): the middle knuckle pulled "
                  "out, a band across the palm fixed, the neighbouring knuckles watched (yellow): "
-                 "mean watched displacement %.4f (default, scale %d), %.4f (paper mode), %.4f "
+                 "mean watched displacement %s (default, scale %d), %s (paper mode), %s "
                  "(static graph)."
-                 % (watch(fi["multiscale"]), fi["multiscale"]["selected_scale"],
-                    watch(fi["paper"]), watch(fi["static"])))
+                 % (diag_fraction(watch(fi["multiscale"])), fi["multiscale"]["selected_scale"],
+                    diag_fraction(watch(fi["paper"])), diag_fraction(watch(fi["static"]))))
     return text
 
 
@@ -337,11 +352,15 @@ def leg_caption():
                 "data of the man row is missing (experiments/scenarios/man_leg_lift.json).")
     a = lambda m: n[("armadillo_foot", m)]  # noqa: E731
     b = lambda m: n[("man_leg_lift", m)]  # noqa: E731
+    # The feet's translations from the scenario files: armadillo +y up, -z forward; man -y
+    # forward, +z up.
+    ta = translation_rel(os.path.join(ROOT, "paper_figures", "scenarios", "armadillo_foot.json"))
+    tb = translation_rel(os.path.join(ROOT, "experiments", "scenarios", "man_leg_lift.json"))
     return (
         "Not a paper figure. Lifting a foot: paper_figures/scenarios/armadillo_foot.json (the "
-        "other foot and the upper body fixed, the foot lifted by 0.08 and pulled forward by 0.06 "
+        "other foot and the upper body fixed, the foot lifted by %g and pulled forward by %g "
         "of the diagonal) and experiments/scenarios/man_leg_lift.json (a waist band and the other "
-        "foot fixed, the foot moved forward and up by 0.15 diagonals each). Per edit, the top row "
+        "foot fixed, the foot moved forward by %g and up by %g diagonals). Per edit, the top row "
         "shows the shapes (first the rest mesh with the default's e' and group 1, as in Fig. 4), "
         "the bottom row the same results coloured by the local ARAP distortion E_i / N_i. "
         "Paper mode, whose rigidity estimate makes group 1 only the lower leg (%d and %d DG1 "
@@ -357,7 +376,8 @@ def leg_caption():
         "curve the whole leg like a hose (an embedded deformation knows no joints). The fold of "
         "the earlier figure, the open problem it showed, is paper mode's; the default does not "
         "fold."
-        % (a("paper")["group1"], b("paper")["group1"], a("multiscale")["group1"],
+        % (ta[1], -ta[2], -tb[1], tb[2],
+           a("paper")["group1"], b("paper")["group1"], a("multiscale")["group1"],
            b("multiscale")["group1"], pct(a("paper")["moved_top"]), pct(b("paper")["moved_top"]),
            a("paper")["arap"], b("paper")["arap"], a("paper")["local_max"],
            b("paper")["local_max"], pct(a("multiscale")["moved_top"]),
@@ -368,18 +388,81 @@ def leg_caption():
            a("static_dense")["local_max"], b("static_dense")["local_max"]))
 
 
+def free_components(V, F, fixed, seeds):
+    """The vertices connected to `seeds` by edges between free (not fixed) vertices: with the
+    body fixed, the leg that holds the seeds."""
+    free = np.ones(len(V), bool)
+    free[np.asarray(fixed, dtype=int)] = False
+    E = np.vstack([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])
+    E = E[free[E[:, 0]] & free[E[:, 1]]]
+    adj = [[] for _ in range(len(V))]
+    for a, b in E.tolist():
+        adj[a].append(b)
+        adj[b].append(a)
+    seen = np.zeros(len(V), bool)
+    stack = [int(v) for v in seeds]
+    seen[stack] = True
+    while stack:
+        for u in adj[stack.pop()]:
+            if not seen[u]:
+                seen[u] = True
+                stack.append(u)
+    return np.where(seen)[0]
+
+
+def surface_distance(V, F, a, b):
+    """The shortest path from vertex a to vertex b along the mesh's edges (Dijkstra)."""
+    import heapq
+    E = np.unique(np.sort(np.vstack([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1), axis=0)
+    length = np.linalg.norm(V[E[:, 0]] - V[E[:, 1]], axis=1)
+    adj = [[] for _ in range(len(V))]
+    for (p, q), l in zip(E.tolist(), length.tolist()):
+        adj[p].append((q, l))
+        adj[q].append((p, l))
+    dist = np.full(len(V), np.inf)
+    dist[a] = 0.0
+    heap = [(0.0, a)]
+    while heap:
+        d, v = heapq.heappop(heap)
+        if v == b:
+            return d
+        if d > dist[v]:
+            continue
+        for u, l in adj[v]:
+            if d + l < dist[u]:
+                dist[u] = d + l
+                heapq.heappush(heap, (d + l, u))
+    return float("inf")
+
+
+def legs_contact(d, V, F):
+    """(in space, along the surface) over the diagonal: the closest pair of vertices of the
+    leg that holds the moveable handle and the leg that holds the watched vertices."""
+    lifted = free_components(V, F, d["fixed"], d["moveable"][:1])
+    watched = free_components(V, F, d["fixed"], d["watch"][:1])
+    gaps = [np.linalg.norm(V[watched] - V[v], axis=1) for v in lifted]
+    i = int(np.argmin([g.min() for g in gaps]))
+    j = int(np.argmin(gaps[i]))
+    return (float(gaps[i][j]) / d["diag"],
+            surface_distance(V, F, int(lifted[i]), int(watched[j])) / d["diag"])
+
+
 def free_limb_caption():
     runs = [(m, t, load("edit_camel_hoof_lift_free_leg_%s" % m))
             for m, t in (("multiscale", "the default"), ("paper", "paper mode"),
                          ("static", "the 220-node static graph"))]
     runs = [(m, t, d) for m, t, d in runs if d]
+    edit = load_edit("edit_camel_hoof_lift_free_leg_multiscale")
+    space, surface = legs_contact(*edit[:3]) if edit else (float("nan"), float("nan"))
     text = ("experiments/scenarios/camel_hoof_lift_free_leg.json: the camel's body above the legs "
-            "fixed (blue), the left front hoof (red) swung forward and up by 45 degrees about the "
+            "fixed (blue), the left front hoof (red) swung forward and up by %g degrees about the "
             "knee, every leg free. The right front leg (yellow dots at rest; a translucent yellow "
-            "ghost of its rest pose in the results) touches the left at the knee, 0.0005 "
-            "diagonals apart in space and 0.40 along the surface, and no handle acts on it, so "
-            "it should stay where it is. Colour is displacement over the bounding-box diagonal, "
-            "on one scale.")
+            "ghost of its rest pose in the results) touches the left at the knee, %s "
+            "diagonals apart in space and %.2f along the surface (their closest vertices), and "
+            "no handle acts on it, so it should stay where it is. Colour is displacement over "
+            "the bounding-box diagonal, on one scale." % (rotation_deg(os.path.join(
+                ROOT, "experiments", "scenarios", "camel_hoof_lift_free_leg.json")),
+                diag_fraction(space), surface))
     table2 = os.path.join(ROOT, "experiments", "results", "table2.csv")
     if os.path.exists(table2):
         with open(table2) as f:
@@ -389,14 +472,18 @@ def free_limb_caption():
             text += (" CGAL's ARAP moves it by %s of the diagonal at most "
                      "(experiments/results/table2.csv)." % rows[0]["leakage_max_rel"])
     if runs:
-        parts = []
+        parts, largest = [], 0.0
         for m, t, d in runs:
             disp = np.asarray(d["displacement"]) / d["diag"]
             w = disp[np.asarray(d["watch"], dtype=int)]
-            parts.append("%.4f (%s%s; mean %.4f)" % (
-                w.max(), t, ", scale %d" % d["selected_scale"] if m != "static" else "",
-                w.mean()))
-        text += (" The watched leg's largest displacement: " + ", ".join(parts) + ".")
+            largest = max(largest, float(w.max()))
+            parts.append("%s (%s%s; mean %s)" % (
+                diag_fraction(w.max()), t,
+                ", scale %d" % d["selected_scale"] if m != "static" else "",
+                diag_fraction(w.mean())))
+        text += (" The watched leg's largest displacement over the diagonal: " +
+                 ", ".join(parts) + "; under %s it %s." % (
+                     "all three" if len(runs) == 3 else "each", moves_by(largest)))
     return text
 
 
@@ -458,8 +545,9 @@ def main():
           "docs/decisions/meshes.md) with the default claw edit, 5 frames, 2 threads, measured by "
           "paper_figures/measure_timing.sh on a shared 2-core machine; CGAL ARAP at these "
           "sizes is pending. ") +
-         ("Right: every scenario of experiments/results/table2.csv, CGAL ARAP included."
-          if have_results else
+         ("Right: every scenario of experiments/results/table2.csv, CGAL ARAP included; "
+          "one column per mesh, labelled with its name and number of scenarios: " +
+          table2_columns() + "." if have_results else
           "Right: a preview from `msdeform_experiments --quick` (cactus and hand finger, 5 "
           "frames, 1 thread), CGAL ARAP included; experiments/results/ had no table2.csv yet."
           if have_quick else
