@@ -32,6 +32,26 @@ function(msdeform_test name)
            WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
 endfunction()
 
+# msdeform_tests(<folder> LIBS <library>... [LABELS <label>...]) adds every
+# tests/<folder>/*_test.cc with msdeform_test, linked with the folder's
+# libraries, and gives each the labels. A test that needs more is added by its
+# own msdeform_test line before this call, and is left as it is here. A new
+# file is found at the next build (CONFIGURE_DEPENDS).
+function(msdeform_tests folder)
+  cmake_parse_arguments(ARG "" "" "LIBS;LABELS" ${ARGN})
+  file(GLOB sources CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/tests/${folder}/*_test.cc)
+  foreach(source IN LISTS sources)
+    get_filename_component(name ${source} NAME_WE)
+    string(REPLACE "/" "_" target "${folder}/${name}")
+    if(NOT TARGET ${target})
+      msdeform_test(${folder}/${name} LIBS ${ARG_LIBS})
+    endif()
+    if(ARG_LABELS)
+      set_tests_properties(${folder}/${name} PROPERTIES LABELS "${ARG_LABELS}")
+    endif()
+  endforeach()
+endfunction()
+
 # msdeform_benchmark(<name>) adds bench/<name>_benchmark.cc with Google Benchmark.
 function(msdeform_benchmark name)
   cmake_parse_arguments(ARG "" "" "LIBS" ${ARGN})

@@ -1,32 +1,18 @@
 #include "msdeform/core/atomic_file.h"
 
-#include <stdlib.h>
 #include <unistd.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
+
+#include "tests/test_util.h"
 
 namespace msdeform {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string FreshFolder() {
-  std::string pattern = testing::TempDir() + "/atomic_file_test_XXXXXX";
-  EXPECT_NE(::mkdtemp(pattern.data()), nullptr);
-  return pattern;
-}
-
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 int CountEntries(const std::string& folder) {
   int count = 0;

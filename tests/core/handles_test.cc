@@ -1,35 +1,22 @@
 #include "msdeform/core/handles.h"
 
-#include <stdlib.h>
-
 #include <cmath>
 #include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
 
+#include "tests/test_util.h"
+
 namespace msdeform {
 namespace {
 
-std::string FreshFolder() {
-  std::string pattern = testing::TempDir() + "/handles_test_XXXXXX";
-  EXPECT_NE(::mkdtemp(pattern.data()), nullptr);
-  return pattern;
-}
-
-std::string WriteText(const std::string& name, const std::string& text) {
-  const std::string path = FreshFolder() + "/" + name;
-  std::ofstream out(path);
-  out << text;
-  EXPECT_TRUE(out.good()) << path;
-  return path;
-}
-
 TEST(HandlesTest, ReadSelSplitsStatusesIntoFixedAndMoveable) {
-  const std::string path = WriteText("six.sel",
-                                     "# per vertex status: 0=fixed, 1=deformable-region, 2=handle\n"
-                                     "# 6 vertices\n"
-                                     "1\n0\n2\n  0  \n\n2\r\n1\n");
+  const std::string path =
+      WriteText(FreshFolder() + "/six.sel",
+                "# per vertex status: 0=fixed, 1=deformable-region, 2=handle\n"
+                "# 6 vertices\n"
+                "1\n0\n2\n  0  \n\n2\r\n1\n");
   HandleLayout layout;
   std::string error;
   ASSERT_TRUE(ReadSel(path, 6, &layout, &error)) << error;
@@ -50,7 +37,7 @@ class BadSelTest : public testing::TestWithParam<BadSel> {};
 
 TEST_P(BadSelTest, FailsNamingFileAndProblem) {
   const BadSel& bad = GetParam();
-  const std::string path = WriteText(bad.name, bad.contents);
+  const std::string path = WriteText(FreshFolder() + "/" + bad.name, bad.contents);
   HandleLayout layout;
   std::string error;
   EXPECT_FALSE(ReadSel(path, bad.num_vertices, &layout, &error));
@@ -136,7 +123,7 @@ constexpr char kCactusDef[] =
     "0.000000 0.000000 0.000000 1.000000\n";
 
 TEST(HandlesTest, ReadDefReadsRowByRow) {
-  const std::string path = WriteText("cactus.def", kCactusDef);
+  const std::string path = WriteText(FreshFolder() + "/cactus.def", kCactusDef);
   Eigen::Affine3d transform;
   std::string error;
   ASSERT_TRUE(ReadDef(path, &transform, &error)) << error;
@@ -172,7 +159,7 @@ class BadDefTest : public testing::TestWithParam<BadDef> {};
 
 TEST_P(BadDefTest, FailsNamingFileAndProblem) {
   const BadDef& bad = GetParam();
-  const std::string path = WriteText(bad.name, bad.contents);
+  const std::string path = WriteText(FreshFolder() + "/" + bad.name, bad.contents);
   Eigen::Affine3d transform;
   std::string error;
   EXPECT_FALSE(ReadDef(path, &transform, &error));

@@ -2,14 +2,11 @@
 // for bit (OFF, OBJ, PLY), a float property (binary or ASCII PLY, STL) is the
 // float widened to double, and a decimal beyond the double range is refused.
 
-#include <stdlib.h>
-
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <ostream>
 #include <sstream>
@@ -20,21 +17,10 @@
 #include <gtest/gtest.h>
 
 #include "msdeform/core/mesh_io.h"
+#include "tests/test_util.h"
 
 namespace msdeform {
 namespace {
-
-std::string FreshFolder() {
-  std::string pattern = testing::TempDir() + "/mesh_io_precision_test_XXXXXX";
-  EXPECT_NE(::mkdtemp(pattern.data()), nullptr);
-  return pattern;
-}
-
-void WriteBytes(const std::string& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out << bytes;
-  ASSERT_TRUE(out.good()) << path;
-}
 
 // Coordinates that a detour through float, or a decimal parser that is not
 // correctly rounded, would change: decimals without a finite binary form,
@@ -213,7 +199,7 @@ TEST_P(PlyPropertyTest, ReadsTheDoublesOrTheFloatsWidened) {
   if (!is_float) meshes.push_back(AwkwardMesh());
   for (const Mesh& mesh : meshes) {
     const std::string path = FreshFolder() + "/awkward.ply";
-    WriteBytes(path, PlyText(mesh, ply.format, ply.type, ply.extra_element));
+    WriteText(path, PlyText(mesh, ply.format, ply.type, ply.extra_element));
     Mesh read;
     std::string error;
     ASSERT_TRUE(ReadMesh(path, &read, &error)) << error;
@@ -260,7 +246,7 @@ TEST(MeshIoPrecisionTest, StlReadsTheFloatsWidened) {
     for (float value : corner) put(value);
   }
   put(uint16_t{0});
-  WriteBytes(folder + "/binary.stl", binary);
+  WriteText(folder + "/binary.stl", binary);
   // The ASCII decimals: each float's shortest text ("0.1", "0.33333334"),
   // which as a double is another number, so that the reader must round them
   // to the nearest float.
@@ -271,7 +257,7 @@ TEST(MeshIoPrecisionTest, StlReadsTheFloatsWidened) {
           << Shortest(corner[2]) << "\n";
   }
   ascii << "endloop\nendfacet\nendsolid t\n";
-  WriteBytes(folder + "/ascii.stl", ascii.str());
+  WriteText(folder + "/ascii.stl", ascii.str());
   for (const char* name : {"/binary.stl", "/ascii.stl"}) {
     SCOPED_TRACE(name);
     Mesh read;
@@ -310,7 +296,7 @@ TEST(MeshIoPrecisionTest, DecimalsReadAsStrtodAndBeyondTheDoubleRangeAreRefused)
                           Case{"4e-324", std::numeric_limits<double>::denorm_min()},
                           Case{"0.1000000000000000055511151231257827", 0.1}}) {
       SCOPED_TRACE(c.text);
-      WriteBytes(path, TriangleText(extension, c.text));
+      WriteText(path, TriangleText(extension, c.text));
       Mesh read;
       std::string error;
       ASSERT_TRUE(ReadMesh(path, &read, &error)) << error;
@@ -319,7 +305,7 @@ TEST(MeshIoPrecisionTest, DecimalsReadAsStrtodAndBeyondTheDoubleRangeAreRefused)
     }
     for (const char* text : {"1e309", "-2e308"}) {
       SCOPED_TRACE(text);
-      WriteBytes(path, TriangleText(extension, text));
+      WriteText(path, TriangleText(extension, text));
       Mesh read;
       std::string error;
       EXPECT_FALSE(ReadMesh(path, &read, &error));
@@ -340,7 +326,7 @@ TEST(MeshIoPrecisionTest, DecimalsReadAsStrtodAndBeyondTheDoubleRangeAreRefused)
     triangle.faces.resize(3, 1);
     triangle.faces << 0, 1, 2;
     const std::string path = folder + "/inf.ply";
-    WriteBytes(path, PlyText(triangle, "binary_little_endian", "double", false));
+    WriteText(path, PlyText(triangle, "binary_little_endian", "double", false));
     Mesh read;
     std::string error;
     EXPECT_FALSE(ReadMesh(path, &read, &error));
@@ -354,7 +340,7 @@ TEST(MeshIoPrecisionTest, DecimalsReadAsStrtodAndBeyondTheDoubleRangeAreRefused)
 TEST(MeshIoPrecisionTest, AsciiPlyBeyondTheFloatRangeInOpenMeshsLayoutIsRefused) {
   Mesh mesh = AwkwardMesh();
   const std::string path = FreshFolder() + "/extra.ply";
-  WriteBytes(path, PlyText(mesh, "ascii", "double", /*extra_element=*/true));
+  WriteText(path, PlyText(mesh, "ascii", "double", /*extra_element=*/true));
   Mesh read;
   std::string error;
   EXPECT_FALSE(ReadMesh(path, &read, &error));
@@ -364,7 +350,7 @@ TEST(MeshIoPrecisionTest, AsciiPlyBeyondTheFloatRangeInOpenMeshsLayoutIsRefused)
                           "reader of this PLY layout cannot take; keep only a vertex and a face "
                           "element");
   // Within the float range the same layout reads exactly.
-  WriteBytes(path, PlyText(FloatRangeAwkwardMesh(), "ascii", "double", true));
+  WriteText(path, PlyText(FloatRangeAwkwardMesh(), "ascii", "double", true));
   ASSERT_TRUE(ReadMesh(path, &read, &error)) << error;
   EXPECT_EQ(BitDifference(read.vertices, FloatRangeAwkwardMesh().vertices), "");
 }

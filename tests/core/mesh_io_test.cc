@@ -1,6 +1,5 @@
 #include "msdeform/core/mesh_io.h"
 
-#include <stdlib.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -24,24 +23,12 @@
 
 #include "msdeform/core/build_info.h"
 #include "msdeform/core/mesh_io_formats.h"
+#include "tests/test_util.h"
 
 namespace msdeform {
 namespace {
 
 namespace fs = std::filesystem;
-
-// A fresh, empty folder under the test temp dir, one per test.
-std::string FreshFolder() {
-  std::string pattern = testing::TempDir() + "/mesh_io_test_XXXXXX";
-  EXPECT_NE(::mkdtemp(pattern.data()), nullptr);
-  return pattern;
-}
-
-void WriteText(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  ASSERT_TRUE(out.good()) << path;
-}
 
 // Two triangles forming a unit square, plus a third triangle off to the side;
 // coordinates are exact in float.

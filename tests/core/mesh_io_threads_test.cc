@@ -4,12 +4,9 @@
 // for bit, the same counts and the same messages for any thread count and
 // chunk size, and for the formats that round-trip exactly, the mesh written.
 
-#include <stdlib.h>
-
 #include <array>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -19,30 +16,12 @@
 #include "msdeform/core/build_info.h"
 #include "msdeform/core/mesh_io.h"
 #include "msdeform/core/procedural_meshes.h"
+#include "tests/test_util.h"
 
 namespace msdeform {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string FreshFolder() {
-  std::string pattern = testing::TempDir() + "/mesh_io_threads_test_XXXXXX";
-  EXPECT_NE(::mkdtemp(pattern.data()), nullptr);
-  return pattern;
-}
-
-void WriteText(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  ASSERT_TRUE(out.good()) << path;
-}
-
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // A UV sphere of 50,900 vertices and 101,600 triangles (2.6 MB as OFF).
 Mesh BigSphere() { return MakeSphere(1.0, 200, 256); }

@@ -1,10 +1,7 @@
 #include "msdeform/core/scenario.h"
 
-#include <stdlib.h>
-
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -12,25 +9,12 @@
 
 #include "msdeform/core/mesh.h"
 #include "msdeform/core/procedural_meshes.h"
+#include "tests/test_util.h"
 
 namespace msdeform {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string FreshFolder() {
-  std::string pattern = testing::TempDir() + "/scenario_test_XXXXXX";
-  EXPECT_NE(::mkdtemp(pattern.data()), nullptr);
-  return pattern;
-}
-
-std::string WriteText(const std::string& path, const std::string& text) {
-  fs::create_directories(fs::path(path).parent_path());
-  std::ofstream out(path);
-  out << text;
-  EXPECT_TRUE(out.good()) << path;
-  return path;
-}
 
 // A flat strip: vertex 2i + j sits at (i, j, 0) for i = 0..10, j = 0..1.
 // Bounding box [0,10] x [0,1] x [0,0], diagonal sqrt(101).

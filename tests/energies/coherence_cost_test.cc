@@ -41,12 +41,7 @@ TEST(CoherenceCostTest, JacobiansMatchNumericAndAnalyticMatchesAutodiff) {
   std::unique_ptr<ceres::CostFunction> autodiff(CoherenceCost::Create(kGj, kGk, 2.5));
   CoherenceCostAnalytic analytic(kGj, kGk, 2.5);
   std::mt19937 random(11);
-  for (int trial = 0; trial < 5; ++trial) {
-    const auto blocks = RandomBlocks(analytic, &random);
-    ExpectJacobianMatchesNumeric(*autodiff, blocks);
-    ExpectJacobianMatchesNumeric(analytic, blocks);
-    ExpectSameCost(analytic, *autodiff, blocks, 1e-12);
-  }
+  ExpectAnalyticMatchesAutodiff(analytic, *autodiff, /*trials=*/5, /*tolerance=*/1e-12, &random);
 }
 
 }  // namespace

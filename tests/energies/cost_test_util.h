@@ -1,5 +1,6 @@
-// Shared checks for the cost-function tests: Jacobians against numeric
-// differentiation, and an analytic cost function against its autodiff twin.
+// Shared checks for the cost-function tests (tests/energies/*_cost_test.cc and
+// the example terms' tests): Jacobians against numeric differentiation, and an
+// analytic cost function against its autodiff twin.
 
 #ifndef MSDEFORM_TESTS_ENERGIES_COST_TEST_UTIL_H_
 #define MSDEFORM_TESTS_ENERGIES_COST_TEST_UTIL_H_
@@ -63,6 +64,21 @@ inline void ExpectSameCost(const ceres::CostFunction& a, const ceres::CostFuncti
   for (size_t i = 0; i < jacobian_a.size(); ++i)
     for (size_t e = 0; e < jacobian_a[i].size(); ++e)
       EXPECT_NEAR(jacobian_a[i][e], jacobian_b[i][e], tolerance) << "block " << i << " entry " << e;
+}
+
+// `trials` times: random blocks (RandomBlocks with `random`), both Jacobians
+// against numeric differentiation, and the analytic residuals and Jacobians
+// equal to the autodiff ones to `tolerance`.
+inline void ExpectAnalyticMatchesAutodiff(const ceres::CostFunction& analytic,
+                                          const ceres::CostFunction& autodiff, int trials,
+                                          double tolerance, std::mt19937* random) {
+  for (int trial = 0; trial < trials; ++trial) {
+    SCOPED_TRACE(testing::Message() << "trial " << trial);
+    const auto blocks = RandomBlocks(analytic, random);
+    ExpectJacobianMatchesNumeric(autodiff, blocks);
+    ExpectJacobianMatchesNumeric(analytic, blocks);
+    ExpectSameCost(analytic, autodiff, blocks, tolerance);
+  }
 }
 
 inline std::vector<double> Residuals(const ceres::CostFunction& cost,

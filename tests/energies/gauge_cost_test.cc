@@ -75,12 +75,7 @@ TEST(GaugeCostTest, JacobiansMatchNumericAndAnalyticMatchesAutodiff) {
   std::unique_ptr<ceres::CostFunction> autodiff(GaugeCost::Create(kAxis, 1.5));
   GaugeCostAnalytic analytic(kAxis, 1.5);
   std::mt19937 random(13);
-  for (int trial = 0; trial < 5; ++trial) {
-    const auto blocks = RandomBlocks(analytic, &random);
-    ExpectJacobianMatchesNumeric(*autodiff, blocks);
-    ExpectJacobianMatchesNumeric(analytic, blocks);
-    ExpectSameCost(analytic, *autodiff, blocks, 1e-12);
-  }
+  ExpectAnalyticMatchesAutodiff(analytic, *autodiff, /*trials=*/5, /*tolerance=*/1e-12, &random);
 }
 
 }  // namespace

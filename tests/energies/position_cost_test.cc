@@ -57,12 +57,7 @@ TEST(PositionCostTest, JacobiansMatchNumericAndAnalyticMatchesAutodiff) {
   std::unique_ptr<ceres::CostFunction> autodiff(PositionCost::Create(Terms(v), q, 10.0));
   PositionCostAnalytic analytic(Terms(v), q, 10.0);
   std::mt19937 random(5);
-  for (int trial = 0; trial < 5; ++trial) {
-    const auto blocks = RandomBlocks(analytic, &random);
-    ExpectJacobianMatchesNumeric(*autodiff, blocks);
-    ExpectJacobianMatchesNumeric(analytic, blocks);
-    ExpectSameCost(analytic, *autodiff, blocks, 1e-11);
-  }
+  ExpectAnalyticMatchesAutodiff(analytic, *autodiff, /*trials=*/5, /*tolerance=*/1e-11, &random);
 }
 
 TEST(PositionCostTest, SetTargetMovesTheResidual) {

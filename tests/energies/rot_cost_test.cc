@@ -38,12 +38,7 @@ TEST(RotCostTest, JacobiansMatchNumericAndAnalyticMatchesAutodiff) {
   std::unique_ptr<ceres::CostFunction> autodiff(RotCost::Create(1.0));
   RotCostAnalytic analytic(1.0);
   std::mt19937 random(7);
-  for (int trial = 0; trial < 5; ++trial) {
-    const auto blocks = RandomBlocks(analytic, &random);
-    ExpectJacobianMatchesNumeric(*autodiff, blocks);
-    ExpectJacobianMatchesNumeric(analytic, blocks);
-    ExpectSameCost(analytic, *autodiff, blocks, 1e-12);
-  }
+  ExpectAnalyticMatchesAutodiff(analytic, *autodiff, /*trials=*/5, /*tolerance=*/1e-12, &random);
 }
 
 }  // namespace

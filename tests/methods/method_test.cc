@@ -13,6 +13,7 @@
 #include "msdeform/methods/method_options.h"
 #include "msdeform/methods/registry.h"
 #include "tests/scales/deformer_test_util.h"
+#include "tests/test_util.h"
 
 namespace msdeform {
 namespace {
@@ -22,12 +23,6 @@ Eigen::Affine3d RigidMotion() {
   motion.rotate(Eigen::AngleAxisd(0.5, Eigen::Vector3d(1.0, 2.0, 0.5).normalized()));
   motion.pretranslate(Eigen::Vector3d(0.3, -1.2, 2.0));
   return motion;
-}
-
-Eigen::Affine3d Lift(double z) {
-  Eigen::Affine3d lift = Eigen::Affine3d::Identity();
-  lift.translation() << 0.0, 0.0, z;
-  return lift;
 }
 
 class MethodTest : public testing::TestWithParam<std::string> {

@@ -18,15 +18,10 @@
 #include "msdeform/core/procedural_meshes.h"
 #include "msdeform/scales/deformer.h"
 #include "tests/scales/deformer_test_util.h"
+#include "tests/test_util.h"
 
 namespace msdeform {
 namespace {
-
-Eigen::Affine3d Lift(double z) {
-  Eigen::Affine3d lift = Eigen::Affine3d::Identity();
-  lift.translation() << 0.0, 0.0, z;
-  return lift;
-}
 
 // The deformed mesh of a fresh Deformer: Init, SetHandles, Drag(Lift(z)).
 Eigen::Matrix3Xd FreshResult(const Mesh& mesh, const DeformerOptions& options,

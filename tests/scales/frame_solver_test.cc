@@ -15,18 +15,12 @@
 #include "msdeform/scales/ceres_solver.h"
 #include "msdeform/scales/deformation_energy.h"
 #include "msdeform/scales/gauss_newton_solver.h"
+#include "tests/scales/frame_solver_test_util.h"
 
 namespace msdeform {
 namespace {
 
-StoppingRule TightStopping() {
-  StoppingRule stopping;
-  stopping.max_iterations = 200;
-  stopping.function_tolerance = 1e-15;
-  stopping.gradient_tolerance = 1e-13;
-  stopping.parameter_tolerance = 1e-15;
-  return stopping;
-}
+constexpr StoppingRule kTightStopping = TightStopping(/*max_iterations=*/200);
 
 // Node 0 (Totally Free, at g) between two Fixed nodes at g + e and g - e,
 // a coherence edge from it to each (sqrt weight a), and one Position term
@@ -98,8 +92,8 @@ TEST(FrameSolverTest, BothBackendsReachAMinimumComputedByHand) {
 
   std::vector<std::pair<std::string, std::unique_ptr<FrameSolver>>> backends;
   backends.emplace_back("gauss_newton",
-                        std::make_unique<GaussNewtonSolver>(GaussNewtonOptions(), TightStopping()));
-  backends.emplace_back("ceres", std::make_unique<CeresSolver>(CeresOptions(), TightStopping(), 1));
+                        std::make_unique<GaussNewtonSolver>(GaussNewtonOptions(), kTightStopping));
+  backends.emplace_back("ceres", std::make_unique<CeresSolver>(CeresOptions(), kTightStopping, 1));
   for (const auto& [what, solver] : backends) {
     NodeTransforms transforms = Start();
     std::string error;

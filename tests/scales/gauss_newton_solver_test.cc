@@ -19,6 +19,7 @@
 #include "msdeform/energies/rot_cost.h"
 #include "msdeform/scales/deformer.h"
 #include "msdeform/scales/deformer_options.h"
+#include "tests/scales/frame_solver_test_util.h"
 
 namespace msdeform {
 namespace {
@@ -64,14 +65,7 @@ Edit CactusEdit(int frames) {
   return edit;
 }
 
-StoppingRule TightStopping() {
-  StoppingRule stopping;
-  stopping.max_iterations = 1000;
-  stopping.function_tolerance = 1e-15;
-  stopping.gradient_tolerance = 1e-13;
-  stopping.parameter_tolerance = 1e-15;
-  return stopping;
-}
+constexpr StoppingRule kTightStopping = TightStopping(/*max_iterations=*/1000);
 
 // Tight stopping rules so that both backends run to the minimum itself. The
 // cap is not meant to bind: with the Totally Free border ring
@@ -83,7 +77,7 @@ DeformerOptions TightOptions(Method method, Solver backend) {
   options.backend = backend;
   options.num_threads = 1;
   options.static_nodes = 40;
-  options.stopping = TightStopping();
+  options.stopping = kTightStopping;
   return options;
 }
 
@@ -247,7 +241,7 @@ TEST(GaussNewtonSolverTest, GaugeTermsLeaveTheMinimumUnchanged) {
   without_gauge.gauge.clear();
 
   GaussNewtonOptions gn;
-  StoppingRule stopping = TightStopping();
+  StoppingRule stopping = kTightStopping;
   stopping.max_iterations = 500;
   // Without the gauge terms J^T J is singular and only the damping floor
   // lets the factorisation through; the energy still reaches its minimum.
@@ -426,7 +420,7 @@ TEST(GaussNewtonSolverTest, EveryGaussNewtonVariantReachesTheSameMinimum) {
                              FactorizationName(gn.factorization) + " " + DampingName(gn.damping);
     NodeTransforms transforms = NodeTransforms::Identity(deformer.active().num_nodes());
     std::unique_ptr<FrameSolver> solver =
-        std::make_unique<GaussNewtonSolver>(gn, TightStopping());
+        std::make_unique<GaussNewtonSolver>(gn, kTightStopping);
     ASSERT_TRUE(solver->Setup(energy, transforms, &error)) << error;
     EXPECT_EQ(solver->num_variables(), deformer.num_variables());
     SolveSummary summary;
@@ -464,7 +458,7 @@ TEST(GaussNewtonSolverTest, CeresCostIsTheEnergy) {
     CeresOptions ceres;
     ceres.group_position_terms = grouped;
     NodeTransforms transforms = NodeTransforms::Identity(deformer.active().num_nodes());
-    CeresSolver solver(ceres, TightStopping(), 1);
+    CeresSolver solver(ceres, kTightStopping, 1);
     ASSERT_TRUE(solver.Setup(deformer.energy(), transforms, &error)) << error;
     const double at_rest = EvaluateEnergy(deformer.energy(), transforms, edit.path.back());
     EXPECT_NEAR(solver.Cost(edit.path.back(), transforms), at_rest, 1e-9 * at_rest);
@@ -544,7 +538,7 @@ TEST(GaussNewtonSolverTest, CostIsExactFarFromTheOrigin) {
   const double n = 2.0 * kPairs;
   const Eigen::Vector3d d(0.06, -0.05, 0.07);
   const Eigen::Affine3d handle{Eigen::Translation3d(d)};
-  GaussNewtonSolver solver(GaussNewtonOptions(), TightStopping());
+  GaussNewtonSolver solver(GaussNewtonOptions(), kTightStopping);
   NodeTransforms transforms = NodeTransforms::Identity(1);
   std::string error;
   ASSERT_TRUE(solver.Setup(energy, transforms, &error)) << error;

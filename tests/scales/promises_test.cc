@@ -18,16 +18,18 @@
 #include <filesystem>
 #include <set>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include <Eigen/Geometry>
 #include <glog/logging.h>
 #include <gtest/gtest.h>
 
-#include "experiments/experiment_scenario.h"
 #include "msdeform/core/drag_path.h"
 #include "msdeform/core/lattice.h"
+#include "msdeform/core/mesh_io.h"
 #include "msdeform/core/procedural_meshes.h"
+#include "msdeform/core/scenario.h"
 #include "msdeform/scales/deformer.h"
 
 namespace msdeform {
@@ -144,13 +146,44 @@ std::vector<Variant> FixedHandleVariants() {
   return variants;
 }
 
+// The scenario files (*.json) of experiments/scenarios, in name order.
 std::vector<std::string> ScenarioFiles() {
+  const std::string folder = std::string(MSDEFORM_SOURCE_DIR) + "/experiments/scenarios";
   std::vector<std::string> files;
-  std::string error;
-  CHECK(ListScenarioFiles(std::string(MSDEFORM_SOURCE_DIR) + "/experiments/scenarios", &files,
-                          &error))
-      << error;
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(folder, error)) {
+    if (entry.path().extension() == ".json") files.push_back(entry.path().string());
+  }
+  CHECK(!error) << folder << ": " << error.message();
+  std::sort(files.begin(), files.end());
   return files;
+}
+
+// A scenario's edit (core/scenario.h, as the experiments read it): its mesh,
+// handle layout and drag path of `frames` frames. False with one line naming
+// the file on any error.
+struct ScenarioEdit {
+  std::string name;
+  Mesh mesh;
+  HandleLayout layout;
+  std::vector<Eigen::Affine3d> path;
+};
+
+bool LoadScenarioEdit(const std::string& file, int frames, ScenarioEdit* edit,
+                      std::string* error) {
+  Scenario parsed;
+  if (!ReadScenario(file, &parsed, error)) return false;
+  parsed.frames = frames;
+  edit->name = parsed.name;
+  if (!ReadMesh(parsed.mesh_path, &edit->mesh, error)) return false;
+  std::vector<int> watch;
+  Eigen::Affine3d target;
+  if (!ResolveScenario(parsed, edit->mesh, &edit->layout, &watch, &target, error)) {
+    *error = file + " on " + parsed.mesh_path + ": " + *error;
+    return false;
+  }
+  edit->path = DragPath(parsed, edit->mesh, edit->layout);
+  return true;
 }
 
 class FixedRegionTest : public ::testing::TestWithParam<std::string> {};
@@ -158,9 +191,9 @@ class FixedRegionTest : public ::testing::TestWithParam<std::string> {};
 // Two frames to the scenario's full motion; after each, the largest
 // distance of a fixed vertex from its rest position, over the diagonal.
 TEST_P(FixedRegionTest, FixedVerticesStayAtRest) {
-  ExperimentScenario scenario;
+  ScenarioEdit scenario;
   std::string error;
-  ASSERT_TRUE(LoadExperimentScenario(GetParam(), /*frames=*/2, &scenario, &error))
+  ASSERT_TRUE(LoadScenarioEdit(GetParam(), /*frames=*/2, &scenario, &error))
       << error << " (real meshes missing? run data/fetch_meshes.sh)";
   const Mesh& mesh = scenario.mesh;
   const HandleLayout& layout = scenario.layout;

@@ -19,18 +19,14 @@
 #include "msdeform/scales/gauss_newton_solver.h"
 #include "tests/energies/cost_test_util.h"
 #include "tests/scales/deformer_test_util.h"
+#include "tests/scales/frame_solver_test_util.h"
 
 namespace msdeform {
 namespace {
 
-StoppingRule TightStopping() {
-  StoppingRule stopping;
-  stopping.max_iterations = 500;
-  stopping.function_tolerance = 1e-16;
-  stopping.gradient_tolerance = 1e-14;
-  stopping.parameter_tolerance = 1e-16;
-  return stopping;
-}
+// A decade tighter than TightStopping's default tolerances.
+constexpr StoppingRule kTightStopping =
+    TightStopping(/*max_iterations=*/500, /*tolerance=*/1e-16, /*gradient_tolerance=*/1e-14);
 
 // Nodes on a 4 x 2 x 2 grid (spacing 1), every one Totally Free with a Rot
 // term, coherence edges between grid neighbours both ways, and per node two
@@ -101,11 +97,11 @@ std::vector<Solved> SolveWithEveryBackend(const DeformationEnergy& energy,
                                           const Eigen::Affine3d& handle) {
   GaussNewtonOptions exact;  // a fresh factorisation each step: Newton's convergence to the end
   exact.factorization = GaussNewtonOptions::Factorization::kEveryIteration;
-  GaussNewtonSolver gauss_newton(exact, TightStopping());
+  GaussNewtonSolver gauss_newton(exact, kTightStopping);
   CeresOptions autodiff_options;
   autodiff_options.jacobians = CeresOptions::Jacobians::kAutodiff;
-  CeresSolver analytic(CeresOptions(), TightStopping(), 1);
-  CeresSolver autodiff(autodiff_options, TightStopping(), 1);
+  CeresSolver analytic(CeresOptions(), kTightStopping, 1);
+  CeresSolver autodiff(autodiff_options, kTightStopping, 1);
   return {Solve(&gauss_newton, energy, handle), Solve(&analytic, energy, handle),
           Solve(&autodiff, energy, handle)};
 }
@@ -157,12 +153,7 @@ TEST(VolumeTermTest, FunctorJacobiansMatchNumericAndAnalyticMatchesAutodiff) {
   std::unique_ptr<ceres::CostFunction> autodiff(term.NewCostFunction(true));
   std::unique_ptr<ceres::CostFunction> analytic(term.NewCostFunction(false));
   std::mt19937 random(11);
-  for (int trial = 0; trial < 5; ++trial) {
-    const auto blocks = RandomBlocks(*analytic, &random);
-    ExpectJacobianMatchesNumeric(*autodiff, blocks);
-    ExpectJacobianMatchesNumeric(*analytic, blocks);
-    ExpectSameCost(*analytic, *autodiff, blocks, 1e-12);
-  }
+  ExpectAnalyticMatchesAutodiff(*analytic, *autodiff, /*trials=*/5, /*tolerance=*/1e-12, &random);
   // det(diag(2, 1, 1)) - 1 = 1; zero for a rotation.
   Eigen::Matrix3d R = Eigen::Vector3d(2.0, 1.0, 1.0).asDiagonal();
   EXPECT_DOUBLE_EQ(Residuals(*analytic, {std::vector<double>(R.data(), R.data() + 9)})[0], 1.7);
@@ -258,8 +249,8 @@ TEST(VolumeTermTest, BadTermsAreRefusedWithAMessage) {
   auto refused = [&](const EnergyTerm& term, const std::string& expected) {
     DeformationEnergy energy = graph.energy;
     energy.terms = {term};
-    GaussNewtonSolver gauss_newton(GaussNewtonOptions(), TightStopping());
-    CeresSolver ceres(CeresOptions(), TightStopping(), 1);
+    GaussNewtonSolver gauss_newton(GaussNewtonOptions(), kTightStopping);
+    CeresSolver ceres(CeresOptions(), kTightStopping, 1);
     for (FrameSolver* solver : std::vector<FrameSolver*>{&gauss_newton, &ceres}) {
       std::string error;
       EXPECT_FALSE(solver->Setup(energy, start, &error));
@@ -288,7 +279,7 @@ TEST(VolumeTermTest, DeformerRunsTheTermThroughEitherBackend) {
   for (Solver backend : {Solver::kGaussNewton, Solver::kCeres}) {
     DeformerOptions options;
     options.backend = backend;
-    options.stopping = TightStopping();
+    options.stopping = kTightStopping;
     options.add_energy_terms = [](const DeformationGraph&, DeformationEnergy* energy) {
       AddVolumeTerms(3.0, energy);
     };
@@ -333,8 +324,8 @@ TEST(VolumeTermTest, ATermOutsideItsDomainRejectsTheStepInBothBackends) {
         "domain_limited", {TermBlock::Rotation(j)}, /*linear=*/false, DomainLimitedCost()));
   }
   const Eigen::Affine3d handle = RigidHandle();
-  GaussNewtonSolver gauss_newton(GaussNewtonOptions(), TightStopping());
-  CeresSolver ceres(CeresOptions(), TightStopping(), 1);
+  GaussNewtonSolver gauss_newton(GaussNewtonOptions(), kTightStopping);
+  CeresSolver ceres(CeresOptions(), kTightStopping, 1);
   for (FrameSolver* solver : std::vector<FrameSolver*>{&gauss_newton, &ceres}) {
     const Solved solved = Solve(solver, graph.energy, handle);
     ASSERT_FALSE(solved.summary.failed) << solved.summary.message;
