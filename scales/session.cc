@@ -9,9 +9,9 @@
 #include "msdeform/core/parallel.h"
 #include "msdeform/core/skinning.h"
 #include "msdeform/core/timing.h"
-#include "msdeform/scales/arap_solver.h"
-#include "msdeform/scales/ceres_solver.h"
-#include "msdeform/scales/gauss_newton_solver.h"
+#include "msdeform/solvers/arap_solver.h"
+#include "msdeform/solvers/ceres_solver.h"
+#include "msdeform/solvers/gauss_newton_solver.h"
 
 namespace msdeform {
 

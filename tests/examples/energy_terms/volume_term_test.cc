@@ -14,9 +14,9 @@
 #include <gtest/gtest.h>
 
 #include "examples/energy_terms/rest_pose_term.h"
-#include "msdeform/scales/ceres_solver.h"
 #include "msdeform/scales/deformer.h"
-#include "msdeform/scales/gauss_newton_solver.h"
+#include "msdeform/solvers/ceres_solver.h"
+#include "msdeform/solvers/gauss_newton_solver.h"
 #include "tests/energies/cost_test_util.h"
 #include "tests/scales/deformer_test_util.h"
 
