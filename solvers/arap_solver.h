@@ -49,11 +49,12 @@
 // on v followed by the optimal local step (the rotations refitted, not
 // R_c exp(omega_c)): the rotations stay optimal, so g_w = 0 but where a
 // reflection was refused, and the energy compared is the one the
-// local/global solver reports. Levenberg-Marquardt safeguard: a step that
-// raises the energy is refused and the damping (lambda diag(Q_vv) + a floor)
-// multiplied by 10; an accepted one divides it by 10 (down to 1e-9). So the
-// energy never rises. Stops like the local/global solver, and when
-// max |gradient| <= gradient_tolerance.
+// local/global solver reports. The iterations are those of every
+// Gauss-Newton solver here (solvers/damped_gauss_newton.h: the damping
+// mu diag(Q_vv) + a floor on the Eq. 17 backend's schedule, GaussNewtonOptions'
+// linear solver, refactorised every iteration): a step that does not lower the
+// energy is refused, so the energy never rises. Stops on the StoppingRule as
+// that loop does, the function test skipped below ArapEnergyNoiseFloor.
 
 #ifndef MSDEFORM_SOLVERS_ARAP_SOLVER_H_
 #define MSDEFORM_SOLVERS_ARAP_SOLVER_H_
@@ -64,7 +65,10 @@
 
 #include <Eigen/SparseCholesky>
 
+#include "msdeform/solvers/damped_gauss_newton.h"
 #include "msdeform/solvers/frame_solver.h"
+#include "msdeform/solvers/gauss_newton_linear_solver.h"
+#include "msdeform/solvers/gauss_newton_solver.h"
 #include "msdeform/solvers/subspace_arap.h"
 
 namespace msdeform {
@@ -108,9 +112,15 @@ class ArapLocalGlobalSolver : public FrameSolver {
       factorization_;
 };
 
+// Gauss-Newton on the nodes and the cluster rotations jointly, the
+// rotations eliminated per cluster, iterated by the damped Gauss-Newton loop
+// of solvers/damped_gauss_newton.h with the linear solver, damping and
+// damping of `options` (the Eq. 17 backend's), a fresh factorisation every
+// iteration, and CHOLMOD for its sparse Cholesky (Eigen's LLT without it):
+// D is Q_vv's diagonal, plus ArapDampingFloor.
 class ArapGaussNewtonSolver : public FrameSolver {
  public:
-  explicit ArapGaussNewtonSolver(const StoppingRule& stopping);
+  ArapGaussNewtonSolver(const GaussNewtonOptions& options, const StoppingRule& stopping);
   ~ArapGaussNewtonSolver() override;
 
   // As ArapLocalGlobalSolver::Setup.
@@ -121,12 +131,15 @@ class ArapGaussNewtonSolver : public FrameSolver {
   int num_variables() const override { return arap_ ? arap_->num_variables() : 0; }
 
  private:
+  class Frame;  // one frame's problem for the damped Gauss-Newton loop
+
   // The reduced Gauss-Newton matrix at u with rotations R (no damping) into
   // assembled_, and the right-hand side -g_v + sum B D^-1 g_w (one row per
   // variable slot, one column per coordinate) from g_v (`gradient`).
   void Assemble(const SubspaceArap::Slots& u, const SubspaceArap::Rotations& rotations,
                 const SubspaceArap::Slots& gradient, SubspaceArap::Slots* rhs);
 
+  GaussNewtonOptions options_;
   StoppingRule stopping_;
   std::shared_ptr<const SubspaceArap> arap_;
   double noise_floor_ = 0.0;
@@ -134,6 +147,7 @@ class ArapGaussNewtonSolver : public FrameSolver {
   Eigen::SparseMatrix<double> matrix_;
   Eigen::VectorXd base_values_;  // Q_vv (x) I_3 in matrix_'s value order
   Eigen::VectorXd diagonal_;     // Q_vv's diagonal, per slot
+  double damping_floor_ = 0.0;   // ArapDampingFloor(diagonal_)
   std::vector<int> diagonal_index_;  // matrix_'s value of (i, i), per row i
   // Per cluster: its variables (slot variables), and for each pair (a, b) of
   // them the first value of their 3x3 block (column 3 b, row 3 a) in matrix_;
@@ -142,17 +156,16 @@ class ArapGaussNewtonSolver : public FrameSolver {
   std::vector<int> cluster_pair_offsets_, cluster_pair_index_;
   std::vector<int> column_stride_;
   std::vector<Eigen::Matrix3d> d_inverse_factor_;  // L^-1 with D_c = L L^T (0 if none)
-  static constexpr double kMinLambda = 1e-9;
-  double lambda_ = kMinLambda;
   Eigen::VectorXd assembled_;  // Assemble's values of matrix_
-  // CHOLMOD's supernodal Cholesky where msdeform has CHOLMOD (the matrix
-  // fills in: clusters reach many nodes), else Eigen's simplicial LDLT.
-  struct Factorization;
-  std::unique_ptr<Factorization> factorization_;
+  std::unique_ptr<GaussNewtonLinearSolver> linear_solver_;  // of options_
+  DampedGaussNewtonState state_;
 };
 
-// The solver of arap.solver: ArapLocalGlobalSolver or ArapGaussNewtonSolver.
-std::unique_ptr<FrameSolver> MakeArapSolver(ArapSolver solver, const StoppingRule& stopping);
+// The solver of arap.solver: ArapLocalGlobalSolver or ArapGaussNewtonSolver
+// (with `gauss_newton`'s linear solver, damping and factorisation rule).
+std::unique_ptr<FrameSolver> MakeArapSolver(
+    ArapSolver solver, const StoppingRule& stopping,
+    const GaussNewtonOptions& gauss_newton = GaussNewtonOptions());
 
 }  // namespace msdeform
 

@@ -8,6 +8,7 @@
 #include <glog/logging.h>
 
 #include "msdeform/energies/rot_cost.h"
+#include "msdeform/solvers/damped_gauss_newton.h"
 #include "msdeform/solvers/gauss_newton_linear_solver.h"
 #include "msdeform/solvers/gauss_newton_linear_terms.h"
 #include "msdeform/solvers/gauss_newton_terms.h"
@@ -20,8 +21,6 @@ using RowSparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 using Matrix9d = Eigen::Matrix<double, 9, 9>;
 using Vector9d = Eigen::Matrix<double, 9, 1>;
 using Vector12d = Eigen::Matrix<double, 12, 1>;
-using Factorization = GaussNewtonOptions::Factorization;
-using Damping = GaussNewtonOptions::Damping;
 
 // The 12 numbers tau of a handle transform: matrix column-major, translation.
 Vector12d HandleParameters(const Eigen::Affine3d& handle) {
@@ -131,14 +130,9 @@ struct GaussNewtonSolver::Impl {
   // term_values (their J^T J entries at the last evaluation with a gradient).
   GaussNewtonTerms terms;
   mutable std::vector<double> term_values;
-  bool factor_valid = false;        // a factorisation from an earlier iteration exists
-  // The last Solve ended wanting a new factorisation (its last step was
-  // rejected, or did not shrink the gradient enough): a lagged factor is not
-  // carried into the next frame then, so a small iteration budget cannot keep
-  // reusing a factor that already failed.
-  bool refactor_next = false;
+  // The factorisation that carries over between frames (damped_gauss_newton.h).
+  DampedGaussNewtonState state;
   std::unique_ptr<GaussNewtonLinearSolver> linear_solver;  // gauss_newton_linear_solver.h
-  double forcing_reference = 0.0;  // max |g_0| of the frame
 
   // Writes J^T J + mu D at the rotation blocks `blocks` into `system`.
   void Assemble(const std::vector<Matrix9d>& blocks, double mu) {
@@ -224,6 +218,16 @@ struct GaussNewtonSolver::Impl {
       if (totally_free[j]) x.segment<3>(o + 9) = transforms.translations.col(j);
     }
     return x;
+  }
+
+  // Writes the variables x into *transforms.
+  void Scatter(const Eigen::VectorXd& x, NodeTransforms* transforms) const {
+    for (int j = 0; j < static_cast<int>(offset.size()); ++j) {
+      const int o = offset[j];
+      if (o < 0) continue;
+      transforms->rotations.col(j) = x.segment<9>(o);
+      if (totally_free[j]) transforms->translations.col(j) = x.segment<3>(o + 9);
+    }
   }
 
   // g0 = A^T c - A^T P tau: the gradient of the linear terms at x = 0.
@@ -403,197 +407,90 @@ double GaussNewtonSolver::Cost(const Eigen::Affine3d& handle, const NodeTransfor
          impl.NonlinearCost(x, nullptr);
 }
 
+// One frame of Eq. 17 for the damped Gauss-Newton loop: x, and what its
+// cost is kept from. The linear terms' cost is taken from their residuals
+// at the start and after every accepted step; a trial step's cost adds to it
+// the change of the quadratic, delta^T (H x + g0) + 1/2 delta^T H delta
+// (small terms only: kept from step to step, its rounding reached 2.4e-9 of
+// the energy on the 416K claw in one step).
+class GaussNewtonSolver::Frame : public DampedGaussNewtonProblem {
+ public:
+  Frame(Impl* impl, const Eigen::Affine3d& handle, const NodeTransforms& transforms)
+      : impl_(*impl),
+        x_(impl->Gather(transforms)),
+        g0_(impl->HandleGradient(handle)),
+        root_offset_(impl->RootOffset(handle)),
+        blocks_(impl->rot_nodes.size()) {
+    impl_.HessianTimes(x_, &hx_);
+    linear_cost_ = impl_.LinearCost(x_, root_offset_);
+    gradient_ = hx_ + g0_;
+    // The 9x9 blocks only when J^T J is assembled (a chord step does not
+    // read them; they were 15% of a chord step on the 104K claw).
+    cost_ = linear_cost_ + impl_.NonlinearCost(x_, &gradient_);
+  }
+
+  const Eigen::VectorXd& x() const { return x_; }
+  int num_variables() const override { return static_cast<int>(x_.size()); }
+  double cost() const override { return cost_; }
+  const Eigen::VectorXd& gradient() const override { return gradient_; }
+  double x_norm() const override { return x_.norm(); }
+  void Assemble(double mu) override {
+    impl_.RotCost(x_, nullptr, &blocks_);
+    impl_.Assemble(blocks_, mu);
+  }
+  SparseMatrix& system() override { return impl_.system; }
+  void StepRhs(Eigen::VectorXd* rhs) const override { *rhs = -gradient_; }
+  // 1/2 delta^T (mu D delta - g), D from J^T J.
+  double PredictedDecrease(const Eigen::VectorXd& delta, double mu) const override {
+    double damped = 0.0;
+    const double* values = impl_.system.valuePtr();
+    for (int i = 0; i < num_variables(); ++i) {
+      const double d = values[impl_.diagonal_index[i]];
+      damped += delta[i] * delta[i] * (d - d / (1.0 + mu));  // mu D_ii
+    }
+    return 0.5 * (damped - delta.dot(gradient_));
+  }
+  double TrialCost(const Eigen::VectorXd& delta) override {
+    x_new_ = x_ + delta;
+    impl_.HessianTimes(delta, &h_delta_);
+    const double new_linear_cost =
+        linear_cost_ + delta.dot(hx_ + g0_) + 0.5 * delta.dot(h_delta_);
+    return new_linear_cost + impl_.NonlinearCost(x_new_, nullptr);
+  }
+  void Accept() override {
+    x_.swap(x_new_);
+    hx_ += h_delta_;
+    linear_cost_ = impl_.LinearCost(x_, root_offset_);
+    gradient_ = hx_ + g0_;
+    cost_ = linear_cost_ + impl_.NonlinearCost(x_, &gradient_);
+  }
+
+ private:
+  Impl& impl_;
+  Eigen::VectorXd x_;
+  const Eigen::VectorXd g0_;
+  const Eigen::VectorXd root_offset_;
+  std::vector<Matrix9d> blocks_;
+  Eigen::VectorXd hx_;  // H x
+  double linear_cost_ = 0.0;
+  Eigen::VectorXd gradient_;
+  double cost_ = 0.0;
+  Eigen::VectorXd x_new_, h_delta_;  // the last trial
+};
+
 SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
                                       NodeTransforms* transforms) {
   CHECK(impl_ != nullptr) << "Setup first";
   const auto start = std::chrono::steady_clock::now();
-  auto elapsed_ms = [&start] {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-        .count();
-  };
   Impl& impl = *impl_;
+  CHECK_EQ(static_cast<int>(impl.offset.size()), transforms->num_nodes());
+  Frame frame(&impl, handle, *transforms);
   SolveSummary summary;
-  const int n = num_variables_;
-  const int num_nodes = transforms->num_nodes();
-  CHECK_EQ(static_cast<int>(impl.offset.size()), num_nodes);
-
-  Eigen::VectorXd x = impl.Gather(*transforms);
-  const Eigen::VectorXd g0 = impl.HandleGradient(handle);
-  const Eigen::VectorXd root_offset = impl.RootOffset(handle);
-
-  Eigen::VectorXd hx;
-  impl.HessianTimes(x, &hx);
-  // The linear terms' cost from their residuals at the start and after every
-  // accepted step; a trial step's cost adds to it the change of the
-  // quadratic, delta^T (H x + g0) + 1/2 delta^T H delta (small terms only:
-  // kept from step to step, its rounding reached 2.4e-9 of the energy on the
-  // 416K claw in one step).
-  double linear_cost = impl.LinearCost(x, root_offset);
-  std::vector<Matrix9d> blocks(impl.rot_nodes.size());
-  Eigen::VectorXd gradient = hx + g0;
-  // The 9x9 blocks only when J^T J is assembled (a chord step does not read
-  // them; they were 15% of a chord step on the 104K claw).
-  double cost = linear_cost + impl.NonlinearCost(x, &gradient);
-  summary.initial_cost = cost;
-  summary.trace.push_back({0.0, cost});
-
-  const bool levenberg_marquardt = options_.damping == Damping::kLevenbergMarquardt;
-  double mu = levenberg_marquardt ? options_.initial_damping : options_.min_damping;
-  double nu = 2.0;  // Levenberg-Marquardt's growth after a rejected step
-  Eigen::VectorXd delta, x_new, h_delta, damped_delta;
-  bool done = n == 0;
-  double gradient_norm = gradient.lpNorm<Eigen::Infinity>();
-  impl.forcing_reference = gradient_norm;
-  if (!done && gradient_norm <= stopping_.gradient_tolerance) {
-    summary.converged = true;
-    summary.message = "gradient tolerance";
-    done = true;
-  }
-  // PCG multiplies by the current J^T J, so it reassembles every iteration
-  // and only its preconditioner follows the factorisation rule.
-  const bool cholesky = impl.linear_solver->direct();
-  bool need_factor = !impl.factor_valid || impl.refactor_next ||
-                     options_.factorization != Factorization::kLagged ||
-                     levenberg_marquardt;
-  bool fresh = false;  // the factorisation is of J^T J at the current x and mu
-  // A frame fails when it ends on a system that could not be factorised
-  // before any step was taken (the start would come back as a result), or
-  // when even the largest damping does not make it factorisable.
-  bool factor_failed = false;  // the last factorisation (or its solve) failed
-  bool unfactorisable = false;
-  int accepted_steps = 0;
-  bool assembled = false;  // `system` holds J^T J + mu D at the current x and mu
-  while (!done && summary.iterations < stopping_.max_iterations) {
-    if (need_factor || !cholesky) {
-      impl.RotCost(x, nullptr, &blocks);
-      impl.Assemble(blocks, mu);
-      assembled = true;
-    }
-    if (need_factor) {
-      ++summary.factorizations;
-      need_factor = false;
-      impl.factor_valid = impl.linear_solver->Factorize(impl.system);
-      fresh = true;
-      factor_failed = !impl.factor_valid;
-      if (!impl.factor_valid) {
-        ++summary.iterations;
-        summary.trace.push_back({elapsed_ms(), cost});
-        mu *= 10.0;
-        need_factor = true;
-        if (mu > 1e32) {
-          unfactorisable = true;
-          break;
-        }
-        continue;
-      }
-    }
-    ++summary.iterations;
-    const double eta = std::min(
-        options_.forcing_term,
-        std::sqrt(gradient_norm / std::max(impl.forcing_reference, 1e-300)));
-    if (!impl.linear_solver->Solve(impl.system, -gradient, eta, &delta)) {
-      summary.trace.push_back({elapsed_ms(), cost});
-      factor_failed = true;
-      impl.factor_valid = false;
-      need_factor = true;
-      if (fresh) mu *= 10.0;
-      continue;
-    }
-    factor_failed = false;
-    if (delta.norm() <=
-        stopping_.parameter_tolerance * (x.norm() + stopping_.parameter_tolerance)) {
-      summary.trace.push_back({elapsed_ms(), cost});
-      summary.converged = true;
-      summary.message = "parameter tolerance";
-      break;
-    }
-    x_new = x + delta;
-    impl.HessianTimes(delta, &h_delta);
-    const double new_linear_cost = linear_cost + delta.dot(hx + g0) + 0.5 * delta.dot(h_delta);
-    const double new_cost = new_linear_cost + impl.NonlinearCost(x_new, nullptr);
-    double rho = 1.0;  // gain ratio, Levenberg-Marquardt only
-    if (levenberg_marquardt && assembled) {
-      // Predicted decrease of the model: 1/2 delta^T (mu D delta - g).
-      double damped = 0.0;
-      const double* values = impl.system.valuePtr();
-      for (int i = 0; i < n; ++i) {
-        const double d = values[impl.diagonal_index[i]];
-        damped += delta[i] * delta[i] * (d - d / (1.0 + mu));  // mu D_ii, D from J^T J
-      }
-      const double predicted = 0.5 * (damped - delta.dot(gradient));
-      rho = predicted > 0.0 ? (cost - new_cost) / predicted : -1.0;
-    }
-    if (new_cost < cost) {
-      ++accepted_steps;
-      const double decrease = cost - new_cost;
-      x.swap(x_new);
-      hx += h_delta;
-      linear_cost = impl.LinearCost(x, root_offset);
-      gradient = hx + g0;
-      cost = linear_cost + impl.NonlinearCost(x, &gradient);
-      summary.trace.push_back({elapsed_ms(), cost});
-      if (levenberg_marquardt) {
-        mu = std::max(mu * std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3)),
-                      options_.min_damping);
-        nu = 2.0;
-      } else {
-        mu = std::max(mu / 10.0, options_.min_damping);
-      }
-      const double new_gradient_norm = gradient.lpNorm<Eigen::Infinity>();
-      if (decrease <= stopping_.function_tolerance * (cost + decrease)) {
-        summary.converged = true;
-        summary.message = "function tolerance";
-        break;
-      }
-      if (new_gradient_norm <= stopping_.gradient_tolerance) {
-        summary.converged = true;
-        summary.message = "gradient tolerance";
-        break;
-      }
-      fresh = false;
-      // Pure Gauss-Newton and Levenberg-Marquardt refactorise every
-      // iteration; the lagged variants keep the factorisation while the
-      // gradient shrinks by refactor_ratio a step.
-      need_factor = levenberg_marquardt ||
-                    options_.factorization == Factorization::kEveryIteration ||
-                    new_gradient_norm > options_.refactor_ratio * gradient_norm;
-      gradient_norm = new_gradient_norm;
-    } else {
-      summary.trace.push_back({elapsed_ms(), cost});
-      if (levenberg_marquardt) {
-        mu *= nu;
-        nu *= 2.0;
-      } else if (fresh) {
-        // A stale factorisation is refreshed first; a fresh one is damped more.
-        mu *= 10.0;
-      }
-      need_factor = true;
-    }
-    assembled = false;
-  }
-  if (!done && summary.message.empty()) summary.message = "iteration cap";
-  impl.refactor_next = need_factor && !summary.converged;
-  summary.final_cost = cost;
-  if (unfactorisable || (factor_failed && accepted_steps == 0)) {
-    summary.failed = true;
-    summary.message = "the damped normal equations could not be factorised (" +
-                      std::to_string(summary.factorizations) + " tries); " +
-                      (accepted_steps == 0 ? std::string("the nodes were not moved")
-                                           : "stopped after " + std::to_string(accepted_steps) +
-                                                 " accepted steps");
-  }
-  if (!std::isfinite(cost)) {
-    summary.failed = true;
-    summary.message = "the cost is not finite";
-  }
-
-  // Scatter x.
-  for (int j = 0; j < num_nodes; ++j) {
-    const int o = impl.offset[j];
-    if (o < 0) continue;
-    transforms->rotations.col(j) = x.segment<9>(o);
-    if (impl.totally_free[j]) transforms->translations.col(j) = x.segment<3>(o + 9);
-  }
+  summary.initial_cost = frame.cost();
+  summary.trace.push_back({0.0, frame.cost()});
+  RunDampedGaussNewton(options_, stopping_, start, impl.linear_solver.get(), &frame, &impl.state,
+                       &summary);
+  impl.Scatter(frame.x(), transforms);
   return summary;
 }
 

@@ -165,6 +165,7 @@ class GaussNewtonSolver : public FrameSolver {
 
  private:
   struct Impl;
+  class Frame;  // one frame's problem for the damped Gauss-Newton loop
   std::unique_ptr<Impl> impl_;
   GaussNewtonOptions options_;
   StoppingRule stopping_;
