@@ -39,7 +39,7 @@
 #include "msdeform/scales/deformer_flags.h"
 #include "msdeform/scales/rigidity.h"
 #include "msdeform/scales/scale_selection.h"
-#include "msdeform/scales/subspace_arap.h"
+#include "msdeform/solvers/subspace_arap.h"
 
 DEFINE_string(mode, "edit", "[input] graphs, edit or nodes_vs_p.");
 DEFINE_string(mesh, "", "[input] Mesh (graphs mode; overrides the scenario's mesh otherwise).");

@@ -1,16 +1,24 @@
 # msdeform_library(<target> <export name> [INTERNAL <header>...]) makes
 # <target> one of the installed libraries: alias msdeform::<export name>,
 # headers included as <msdeform/<folder>/<name>.h> in the build tree and after
-# installation, and its folder's headers, but the INTERNAL ones, installed
-# under include/msdeform/<folder>/.
+# installation (in the build tree only for the targets that link it), and its
+# folder's headers, but the INTERNAL ones, installed under
+# include/msdeform/<folder>/.
 function(msdeform_library target export_name)
   cmake_parse_arguments(ARG "" "" "INTERNAL" ${ARGN})
   add_library(msdeform::${export_name} ALIAS ${target})
   set_target_properties(${target} PROPERTIES EXPORT_NAME ${export_name})
-  target_include_directories(${target} PUBLIC
-    $<BUILD_INTERFACE:${MSDEFORM_BUILD_INCLUDE_DIR}>
-    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   file(RELATIVE_PATH folder ${PROJECT_SOURCE_DIR} ${CMAKE_CURRENT_SOURCE_DIR})
+  # The folder's own include root: include/<folder>/msdeform/<folder> -> the
+  # folder. PUBLIC, so the targets that link this one see it, and only those.
+  set(root ${MSDEFORM_BUILD_INCLUDE_DIR}/${folder})
+  if(NOT EXISTS ${root}/msdeform/${folder})
+    file(MAKE_DIRECTORY ${root}/msdeform)
+    file(CREATE_LINK ${CMAKE_CURRENT_SOURCE_DIR} ${root}/msdeform/${folder} SYMBOLIC)
+  endif()
+  target_include_directories(${target} PUBLIC
+    $<BUILD_INTERFACE:${root}>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   file(GLOB headers CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.h)
   foreach(internal IN LISTS ARG_INTERNAL)
     list(REMOVE_ITEM headers ${CMAKE_CURRENT_SOURCE_DIR}/${internal})

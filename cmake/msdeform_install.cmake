@@ -1,4 +1,4 @@
-# Installs the libraries (msdeform::core, ::energies, ::scales, ::methods,
+# Installs the libraries (msdeform::core, ::energies, ::solvers, ::scales, ::methods,
 # ::deformer_flags and the umbrella msdeform::msdeform), their headers under
 # include/msdeform/<folder>/, and the CMake package that makes
 #   find_package(msdeform CONFIG REQUIRED)

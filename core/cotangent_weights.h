@@ -4,7 +4,7 @@
 // with a_ik and b_ik the angles opposite the edge in its (one or two) faces;
 // a degenerate corner adds 0. The clamp keeps every ARAP term >= 0 on meshes
 // with obtuse triangles. core/metrics.h measures the ARAP energy with
-// these weights, and the subspace ARAP energy (scales/subspace_arap.h)
+// these weights, and the subspace ARAP energy (solvers/subspace_arap.h)
 // minimises it.
 
 #ifndef MSDEFORM_CORE_COTANGENT_WEIGHTS_H_

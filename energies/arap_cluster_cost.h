@@ -1,4 +1,4 @@
-// One rotation cluster of the subspace ARAP energy (scales/subspace_arap.h,
+// One rotation cluster of the subspace ARAP energy (solvers/subspace_arap.h,
 // docs/method.md §9) as a Ceres residual block of fixed size, independent of
 // the cluster's vertex count. Over the slots the cluster reaches and its
 // rotation, with z_d = [u_d (the slots' values in coordinate d); R_c(d, :)^T],

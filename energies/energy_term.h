@@ -1,5 +1,5 @@
 // A term of the deformation energy beyond Eq. 17's own, described once so
-// that both backends run it (scales/deformation_energy.h, `terms`): the Ceres
+// that both backends run it (solvers/deformation_energy.h, `terms`): the Ceres
 // backend adds its cost function as a residual block, the Gauss-Newton
 // backend assembles it once per handle layout when it is linear and
 // evaluates its residual and Jacobian every iteration when it is not.

@@ -14,7 +14,7 @@
 #include "msdeform/core/timing.h"
 #include "msdeform/core/metrics.h"
 #include "experiments/tables.h"
-#include "msdeform/scales/deformation_energy.h"
+#include "msdeform/solvers/deformation_energy.h"
 
 namespace msdeform {
 namespace {

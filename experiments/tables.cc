@@ -11,7 +11,7 @@
 
 #include "msdeform/core/atomic_file.h"
 #include "msdeform/core/build_info.h"
-#include "msdeform/scales/ceres_solver.h"
+#include "msdeform/solvers/ceres_solver.h"
 
 namespace msdeform {
 namespace {

@@ -24,12 +24,12 @@
 #include "msdeform/core/lattice.h"
 #include "msdeform/core/option_table.h"
 #include "msdeform/methods/method_option_table.h"
-#include "msdeform/scales/ceres_solver.h"
 #include "msdeform/scales/deformer.h"
-#include "msdeform/scales/frame_solver.h"
-#include "msdeform/scales/gauss_newton_solver.h"
 #include "msdeform/scales/rigidity.h"
 #include "msdeform/scales/scale_selection.h"
+#include "msdeform/solvers/ceres_solver.h"
+#include "msdeform/solvers/frame_solver.h"
+#include "msdeform/solvers/gauss_newton_solver.h"
 #include "python/bindings.h"
 
 namespace msdeform {

@@ -30,17 +30,17 @@
 #include "msdeform/core/handles.h"
 #include "msdeform/core/lattice.h"
 #include "msdeform/core/mesh.h"
-#include "msdeform/scales/ceres_solver.h"
-#include "msdeform/scales/deformation_energy.h"
 #include "msdeform/scales/deformer_options.h"
-#include "msdeform/scales/frame_solver.h"
-#include "msdeform/scales/gauss_newton_solver.h"
 #include "msdeform/scales/layout.h"
 #include "msdeform/scales/node_classes.h"
 #include "msdeform/scales/precompute.h"
 #include "msdeform/scales/rigidity.h"
 #include "msdeform/scales/scale_selection.h"
 #include "msdeform/scales/session.h"
+#include "msdeform/solvers/ceres_solver.h"
+#include "msdeform/solvers/deformation_energy.h"
+#include "msdeform/solvers/frame_solver.h"
+#include "msdeform/solvers/gauss_newton_solver.h"
 
 namespace msdeform {
 

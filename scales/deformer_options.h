@@ -13,26 +13,26 @@
 #include "msdeform/core/deformation_graph.h"
 #include "msdeform/core/lattice.h"
 #include "msdeform/core/option_table.h"
-#include "msdeform/scales/ceres_solver.h"
-#include "msdeform/scales/deformation_energy.h"
-#include "msdeform/scales/frame_solver.h"
-#include "msdeform/scales/gauss_newton_solver.h"
 #include "msdeform/scales/rigidity.h"
 #include "msdeform/scales/scale_selection.h"
-#include "msdeform/scales/subspace_arap.h"
+#include "msdeform/solvers/ceres_solver.h"
+#include "msdeform/solvers/deformation_energy.h"
+#include "msdeform/solvers/frame_solver.h"
+#include "msdeform/solvers/gauss_newton_solver.h"
+#include "msdeform/solvers/subspace_arap.h"
 
 namespace msdeform {
 
 enum class Method { kMultiScale, kStatic, kStaticDense };
 
-// The backend that minimises Eq. 17 each frame (scales/frame_solver.h): the
-// Gauss-Newton solver of scales/gauss_newton_solver.h, or Ceres
-// (scales/ceres_solver.h), the reference.
+// The backend that minimises Eq. 17 each frame (solvers/frame_solver.h): the
+// Gauss-Newton solver of solvers/gauss_newton_solver.h, or Ceres
+// (solvers/ceres_solver.h), the reference.
 enum class Solver { kCeres, kGaussNewton };
 
 // What a frame minimises: Eq. 17, the paper's embedded-deformation energy
 // (ed), or the mesh's own cotangent ARAP energy over the selected graph's
-// subspace (arap; scales/subspace_arap.h, docs/method.md §9).
+// subspace (arap; solvers/subspace_arap.h, docs/method.md §9).
 enum class Energy { kEd, kArap };
 
 // Where a frame's solve starts: the rest pose (R = I, t = 0: no warm start),
@@ -111,7 +111,7 @@ struct DeformerOptions {
   std::function<void(const DeformationGraph& graph, DeformationEnergy* energy)> add_energy_terms;
 
   // The per-frame solve. Both backends minimise the same energy and stop on
-  // the same rule (scales/frame_solver.h): at most 20 iterations, function
+  // the same rule (solvers/frame_solver.h): at most 20 iterations, function
   // tolerance 1e-8, gradient 1e-10, parameter 1e-10.
   Solver backend = Solver::kGaussNewton;
   StoppingRule stopping;

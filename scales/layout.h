@@ -24,10 +24,10 @@
 
 #include "msdeform/core/deformation_graph.h"
 #include "msdeform/core/handles.h"
-#include "msdeform/scales/deformation_energy.h"
 #include "msdeform/scales/precompute.h"
 #include "msdeform/scales/rigidity.h"
 #include "msdeform/scales/scale_selection.h"
+#include "msdeform/solvers/deformation_energy.h"
 
 namespace msdeform {
 

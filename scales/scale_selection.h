@@ -38,12 +38,11 @@
 #include <string>
 #include <vector>
 
-#include "msdeform/core/option_table.h"
 #include "msdeform/core/deformation_graph.h"
+#include "msdeform/core/option_table.h"
+#include "msdeform/solvers/node_class.h"
 
 namespace msdeform {
-
-enum class NodeClass { kFixed = 0, kHalfFree = 1, kTotallyFree = 2 };
 
 // "fixed", "half_free", "totally_free".
 const char* NodeClassName(NodeClass node_class);

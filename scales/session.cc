@@ -9,9 +9,9 @@
 #include "msdeform/core/parallel.h"
 #include "msdeform/core/skinning.h"
 #include "msdeform/core/timing.h"
-#include "msdeform/scales/arap_solver.h"
-#include "msdeform/scales/ceres_solver.h"
-#include "msdeform/scales/gauss_newton_solver.h"
+#include "msdeform/solvers/arap_solver.h"
+#include "msdeform/solvers/ceres_solver.h"
+#include "msdeform/solvers/gauss_newton_solver.h"
 
 namespace msdeform {
 
@@ -26,7 +26,7 @@ std::unique_ptr<Session> Session::Create(std::shared_ptr<const Layout> layout,
   const auto start = std::chrono::steady_clock::now();
   session->transforms_ = NodeTransforms::Identity(session->layout_->graph().num_nodes());
   if (session->layout_->energy().arap && options.backend == Solver::kGaussNewton) {
-    session->solver_ = MakeArapSolver(options.arap.solver, options.stopping);
+    session->solver_ = MakeArapSolver(options.arap.solver, options.stopping, options.gauss_newton);
   } else if (options.backend == Solver::kGaussNewton) {
     GaussNewtonThreads threads;
     threads.num_threads = options.num_threads;

@@ -14,8 +14,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include "msdeform/core/deformation_graph.h"
-#include "msdeform/scales/frame_solver.h"
 #include "msdeform/scales/layout.h"
+#include "msdeform/solvers/frame_solver.h"
 
 namespace msdeform {
 
@@ -29,7 +29,7 @@ struct DragStats {
   double initial_cost = 0.0;  // at the initial guess
   double final_cost = 0.0;
   bool converged = false;
-  // The solve's convergence trace (scales/frame_solver.h).
+  // The solve's convergence trace (solvers/frame_solver.h).
   std::vector<TracePoint> trace;
 };
 

@@ -3,7 +3,7 @@
 // drag handles with. Compiled into msdeform_test_main, so every test has them;
 // they depend on nothing of msdeform's. Helpers of one layer live beside its
 // tests: tests/energies/cost_test_util.h (cost functions against autodiff and
-// numeric derivatives), tests/scales/frame_solver_test_util.h (stopping
+// numeric derivatives), tests/solvers/frame_solver_test_util.h (stopping
 // rules), tests/scales/deformer_test_util.h (small edits), and
 // tests/core/lattice_test_util.h.
 

@@ -16,7 +16,7 @@
 #include <ceres/sized_cost_function.h>
 
 #include "msdeform/energies/energy_term.h"
-#include "msdeform/scales/deformation_energy.h"
+#include "msdeform/solvers/deformation_energy.h"
 
 namespace msdeform {
 

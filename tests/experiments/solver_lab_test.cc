@@ -20,7 +20,7 @@
 
 #include "experiments/experiment_scenario.h"
 #include "experiments/tables.h"
-#include "msdeform/scales/deformation_energy.h"
+#include "msdeform/solvers/deformation_energy.h"
 
 namespace msdeform {
 namespace {

@@ -222,7 +222,7 @@ TEST(DeformerTest, BotschSorkineCactusReachesItsTarget) {
   EXPECT_LT(paper_rms, 0.02);
   EXPECT_LT(paper_fixed, 3e-3);
   EXPECT_LT(multiscale_rms, paper_rms);
-  // The same minimum as Ceres (tests/scales/gauss_newton_solver_test.cc), faster.
+  // The same minimum as Ceres (tests/solvers/gauss_newton_solver_test.cc), faster.
   EXPECT_LT(CactusErrors(Method::kStaticDense, Solver::kGaussNewton).first,
             0.005);
 }

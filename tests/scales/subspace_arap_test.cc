@@ -1,12 +1,12 @@
-// The subspace ARAP energy (scales/subspace_arap.h) and its local/global
-// solver (scales/arap_solver.h) against answers known without the reduced
+// The subspace ARAP energy (solvers/subspace_arap.h) and its local/global
+// solver (solvers/arap_solver.h) against answers known without the reduced
 // algebra: a full-mesh evaluation written from the energy's definition (skin
 // every vertex, set the exact constraints, then per rotation cluster the best
 // rotation by SVD and the cotangent-weighted spokes), a rigid edit whose
 // optimum lies inside the subspace (energy 0, every vertex at H * rest), the
 // solver's energy never rising, and the options' errors.
 
-#include "msdeform/scales/subspace_arap.h"
+#include "msdeform/solvers/subspace_arap.h"
 
 #include <cmath>
 #include <memory>
@@ -19,8 +19,8 @@
 #include <gtest/gtest.h>
 
 #include "msdeform/core/metrics.h"
-#include "msdeform/scales/arap_solver.h"
 #include "msdeform/scales/deformer_flags.h"
+#include "msdeform/solvers/arap_solver.h"
 #include "tests/scales/subspace_arap_test_util.h"
 
 namespace msdeform {

@@ -19,7 +19,7 @@
 
 #include "msdeform/core/skinning.h"
 #include "msdeform/scales/layout.h"
-#include "msdeform/scales/subspace_arap.h"
+#include "msdeform/scales/subspace_arap_build.h"
 #include "tests/scales/deformer_test_util.h"
 
 namespace msdeform {
@@ -216,7 +216,7 @@ inline std::shared_ptr<const SubspaceArap> BuildWithClasses(const Layout& layout
   input.handles = &layout.handles();
   input.still_vertices = &layout.still_vertices();
   input.length_unit = unit;
-  return SubspaceArap::Build(input, options);
+  return BuildSubspaceArap(input, options);
 }
 
 inline FullMesh FullMeshOf(const Layout& layout, double unit, const ArapOptions& options) {

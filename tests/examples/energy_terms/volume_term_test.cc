@@ -14,12 +14,12 @@
 #include <gtest/gtest.h>
 
 #include "examples/energy_terms/rest_pose_term.h"
-#include "msdeform/scales/ceres_solver.h"
 #include "msdeform/scales/deformer.h"
-#include "msdeform/scales/gauss_newton_solver.h"
+#include "msdeform/solvers/ceres_solver.h"
+#include "msdeform/solvers/gauss_newton_solver.h"
 #include "tests/energies/cost_test_util.h"
 #include "tests/scales/deformer_test_util.h"
-#include "tests/scales/frame_solver_test_util.h"
+#include "tests/solvers/frame_solver_test_util.h"
 
 namespace msdeform {
 namespace {

@@ -1,0 +1,266 @@
+#include "msdeform/solvers/gauss_newton_linear_terms.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <map>
+#include <unordered_map>
+
+#include <Eigen/Householder>
+#include <Eigen/QR>
+#include <glog/logging.h>
+
+#include "msdeform/energies/gauge_cost.h"
+
+namespace msdeform {
+
+void AssembleLinearTerms(const DeformationEnergy& energy, const NodeTransforms& transforms,
+                         const std::vector<int>& offset, const GaussNewtonTerms& terms, int n,
+                         LinearTerms* out, int num_threads, int min_parallel_rows) {
+  using SparseMatrix = LinearTerms::SparseMatrix;
+  const int num_nodes = transforms.num_nodes();
+  auto rotation_variable = [&](int j) { return offset[j]; };
+  auto translation_variable = [&](int j) {
+    return energy.node_class[j] == NodeClass::kTotallyFree ? offset[j] + 9 : -1;
+  };
+
+  // Linear residuals r = A x + c - P tau, row by row.
+  std::vector<Eigen::Triplet<double, int>> a_entries, p_entries;
+  std::vector<double> constant;
+  int row = 0;
+  auto add_rotation = [&](int j, const Eigen::Vector3d& vector, double scale) {
+    // scale * R_j * vector into rows row..row+2.
+    if (rotation_variable(j) >= 0) {
+      for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c)
+          a_entries.emplace_back(row + a, rotation_variable(j) + c * 3 + a, scale * vector[c]);
+    } else {
+      const Eigen::Vector3d value = scale * (transforms.rotation(j) * vector);
+      for (int a = 0; a < 3; ++a) constant[row + a] += value[a];
+    }
+  };
+  auto add_translation = [&](int j, double scale) {
+    if (translation_variable(j) >= 0) {
+      for (int a = 0; a < 3; ++a) a_entries.emplace_back(row + a, translation_variable(j) + a, scale);
+    } else {
+      for (int a = 0; a < 3; ++a) constant[row + a] += scale * transforms.translations(a, j);
+    }
+  };
+  for (const DeformationEnergy::Coherence& term : energy.coherence) {
+    constant.resize(row + 3, 0.0);
+    add_rotation(term.j, term.edge, term.sqrt_weight);
+    for (int a = 0; a < 3; ++a) constant[row + a] -= term.sqrt_weight * term.edge[a];
+    add_translation(term.j, term.sqrt_weight);
+    add_translation(term.k, -term.sqrt_weight);
+    row += 3;
+  }
+  // Position terms (one per handle vertex, and per held fixed vertex: a
+  // hundred thousand on a 1.7M-vertex mesh) are not rows of A: their three
+  // rows share one pattern, u_i = s w_i [o_i; 1] per node i (rotation column
+  // c * 3 + a and translation a for coordinate a), so their products are
+  // accumulated as 4x4 moments per node pair and expanded once below (I_3
+  // Kronecker each moment). p = s [rest; 1] is the handle row's pattern.
+  const int num_position_nodes = num_nodes;
+  std::unordered_map<int64_t, Eigen::Matrix4d> pair_moment;        // sum u_j u_k^T
+  std::vector<Eigen::Matrix4d> handle_moment;                      // sum u_j p^T
+  std::vector<Eigen::Matrix<double, 4, 3>> constant_moment;        // sum u_j c^T
+  // The terms' rows for the compressed residuals (Impl::root), grouped by
+  // their variable nodes (sorted) and whether they follow the handle. A row
+  // [u_1 .. u_k, p, c] (4 k + 7 numbers; u_i with 0 for a translation that
+  // is not a variable) gives coordinate a's residual as
+  //   row . [X_1a .. X_ka, -theta_a, e_a],
+  // X_ia = (R_i(a, 0..2), t_i(a)), theta_a = (handle(a, 0..2), its translation(a)).
+  struct PositionGroup {
+    std::vector<int> nodes;
+    std::vector<double> rows;  // row-major, 4 k + 7 wide
+  };
+  std::vector<PositionGroup> groups;
+  std::map<std::vector<int>, int> group_of_key;
+  std::vector<int> key, order;
+  if (!energy.positions.empty()) {
+    handle_moment.assign(num_position_nodes, Eigen::Matrix4d::Zero());
+    constant_moment.assign(num_position_nodes, Eigen::Matrix<double, 4, 3>::Zero());
+  }
+  std::vector<int> variable_nodes;
+  std::vector<Eigen::Vector4d> patterns;
+  for (const DeformationEnergy::Position& term : energy.positions) {
+    const double s = term.sqrt_weight;
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    variable_nodes.clear();
+    patterns.clear();
+    for (size_t i = 0; i < term.nodes.size(); ++i) {
+      const SkinningTerm& skin = term.terms[i];
+      const int j = term.nodes[i];
+      const double sw = s * skin.weight;
+      if (rotation_variable(j) < 0) c += sw * (transforms.rotation(j) * skin.offset);
+      if (translation_variable(j) < 0) c += sw * transforms.translations.col(j);
+      c += sw * skin.position;
+      if (rotation_variable(j) >= 0) {
+        variable_nodes.push_back(j);
+        patterns.push_back(sw * Eigen::Vector4d(skin.offset[0], skin.offset[1], skin.offset[2], 1.0));
+      }
+    }
+    Eigen::Vector4d p = Eigen::Vector4d::Zero();
+    if (term.follows_handle) {
+      p << s * term.rest, s;
+    } else {
+      c -= s * term.rest;
+    }
+    order.resize(variable_nodes.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+    std::sort(order.begin(), order.end(),
+              [&](int a, int b) { return variable_nodes[a] < variable_nodes[b]; });
+    key.assign(1, term.follows_handle ? 1 : 0);
+    for (int i : order) key.push_back(variable_nodes[i]);
+    auto [group, inserted] = group_of_key.try_emplace(key, static_cast<int>(groups.size()));
+    if (inserted) groups.push_back({std::vector<int>(key.begin() + 1, key.end()), {}});
+    std::vector<double>& rows = groups[group->second].rows;
+    for (int i : order) {
+      for (int e = 0; e < 4; ++e) {
+        const bool variable = e < 3 || translation_variable(variable_nodes[i]) >= 0;
+        rows.push_back(variable ? patterns[i][e] : 0.0);
+      }
+    }
+    for (int e = 0; e < 4; ++e) rows.push_back(p[e]);
+    for (int a = 0; a < 3; ++a) rows.push_back(c[a]);
+    for (size_t i = 0; i < variable_nodes.size(); ++i) {
+      const int j = variable_nodes[i];
+      if (term.follows_handle) handle_moment[j].noalias() += patterns[i] * p.transpose();
+      constant_moment[j].noalias() += patterns[i] * c.transpose();
+      for (size_t k = 0; k < variable_nodes.size(); ++k) {
+        const int64_t key = static_cast<int64_t>(j) * num_position_nodes + variable_nodes[k];
+        auto [it, inserted] = pair_moment.try_emplace(key, Eigen::Matrix4d::Zero());
+        it->second.noalias() += patterns[i] * patterns[k].transpose();
+      }
+    }
+  }
+  for (const DeformationEnergy::Gauge& term : energy.gauge) {
+    // Linear in R with no constant: one row of A.
+    CHECK_GE(rotation_variable(term.node), 0) << "gauge term on a Fixed node";
+    constant.resize(row + 1, 0.0);
+    const Eigen::Matrix<double, 1, 9> jacobian =
+        GaugeCostAnalytic::Jacobian(term.axis, term.sqrt_weight);
+    for (int i = 0; i < 9; ++i) {
+      if (jacobian[i] != 0.0)
+        a_entries.emplace_back(row, rotation_variable(term.node) + i, jacobian[i]);
+    }
+    row += 1;
+  }
+  terms.AppendLinearRows(&a_entries, &constant, &row);
+  SparseMatrix a_matrix(row, n), p_matrix(row, 13);
+  a_matrix.setFromTriplets(a_entries.begin(), a_entries.end());
+  for (int r = 0; r < row; ++r) {
+    if (constant[r] != 0.0) p_entries.emplace_back(r, 12, -constant[r]);
+  }
+  // p_matrix = [P, -c]: the residual is A x - p_matrix [tau; 1].
+  p_matrix.setFromTriplets(p_entries.begin(), p_entries.end());
+  const SparseMatrix a_transposed = a_matrix.transpose();
+  // The position terms' moments as variables: the column of node j's
+  // pattern entry c (0..2 rotation, 3 translation) for coordinate a, -1 when
+  // that part of j is not a variable; the handle's parameter column likewise.
+  auto variable_of = [&](int j, int c, int a) {
+    return c < 3 ? rotation_variable(j) + c * 3 + a : translation_variable(j) < 0 ? -1 : translation_variable(j) + a;
+  };
+  auto handle_column = [](int d, int a) { return d < 3 ? d * 3 + a : 9 + a; };
+  std::vector<Eigen::Triplet<double, int>> position_hessian, position_atp;
+  position_hessian.reserve(48 * pair_moment.size());
+  for (const auto& [key, moment] : pair_moment) {
+    const int j = static_cast<int>(key / num_position_nodes);
+    const int k = static_cast<int>(key % num_position_nodes);
+    for (int a = 0; a < 3; ++a) {
+      for (int c = 0; c < 4; ++c) {
+        const int row_variable = variable_of(j, c, a);
+        if (row_variable < 0) continue;
+        for (int d = 0; d < 4; ++d) {
+          const int column_variable = variable_of(k, d, a);
+          if (column_variable >= 0 && moment(c, d) != 0.0) {
+            position_hessian.emplace_back(row_variable, column_variable, moment(c, d));
+          }
+        }
+      }
+    }
+  }
+  for (int j = 0; j < static_cast<int>(handle_moment.size()); ++j) {
+    if (rotation_variable(j) < 0) continue;
+    for (int a = 0; a < 3; ++a) {
+      for (int c = 0; c < 4; ++c) {
+        const int row_variable = variable_of(j, c, a);
+        if (row_variable < 0) continue;
+        for (int d = 0; d < 4; ++d) {
+          if (handle_moment[j](c, d) != 0.0) {
+            position_atp.emplace_back(row_variable, handle_column(d, a), handle_moment[j](c, d));
+          }
+        }
+        // Column 12 is -c (p_matrix's last column).
+        if (constant_moment[j](c, a) != 0.0) {
+          position_atp.emplace_back(row_variable, 12, -constant_moment[j](c, a));
+        }
+      }
+    }
+  }
+  SparseMatrix hessian_positions(n, n), atp_positions(n, 13);
+  hessian_positions.setFromTriplets(position_hessian.begin(), position_hessian.end());
+  atp_positions.setFromTriplets(position_atp.begin(), position_atp.end());
+  out->hessian = (SparseMatrix(a_transposed * a_matrix) + hessian_positions).pruned();
+  const SparseMatrix atp = a_transposed * p_matrix + atp_positions;  // n by 13
+  out->handle_gradient = atp.leftCols(12);
+  out->linear_gradient = -Eigen::VectorXd(atp.col(12));
+
+  // The compressed residuals: A's rows (Coherence, gauge), then per position
+  // group R of a QR of its rows (R^T R = M^T M, so the same sum of squares for
+  // every x and tau; Householder QR is backward stable, so the rounding is
+  // about 1e-16 |M| |z| |M z|, not 1e-16 |M z|^2's expanded terms), or the
+  // rows themselves when there are no more of them than columns.
+  std::vector<Eigen::Triplet<double, int>> root_entries = a_entries, root_handle_entries;
+  for (const Eigen::Triplet<double, int>& entry : p_entries)
+    root_handle_entries.emplace_back(entry.row(), entry.col(), -entry.value());
+  int root_rows = row;
+  const int num_groups = static_cast<int>(groups.size());
+  std::vector<Eigen::MatrixXd> factors(num_groups);
+  int64_t total_rows = 0;
+  for (const PositionGroup& group : groups)
+    total_rows += static_cast<int64_t>(group.rows.size()) / (4 * group.nodes.size() + 7);
+  const bool parallel = num_threads > 1 && num_groups > 1 && total_rows >= min_parallel_rows;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(1, num_threads)) if (parallel)
+  for (int g = 0; g < num_groups; ++g) {
+    const PositionGroup& group = groups[g];
+    const int width = 4 * static_cast<int>(group.nodes.size()) + 7;
+    const int count = static_cast<int>(group.rows.size()) / width;
+    Eigen::MatrixXd& factor = factors[g];
+    factor = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic,
+                                            Eigen::RowMajor>>(group.rows.data(), count, width);
+    if (count > width) {
+      Eigen::HouseholderQR<Eigen::MatrixXd> qr(factor);
+      factor = qr.matrixQR().topRows(width).triangularView<Eigen::Upper>();
+    }
+  }
+  for (int g = 0; g < num_groups; ++g) {
+    const PositionGroup& group = groups[g];
+    const int k = static_cast<int>(group.nodes.size());
+    const Eigen::MatrixXd& factor = factors[g];
+    for (int i = 0; i < factor.rows(); ++i) {
+      for (int a = 0; a < 3; ++a) {
+        for (int node = 0; node < k; ++node) {
+          for (int e = 0; e < 4; ++e) {
+            const double value = factor(i, 4 * node + e);
+            const int variable = variable_of(group.nodes[node], e, a);
+            if (value != 0.0 && variable >= 0) root_entries.emplace_back(root_rows, variable, value);
+          }
+        }
+        for (int d = 0; d < 4; ++d) {
+          const double value = factor(i, 4 * k + d);
+          if (value != 0.0) root_handle_entries.emplace_back(root_rows, handle_column(d, a), -value);
+        }
+        const double value = factor(i, 4 * k + 4 + a);
+        if (value != 0.0) root_handle_entries.emplace_back(root_rows, 12, value);
+        ++root_rows;
+      }
+    }
+  }
+  out->root.resize(root_rows, n);
+  out->root.setFromTriplets(root_entries.begin(), root_entries.end());
+  out->root.makeCompressed();
+  out->root_handle.resize(root_rows, 13);
+  out->root_handle.setFromTriplets(root_handle_entries.begin(), root_handle_entries.end());
+}
+
+}  // namespace msdeform
