@@ -30,13 +30,13 @@
 #include <glog/logging.h>
 #include <nlohmann/json.hpp>
 
+#include "apps/flags/deformer_flags.h"
+#include "apps/flags/program.h"
 #include "msdeform/core/atomic_file.h"
-#include "msdeform/core/main_guard.h"
 #include "msdeform/core/mesh_io.h"
 #include "msdeform/core/scenario.h"
 #include "msdeform/core/timing.h"
 #include "msdeform/scales/deformer.h"
-#include "msdeform/scales/deformer_flags.h"
 #include "msdeform/scales/rigidity.h"
 #include "msdeform/scales/scale_selection.h"
 #include "msdeform/solvers/subspace_arap.h"
@@ -324,21 +324,8 @@ int Run() {
 }  // namespace
 }  // namespace msdeform
 
-// The program; main() below adds the out-of-memory report.
-static int Main(int argc, char** argv) {
-  const std::string usage =
-      "msdeform_figure_data --mode=graphs|edit|nodes_vs_p --out=F.json "
-      "[--mesh=M] [--scenario=S] [--method=...] (paper_figures/README.md)";
-  if (msdeform::HandleHelpRequest(argc, argv, usage, std::cout)) return 0;
-  gflags::SetUsageMessage(usage);
-  gflags::ParseCommandLineFlags(&argc, &argv, true);
-  google::InitGoogleLogging(argv[0]);
-  FLAGS_logtostderr = true;
-  FLAGS_minloglevel = 1;
-  if (argc > 1) {
-    std::cerr << "msdeform_figure_data: unexpected argument '" << argv[1] << "'\n";
-    return 1;
-  }
+// The program after the shared prologue (apps/flags/program.h).
+static int Body(const std::vector<std::string>&) {
   if (FLAGS_frames < 0 || FLAGS_frames > msdeform::kMaxScenarioFrames) {
     std::cerr << "msdeform_figure_data: --frames=" << FLAGS_frames << ": expected 0.."
               << msdeform::kMaxScenarioFrames << "\n";
@@ -347,7 +334,11 @@ static int Main(int argc, char** argv) {
   return msdeform::Run();
 }
 
-// Out of memory ends the run with one line and exit 1 (core/main_guard.h).
 int main(int argc, char** argv) {
-  return msdeform::RunReportingOutOfMemory("msdeform_figure_data", Main, argc, argv);
+  msdeform::ProgramInfo info;
+  info.name = "msdeform_figure_data";
+  info.usage =
+      "msdeform_figure_data --mode=graphs|edit|nodes_vs_p --out=F.json "
+      "[--mesh=M] [--scenario=S] [--method=...] (paper_figures/README.md)";
+  return msdeform::RunProgram(info, Body, argc, argv);
 }

@@ -24,20 +24,21 @@
 #include <glog/logging.h>
 #include <nlohmann/json.hpp>
 
+#include "apps/flags/deformer_flags.h"
+#include "apps/flags/method_flags.h"
+#include "apps/flags/program.h"
 #include "apps/outputs.h"
 #include "msdeform/core/build_info.h"
 #include "msdeform/core/drag_path.h"
 #include "msdeform/core/handles.h"
-#include "msdeform/core/main_guard.h"
 #include "msdeform/core/mesh_io.h"
+#include "msdeform/core/metrics.h"
 #include "msdeform/core/scenario.h"
 #include "msdeform/core/timing.h"
-#include "msdeform/methods/method_flags.h"
 #include "msdeform/methods/method_option_table.h"
 #include "msdeform/methods/method_options.h"
 #include "msdeform/methods/registry.h"
 #include "msdeform/scales/deformer.h"
-#include "msdeform/scales/deformer_flags.h"
 
 DEFINE_string(mesh, "",
               "[input] Input mesh (OFF, OBJ, PLY, STL). Default: the scenario's mesh.");
@@ -60,7 +61,7 @@ DEFINE_string(dump_nodes, "", "[output] CSV of the DG1 nodes: node,x,y,z,e_prime
 DEFINE_string(out_frames, "",
               "[output] Folder for every frame's mesh, <name>_0001.<ext> ... (ext of --out).");
 // The non-graph methods' options (methods/method_options.h); --method itself
-// is scales/deformer_flags.cc's and takes any registered name here.
+// is apps/flags/deformer_flags.cc's and takes any registered name here.
 DEFINE_bool(overwrite, false, "[output] Replace outputs that exist (otherwise an error).");
 DEFINE_bool(quiet, false, "[diagnostics] Print nothing but errors.");
 DEFINE_bool(verbose, false,
@@ -357,17 +358,19 @@ int Fail(const std::string& message) {
   return 1;
 }
 
-int Run(const std::vector<std::string>& command_line) {
-  const auto total_start = Clock::now();
-  std::string error;
-  Job job;
-  if (!PrepareJob(&job, &error)) return Fail(error);
-  std::unique_ptr<EditingMethod> method = CreateMethod(job.method, &error);
-  if (method == nullptr) return Fail("--method=" + job.method + ": " + error);
-  if (!method->Precompute(job.mesh, job.method_options, &error)) {
-    return Fail(job.mesh_path + ": " + error);
+// The method precomputed on the job's mesh with its handles set; false with
+// the line Fail prints.
+bool StartMethod(const Job& job, std::unique_ptr<EditingMethod>* method, std::string* error) {
+  *method = CreateMethod(job.method, error);
+  if (*method == nullptr) {
+    *error = "--method=" + job.method + ": " + *error;
+    return false;
   }
-  const Deformer* deformer = method->deformer();  // null: not a graph method
+  if (!(*method)->Precompute(job.mesh, job.method_options, error)) {
+    *error = job.mesh_path + ": " + *error;
+    return false;
+  }
+  const Deformer* deformer = (*method)->deformer();  // null: not a graph method
   if (deformer != nullptr && job.options.method == Method::kStatic &&
       deformer->graphs().back().num_nodes() < job.options.static_nodes && !FLAGS_quiet) {
     std::cerr << "msdeform: notice: --static_nodes=" << job.options.static_nodes
@@ -375,10 +378,17 @@ int Run(const std::vector<std::string>& command_line) {
               << " DG1 nodes; the static graph has " << deformer->graphs().back().num_nodes()
               << "\n";
   }
-  if (!method->SetHandles(job.layout, &error)) return Fail("handles: " + error);
+  if (!(*method)->SetHandles(job.layout, error)) {
+    *error = "handles: " + *error;
+    return false;
+  }
+  return true;
+}
 
-  // Every frame's mesh (--out_frames) is staged with the other outputs.
-  StagedOutputs staged;
+// Drags the method along the job's path, staging every frame's mesh
+// (--out_frames) with the other outputs; false with the line Fail prints.
+bool DragJob(const Job& job, EditingMethod* method, StagedOutputs* staged, DragLog* log,
+             std::string* error) {
   std::string frame_error;
   Mesh deformed = job.mesh;
   DragAlongOptions drag_options;
@@ -394,9 +404,9 @@ int Run(const std::vector<std::string>& command_line) {
       const std::string path = FramePath(job, frame);
       std::string staged_path;
       deformed.vertices = method->deformed_vertices();
-      if (!staged.Stage(path, &staged_path, &frame_error) ||
+      if (!staged->Stage(path, &staged_path, &frame_error) ||
           !WriteMesh(staged_path, deformed, &frame_error)) {
-        frame_error = staged.Translate(frame_error);
+        frame_error = staged->Translate(frame_error);
       }
     }
     // Progress on long drags: a line every 2 seconds.
@@ -406,60 +416,94 @@ int Run(const std::vector<std::string>& command_line) {
                 << MillisecondsSince(drag_start) / 1000.0 << " s\n";
     }
   };
-  DragLog log;
-  if (!DragAlong(method.get(), job.path, drag_options, &log, &error)) {
-    return Fail(job.mesh_path + ": " + error + "; " + std::to_string(log.failed_frames.size()) +
-                " failed frame(s); no output written");
+  if (!DragAlong(method, job.path, drag_options, log, error)) {
+    *error = job.mesh_path + ": " + *error + "; " + std::to_string(log->failed_frames.size()) +
+             " failed frame(s); no output written";
+    return false;
   }
-  if (!frame_error.empty()) return Fail(frame_error);
+  if (!frame_error.empty()) {
+    *error = frame_error;
+    return false;
+  }
+  return true;
+}
+
+// The drag's numbers for the report and the summary lines.
+struct DragSummary {
   std::vector<double> frame_ms, solve_ms, skin_ms, iterations;
   double iterations_total = 0.0, factorizations_total = 0.0;
+  double final_cost = 0.0;
+  double diagonal = 0.0;
+  double handle_rms = 0.0;
+  Displacement leakage;  // of the watch region
+};
+
+DragSummary Summarise(const Job& job, const EditingMethod& method, const DragLog& log) {
+  DragSummary summary;
   for (const DragStats& stats : log.frames) {
-    frame_ms.push_back(stats.frame_ms);
-    solve_ms.push_back(stats.solve_ms);
-    skin_ms.push_back(stats.skin_ms);
-    iterations.push_back(stats.iterations);
-    iterations_total += stats.iterations;
-    factorizations_total += stats.factorizations;
+    summary.frame_ms.push_back(stats.frame_ms);
+    summary.solve_ms.push_back(stats.solve_ms);
+    summary.skin_ms.push_back(stats.skin_ms);
+    summary.iterations.push_back(stats.iterations);
+    summary.iterations_total += stats.iterations;
+    summary.factorizations_total += stats.factorizations;
   }
-  const double final_cost = log.frames.back().final_cost;
-  const double diagonal =
-      deformer != nullptr ? deformer->diagonal() : BoundingBoxDiagonal(job.mesh);
+  summary.final_cost = log.frames.back().final_cost;
+  const Deformer* deformer = method.deformer();
+  summary.diagonal = deformer != nullptr ? deformer->diagonal() : BoundingBoxDiagonal(job.mesh);
+  // The quality measures of core/metrics.h, as the experiments compute them.
+  summary.handle_rms =
+      HandleRmsError(job.mesh, method.deformed_vertices(), job.layout.moveable, job.path.back());
+  summary.leakage = VertexDisplacement(job.mesh, method.deformed_vertices(), job.watch);
+  return summary;
+}
 
-  double handle_sq = 0.0;
-  for (int v : job.layout.moveable) {
-    handle_sq += (method->deformed_vertices().col(v) - job.path.back() * job.mesh.vertices.col(v))
-                     .squaredNorm();
-  }
-  const double handle_rms = std::sqrt(handle_sq / job.layout.moveable.size());
-  double leakage_sum = 0.0, leakage_max = 0.0;
-  for (int v : job.watch) {
-    const double moved = (method->deformed_vertices().col(v) - job.mesh.vertices.col(v)).norm();
-    leakage_sum += moved;
-    leakage_max = std::max(leakage_max, moved);
-  }
-
-  deformed.vertices = method->deformed_vertices();
+// The deformed mesh and --nodes, staged; false with the line Fail prints.
+bool StageMeshes(const Job& job, const EditingMethod& method, StagedOutputs* staged,
+                 std::string* error) {
+  Mesh deformed = job.mesh;
+  deformed.vertices = method.deformed_vertices();
   if (!deformed.vertices.allFinite()) {
-    return Fail(job.mesh_path + ": the deformed mesh has non-finite coordinates; no output written");
+    *error = job.mesh_path + ": the deformed mesh has non-finite coordinates; no output written";
+    return false;
   }
   std::string staged_path;
-  if (!staged.Stage(job.out_path, &staged_path, &error) ||
-      !WriteMesh(staged_path, deformed, &error)) {
-    return Fail(staged.Translate(error));
+  if (!staged->Stage(job.out_path, &staged_path, error) ||
+      !WriteMesh(staged_path, deformed, error)) {
+    *error = staged->Translate(*error);
+    return false;
   }
-  if (!job.nodes_path.empty() && (!staged.Stage(job.nodes_path, &staged_path, &error) ||
-                                  !WriteText(staged_path, NodesCsv(*deformer), &error))) {
-    return Fail(staged.Translate(error));
+  if (!job.nodes_path.empty() && (!staged->Stage(job.nodes_path, &staged_path, error) ||
+                                  !WriteText(staged_path, NodesCsv(*method.deformer()), error))) {
+    *error = staged->Translate(*error);
+    return false;
   }
+  return true;
+}
 
-  Json report;
+// The report (--report): the run's inputs, provenance, sizes, scales,
+// classes, timings and quality.
+bool BuildReport(const Job& job, const EditingMethod* method, const DragLog& log,
+                 const DragSummary& summary, const std::vector<std::string>& command_line,
+                 Clock::time_point total_start, Json* report_out, std::string* error) {
+  Json& report = *report_out;
+  const Deformer* deformer = method->deformer();
+  const double diagonal = summary.diagonal;
+  const double handle_rms = summary.handle_rms;
+  const Displacement& leakage = summary.leakage;
+  const std::vector<double>& frame_ms = summary.frame_ms;
+  const std::vector<double>& solve_ms = summary.solve_ms;
+  const std::vector<double>& skin_ms = summary.skin_ms;
+  const std::vector<double>& iterations = summary.iterations;
+  const double iterations_total = summary.iterations_total;
+  const double factorizations_total = summary.factorizations_total;
+  const double final_cost = summary.final_cost;
   report["name"] = job.name;
   report["mesh"] = job.mesh_path;
   report["method"] = job.method;
   report["solver"] = SolverName(job.options.backend);
   report["seed"] = job.options.graph.seed;
-  if (!Provenance(job, command_line, &report, &error)) return Fail(error);
+  if (!Provenance(job, command_line, &report, error)) return false;
   report["vertices"] = job.mesh.num_vertices();
   report["faces"] = job.mesh.num_faces();
   report["dropped_faces"] = {{"repeat_a_vertex", job.read_report.dropped_degenerate_faces},
@@ -526,8 +570,8 @@ int Run(const std::vector<std::string>& command_line) {
   report["handle_rms_rel"] = handle_rms / diagonal;
   if (!job.watch.empty()) {
     report["watch"] = {{"vertices", job.watch.size()},
-                       {"leakage_rel", leakage_sum / job.watch.size() / diagonal},
-                       {"leakage_max_rel", leakage_max / diagonal}};
+                       {"leakage_rel", leakage.mean / diagonal},
+                       {"leakage_max_rel", leakage.max / diagonal}};
   }
   report["solve"] = {{"iterations_median", Median(iterations)},
                      {"iterations_total", iterations_total},
@@ -535,82 +579,106 @@ int Run(const std::vector<std::string>& command_line) {
                      {"final_cost", final_cost}};
   report["failed_frames"] = log.failed_frames;
   report["output"] = job.out_path;
-  if (!staged.Stage(job.report_path, &staged_path, &error) ||
-      !WriteText(staged_path, report.dump(2) + "\n", &error)) {
-    return Fail(staged.Translate(error));
-  }
-  if (!staged.Commit(&error)) return Fail(error);
+  return true;
+}
 
-  if (!FLAGS_quiet && deformer != nullptr) {
+// The lines msdeform prints on success (none with --quiet).
+void PrintSummary(const Job& job, const EditingMethod& method, const DragLog& log,
+                  const DragSummary& summary) {
+  if (FLAGS_quiet) return;
+  const Deformer* deformer = method.deformer();
+  const double diagonal = summary.diagonal;
+  if (deformer != nullptr) {
+    int totally_free = 0, half_free = 0;
+    for (NodeClass c : deformer->node_classes()) {
+      totally_free += c == NodeClass::kTotallyFree;
+      half_free += c == NodeClass::kHalfFree;
+    }
     std::printf("msdeform: %s (%d vertices), %s method, %s solver: scale %d of %zu; "
                 "%d Totally Free + %d Half Free nodes optimised (%d variables)\n",
                 job.name.c_str(), job.mesh.num_vertices(), job.method.c_str(),
                 SolverName(job.options.backend), deformer->active_graph() + 1,
                 deformer->graphs().size(), totally_free, half_free, deformer->num_variables());
-  } else if (!FLAGS_quiet) {
+  } else {
     std::printf("msdeform: %s (%d vertices), %s method: %d elements optimised (%d variables)\n",
                 job.name.c_str(), job.mesh.num_vertices(), job.method.c_str(),
-                method->nodes_optimized(), method->variables());
+                method.nodes_optimized(), method.variables());
   }
-  if (!FLAGS_quiet) {
-    std::printf("  %zu frames: median frame %.2f ms (solve %.2f, skin %.2f); handle rms %.3g = "
-                "%.2g of the bbox diagonal (distance of the handle vertices from their targets)\n",
-                job.path.size(), Median(frame_ms), Median(solve_ms), Median(skin_ms), handle_rms,
-                handle_rms / diagonal);
-    if (!job.watch.empty()) {
-      std::printf("  watch region (%zu vertices) moved %.2g of the diagonal on average, %.2g at "
-                  "most\n",
-                  job.watch.size(), leakage_sum / job.watch.size() / diagonal,
-                  leakage_max / diagonal);
-    }
-    std::printf("  wrote %s and %s%s\n", job.out_path.c_str(), job.report_path.c_str(),
-                job.frames_dir.empty() ? "" : (" and the frames in " + job.frames_dir).c_str());
-    if (!log.failed_frames.empty()) {
-      std::printf("  %zu intermediate frame(s) failed to solve and kept the previous pose "
-                  "(failed_frames in the report)\n",
-                  log.failed_frames.size());
-    }
+  std::printf("  %zu frames: median frame %.2f ms (solve %.2f, skin %.2f); handle rms %.3g = "
+              "%.2g of the bbox diagonal (distance of the handle vertices from their targets)\n",
+              job.path.size(), Median(summary.frame_ms), Median(summary.solve_ms),
+              Median(summary.skin_ms), summary.handle_rms, summary.handle_rms / diagonal);
+  if (!job.watch.empty()) {
+    std::printf("  watch region (%zu vertices) moved %.2g of the diagonal on average, %.2g at "
+                "most\n",
+                job.watch.size(), summary.leakage.mean / diagonal, summary.leakage.max / diagonal);
   }
+  std::printf("  wrote %s and %s%s\n", job.out_path.c_str(), job.report_path.c_str(),
+              job.frames_dir.empty() ? "" : (" and the frames in " + job.frames_dir).c_str());
+  if (!log.failed_frames.empty()) {
+    std::printf("  %zu intermediate frame(s) failed to solve and kept the previous pose "
+                "(failed_frames in the report)\n",
+                log.failed_frames.size());
+  }
+}
+
+// One run: the method on the job, the drag, the outputs staged and
+// committed together, then the summary.
+int Run(const std::vector<std::string>& command_line) {
+  const auto total_start = Clock::now();
+  std::string error;
+  Job job;
+  if (!PrepareJob(&job, &error)) return Fail(error);
+  std::unique_ptr<EditingMethod> method;
+  if (!StartMethod(job, &method, &error)) return Fail(error);
+  // Every output (frames, mesh, nodes, report) is staged and committed together.
+  StagedOutputs staged;
+  DragLog log;
+  if (!DragJob(job, method.get(), &staged, &log, &error)) return Fail(error);
+  const DragSummary summary = Summarise(job, *method, log);
+  if (!StageMeshes(job, *method, &staged, &error)) return Fail(error);
+  Json report;
+  if (!BuildReport(job, method.get(), log, summary, command_line, total_start, &report, &error)) {
+    return Fail(error);
+  }
+  std::string staged_path;
+  if (!staged.Stage(job.report_path, &staged_path, &error) ||
+      !WriteText(staged_path, report.dump(2) + "\n", &error)) {
+    return Fail(staged.Translate(error));
+  }
+  if (!staged.Commit(&error)) return Fail(error);
+  PrintSummary(job, *method, log, summary);
   return 0;
 }
 
 }  // namespace
 }  // namespace msdeform
 
-// The program; main() below adds the out-of-memory report.
-static int Main(int argc, char** argv) {
-  const std::string usage =
-      "msdeform: edit a mesh with the multi-scale method of Liu & Su 2008.\n"
-      "  msdeform [--scenario=PATH | --mesh=PATH --sel=PATH --def=PATH] [flags]\n"
-      "  msdeform --rerun=REPORT.json --out=PATH     (repeat a run from its report)\n"
-      "With no arguments: the default armadillo edit (data/scenarios/armadillo_claw.json).";
-  if (msdeform::HandleHelpRequest(argc, argv, usage, std::cout)) return 0;
-  const std::vector<std::string> command_line(argv, argv + argc);
+// The program after the shared prologue (apps/flags/program.h): --rerun, then the run.
+static int Body(const std::vector<std::string>& command_line) {
   std::string error;
-  if (!msdeform::CheckFlagNames(argc, argv, &error)) return msdeform::Fail(error);
-  gflags::SetUsageMessage(usage);
-  // --version (gflags's own flag) prints "msdeform version <this>" and exits 0.
-  gflags::SetVersionString(std::string(msdeform::MsdeformVersion()) + " (commit " +
-                           msdeform::MsdeformCommit() + "); Ceres " + msdeform::CeresVersion() +
-                           ", Eigen " + msdeform::EigenVersion() + ", OpenMesh " +
-                           msdeform::OpenMeshVersion());
-  gflags::ParseCommandLineFlags(&argc, &argv, true);
-  google::InitGoogleLogging(argv[0]);
-  FLAGS_logtostderr = true;
-  // Errors are the one-line messages of Run(); Ceres's own log (e.g. an
-  // "invalid steps" error on a diverging solve) only with --verbose.
-  FLAGS_minloglevel = FLAGS_verbose ? 0 : 3;
-  if (argc > 1) {
-    return msdeform::Fail(std::string("unexpected argument '") + argv[1] +
-                          "' (flags are --name=value)");
-  }
   if (!FLAGS_rerun.empty() && !msdeform::ApplyRerun(FLAGS_rerun, &error)) {
     return msdeform::Fail(error);
   }
   return msdeform::Run(command_line);
 }
 
-// Out of memory ends the run with one line and exit 1 (core/main_guard.h).
 int main(int argc, char** argv) {
-  return msdeform::RunReportingOutOfMemory("msdeform", Main, argc, argv);
+  msdeform::ProgramInfo info;
+  info.name = "msdeform";
+  info.usage =
+      "msdeform: edit a mesh with the multi-scale method of Liu & Su 2008.\n"
+      "  msdeform [--scenario=PATH | --mesh=PATH --sel=PATH --def=PATH] [flags]\n"
+      "  msdeform --rerun=REPORT.json --out=PATH     (repeat a run from its report)\n"
+      "With no arguments: the default armadillo edit (data/scenarios/armadillo_claw.json).";
+  // --version (gflags's own flag) prints "msdeform version <this>" and exits 0.
+  info.version = std::string(msdeform::MsdeformVersion()) + " (commit " +
+                 msdeform::MsdeformCommit() + "); Ceres " + msdeform::CeresVersion() +
+                 ", Eigen " + msdeform::EigenVersion() + ", OpenMesh " +
+                 msdeform::OpenMeshVersion();
+  // Errors are the one-line messages of Run(); Ceres's own log (e.g. an
+  // "invalid steps" error on a diverging solve) only with --verbose.
+  info.quiet_log_level = 3;
+  info.verbose = &FLAGS_verbose;
+  return msdeform::RunProgram(info, Body, argc, argv);
 }

@@ -1,5 +1,6 @@
 #include "msdeform/core/option_table.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -70,6 +71,40 @@ std::string JoinChoices(const std::vector<std::string>& names) {
     joined += names[i];
   }
   return joined;
+}
+
+namespace {
+
+// Levenshtein distance.
+int EditDistance(const std::string& a, const std::string& b) {
+  std::vector<int> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = static_cast<int>(j);
+  for (size_t i = 1; i <= a.size(); ++i) {
+    int diagonal = row[0];
+    row[0] = static_cast<int>(i);
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const int up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+}  // namespace
+
+std::string NearestName(const std::string& name, const std::vector<std::string>& names) {
+  std::string nearest;
+  int best = 1 << 30;
+  for (const std::string& candidate : names) {
+    const int distance = EditDistance(name, candidate);
+    if (distance < best) {
+      best = distance;
+      nearest = candidate;
+    }
+  }
+  if (nearest.empty() || best > std::max<int>(2, static_cast<int>(name.size()) / 3)) return "";
+  return nearest;
 }
 
 const char* OptionTypeName(OptionType type) {

@@ -46,6 +46,10 @@ bool ParseOptionInteger(const std::string& text, long long* value);
 bool ParseOptionUnsigned(const std::string& text, unsigned long long* value);
 // "a, b or c".
 std::string JoinChoices(const std::vector<std::string>& names);
+// The name of `names` nearest to `name` (Levenshtein distance) when it is
+// within max(2, |name| / 3) edits, else "": what "did you mean" offers for a
+// mistyped flag (apps/flags) or keyword (Python).
+std::string NearestName(const std::string& name, const std::vector<std::string>& names);
 
 // The names of an enum's values: one {value, "name"} per value.
 template <typename E>

@@ -18,13 +18,14 @@
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
-#include "msdeform/core/build_info.h"
-#include "msdeform/core/scenario.h"
+#include "apps/flags/deformer_flags.h"
+#include "apps/flags/method_flags.h"
+#include "apps/flags/program.h"
 #include "experiments/runner.h"
 #include "experiments/solver_lab.h"
-#include "msdeform/core/main_guard.h"
-#include "msdeform/methods/method_flags.h"
-#include "msdeform/scales/deformer_flags.h"
+#include "msdeform/core/build_info.h"
+#include "msdeform/core/scenario.h"
+#include "msdeform/methods/registry.h"
 
 DEFINE_string(scenarios, "",
               "[input] Folder of the scenario entries (*.json). Default: experiments/scenarios "
@@ -51,15 +52,38 @@ DEFINE_bool(solver_lab, false,
 DEFINE_string(variants, "",
               "[solver] Solver lab: comma-separated variant names (default: all, e.g. gn_lagged, "
               "gn_exact, ceres_lm_eigen_sparse, arap_local_global).");
-DEFINE_string(methods, "",
-              "[method] Comma-separated methods of table 2, any registered one: multiscale, "
-              "static, static_dense, cgal_arap, cgal_sr_arap, fastlsm (default: all; "
-              "methods/registry.h).");
-DEFINE_string(energies, "ed,arap",
-              "[method] Comma-separated energies that multiscale, static and static_dense run "
-              "with in table 2, one row each: ed (Eq. 17), arap (the subspace ARAP energy, "
-              "scales/subspace_arap.h). The other methods run once; the ablations add their "
-              "energy_arap and arap_* rows either way.");
+namespace {
+
+// The help texts that list methods, from the registry's descriptors.
+const char* MethodsHelp() {
+  static const std::string help =
+      "[method] Comma-separated methods of table 2, any registered one: " +
+      msdeform::MethodNameList() + " (default: all; methods/registry.h).";
+  return help.c_str();
+}
+
+const char* EnergiesHelp() {
+  static const std::string help = [] {
+    std::vector<std::string> graph;
+    for (const msdeform::MethodDescriptor& method : msdeform::RegisteredMethods()) {
+      if (method.graph) graph.push_back(method.name);
+    }
+    std::string names;  // "a, b and c"
+    for (size_t i = 0; i < graph.size(); ++i) {
+      names += (i == 0 ? "" : i + 1 == graph.size() ? " and " : ", ") + graph[i];
+    }
+    return "[method] Comma-separated energies that " + names +
+           " run with in table 2, one row each: ed (Eq. 17), arap (the subspace ARAP energy, "
+           "scales/subspace_arap.h). The other methods run once; the ablations add their "
+           "energy_arap and arap_* rows either way.";
+  }();
+  return help.c_str();
+}
+
+}  // namespace
+
+DEFINE_string(methods, "", MethodsHelp());
+DEFINE_string(energies, "ed,arap", EnergiesHelp());
 DEFINE_string(reference_method, "cgal_arap",
               "[method] The method whose final mesh is the reference of arap_distance_rel "
               "(empty: none).");
@@ -132,19 +156,20 @@ bool FillOptions(RunnerOptions* options, std::string* error) {
   options->only = SplitNames(FLAGS_only);
   options->methods = SplitNames(FLAGS_methods);
   options->time_other_backend = FLAGS_time_other_backend;
-  if (!DeformerOptionsFromFlags(&options->deformer, error)) return false;
-  options->threads = options->deformer.num_threads;
-  MethodOptions own;  // the methods' own flags (--cgal_iterations, --fastlsm_steps, ...)
-  if (!MethodOwnOptionsFromFlags(&own, error)) return false;
-  options->cgal = own.cgal;
-  options->fastlsm = own.fastlsm;
+  // The Deformer's flags (--method names a graph method), then the methods'
+  // own (--cgal_iterations, --fastlsm_steps, ...).
+  if (!DeformerOptionsFromFlags(&options->method_options.deformer, error) ||
+      !MethodOwnOptionsFromFlags(&options->method_options, error)) {
+    return false;
+  }
+  options->threads = options->method_options.deformer.num_threads;
   options->reference_method = FLAGS_reference_method;
   options->progress = PrintLine;
   return options->Check(error);
 }
 
 // The lab sets the solver per variant and budget: a solver flag of
-// scales/deformer_flags.cc ("[solver] ...") given with --solver_lab is an error.
+// apps/flags/deformer_flags.cc ("[solver] ...") given with --solver_lab is an error.
 bool CheckNoSolverFlags(std::string* error) {
   std::vector<gflags::CommandLineFlagInfo> flags;
   gflags::GetAllFlags(&flags);
@@ -184,32 +209,8 @@ bool FillLabOptions(SolverLabOptions* options, std::string* error) {
 }  // namespace
 }  // namespace msdeform
 
-// The program; main() below adds the out-of-memory report.
-static int Main(int argc, char** argv) {
-  // The runner measures one core per run unless told otherwise: the default
-  // of every spelling of the option (the first given wins, none given the
-  // first registered).
-  for (const char* spelling : {"num_threads", "threads"}) {
-    gflags::SetCommandLineOptionWithMode(
-        spelling, std::to_string(msdeform::RunnerOptions().threads).c_str(),
-        gflags::SET_FLAGS_DEFAULT);
-  }
-  const std::string usage =
-      "msdeform_experiments [--quick] [--out_dir=DIR] [--scenarios=DIR] [--only=a,b] "
-      "[--energies=ed,arap] [--frames=N] [--threads=N] [any msdeform method, solver or ablation flag]\n"
-      "the solver lab: msdeform_experiments --solver_lab [--quick] [--out_dir=DIR] [--only=a,b] "
-      "[--variants=a,b] [--large_meshes=false] [--frames=N] [--threads=N]";
-  if (msdeform::HandleHelpRequest(argc, argv, usage, std::cout)) return 0;
-  gflags::SetUsageMessage(usage);
-  gflags::ParseCommandLineFlags(&argc, &argv, true);
-  google::InitGoogleLogging(argv[0]);
-  FLAGS_logtostderr = true;
-  FLAGS_minloglevel = 1;
-  if (argc > 1) {
-    std::cerr << "msdeform_experiments: unexpected argument '" << argv[1]
-              << "' (flags are --name=value)\n";
-    return 1;
-  }
+// The program after the shared prologue (apps/flags/program.h).
+static int Body(const std::vector<std::string>&) {
   if (FLAGS_frames < 0 || FLAGS_frames > msdeform::kMaxScenarioFrames) {
     std::cerr << "msdeform_experiments: --frames=" << FLAGS_frames << ": expected 0.."
               << msdeform::kMaxScenarioFrames << "\n";
@@ -231,7 +232,21 @@ static int Main(int argc, char** argv) {
   return 0;
 }
 
-// Out of memory ends the run with one line and exit 1 (core/main_guard.h).
 int main(int argc, char** argv) {
-  return msdeform::RunReportingOutOfMemory("msdeform_experiments", Main, argc, argv);
+  // The runner measures one core per run unless told otherwise: the default
+  // of every spelling of the option (the first given wins, none given the
+  // first registered).
+  for (const char* spelling : {"num_threads", "threads"}) {
+    gflags::SetCommandLineOptionWithMode(
+        spelling, std::to_string(msdeform::RunnerOptions().threads).c_str(),
+        gflags::SET_FLAGS_DEFAULT);
+  }
+  msdeform::ProgramInfo info;
+  info.name = "msdeform_experiments";
+  info.usage =
+      "msdeform_experiments [--quick] [--out_dir=DIR] [--scenarios=DIR] [--only=a,b] "
+      "[--energies=ed,arap] [--frames=N] [--threads=N] [any msdeform method, solver or ablation flag]\n"
+      "the solver lab: msdeform_experiments --solver_lab [--quick] [--out_dir=DIR] [--only=a,b] "
+      "[--variants=a,b] [--large_meshes=false] [--frames=N] [--threads=N]";
+  return msdeform::RunProgram(info, Body, argc, argv);
 }

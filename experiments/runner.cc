@@ -8,6 +8,8 @@
 #include <memory>
 #include <sstream>
 
+#include <glog/logging.h>
+
 #include "msdeform/core/scenario.h"
 #include "msdeform/core/timing.h"
 #include "msdeform/core/metrics.h"
@@ -57,17 +59,89 @@ std::string Int(long long value) { return std::to_string(value); }
 
 }  // namespace
 
-bool IsGraphMethod(const std::string& method) {
-  Method graph_method;
-  return ParseMethod(method, &graph_method);
+const std::vector<ResultColumn>& RunResultColumns() {
+  static const std::vector<ResultColumn> columns = [] {
+    using R = RunResult;
+    using K = ResultColumnKind;
+    std::vector<ResultColumn> c;
+    const auto text = [&c](const char* name, std::string R::*field) {
+      c.push_back({name, K::kText, false, field, nullptr, nullptr});
+    };
+    const auto integer = [&c](const char* name, int R::*field) {
+      c.push_back({name, K::kInt, false, nullptr, field, nullptr});
+    };
+    const auto number = [&c](const char* name, double R::*field, bool timing = false) {
+      c.push_back({name, K::kNumber, timing, nullptr, nullptr, field});
+    };
+    text("scenario", &R::scenario);
+    text("method", &R::method);
+    text("energy", &R::energy);
+    integer("vertices", &R::vertices);
+    integer("faces", &R::faces);
+    number("diagonal", &R::diagonal);
+    number("cell_width", &R::cell_width);
+    integer("particles", &R::particles);
+    integer("d1", &R::dg1_nodes);
+    integer("scales_n", &R::num_scales);
+    integer("shared_cells", &R::shared_cells);
+    integer("selected_scale", &R::selected_scale);
+    integer("scale_nodes", &R::graph_nodes);
+    integer("totally_free", &R::totally_free);
+    integer("half_free", &R::half_free);
+    integer("nodes_optimized", &R::nodes_optimized);
+    integer("variables", &R::variables);
+    number("precompute_ms", &R::precompute_ms, /*timing=*/true);
+    number("rigidity_ms", &R::rigidity_ms, /*timing=*/true);
+    number("setup_ms", &R::setup_ms, /*timing=*/true);
+    number("frame_ms", &R::frame_ms, /*timing=*/true);
+    number("solve_ms", &R::solve_ms, /*timing=*/true);
+    number("skin_ms", &R::skin_ms, /*timing=*/true);
+    number("solve_total_ms", &R::solve_total_ms, /*timing=*/true);
+    number("iterations", &R::iterations_median);
+    integer("iterations_total", &R::iterations_total);
+    number("final_cost", &R::final_cost);
+    integer("unconverged_frames", &R::unconverged_frames);
+    number("handle_rms_rel", &R::handle_rms_rel);
+    number("fixed_max_rel", &R::fixed_max_rel);
+    number("leakage_rel", &R::leakage_rel);
+    number("leakage_max_rel", &R::leakage_max_rel);
+    number("arap_energy", &R::arap_energy);
+    number("arap_energy_joint", &R::arap_energy_joint);
+    number("strain", &R::strain);
+    number("orthogonality", &R::orthogonality);
+    number("arap_distance_rel", &R::arap_distance_rel);
+    number("other_backend_frame_ms", &R::other_backend_frame_ms, /*timing=*/true);
+    number("wall_ms", &R::wall_ms, /*timing=*/true);
+    return c;
+  }();
+  return columns;
 }
 
-std::string MinimisedEnergy(const std::string& method, const MethodOptions& options) {
-  if (IsGraphMethod(method)) return EnergyName(options.deformer.energy);
-  if (method == "cgal_arap") return "arap";
-  if (method == "cgal_sr_arap") return "sr_arap";
-  if (method == "fastlsm") return "shape_matching";
-  return "-";
+const ResultColumn* FindResultColumn(const std::string& name) {
+  for (const ResultColumn& column : RunResultColumns()) {
+    if (column.name == name) return &column;
+  }
+  return nullptr;
+}
+
+std::vector<std::string> ResultCells(const RunResult& r, const std::vector<std::string>& columns) {
+  std::vector<std::string> cells;
+  for (const std::string& name : columns) {
+    const ResultColumn* column = FindResultColumn(name);
+    CHECK(column != nullptr) << "no RunResult column " << name;
+    switch (column->kind) {
+      case ResultColumnKind::kText:
+        cells.push_back(r.*(column->text));
+        break;
+      case ResultColumnKind::kInt:
+        cells.push_back(Int(r.*(column->integer)));
+        break;
+      case ResultColumnKind::kNumber:
+        cells.push_back(FormatNumber(r.*(column->number)));
+        break;
+    }
+  }
+  return cells;
 }
 
 bool RunMethod(const ExperimentScenario& scenario, const std::string& method_name,
@@ -78,7 +152,7 @@ bool RunMethod(const ExperimentScenario& scenario, const std::string& method_nam
   *result = RunResult();
   result->scenario = scenario.name;
   result->method = label;
-  result->energy = MinimisedEnergy(method_name, options);
+  result->energy = MinimisedEnergy(method_name, options.deformer);
   std::unique_ptr<EditingMethod> method = CreateMethod(method_name, error);
   if (method == nullptr || !method->Precompute(scenario.mesh, options, error) ||
       !method->SetHandles(scenario.layout, error)) {
@@ -218,7 +292,7 @@ bool RunnerOptions::Check(std::string* error) const {
       return false;
     }
   }
-  return deformer.Check(error) && cgal.Check(error) && fastlsm.Check(error);
+  return method_options.Check(error);
 }
 
 namespace {
@@ -299,31 +373,65 @@ std::string Describe(const RunResult& r) {
 
 }  // namespace
 
-bool RunExperiments(const RunnerOptions& options, std::string* error) {
-  if (!options.Check(error)) return false;
-  auto progress = [&](const std::string& line) {
-    if (options.progress) options.progress(line);
-  };
-  const auto start = Clock::now();
+namespace {
 
+// The columns of the three tables, by RunResult column name (RunResultColumns).
+const std::vector<std::string>& Table1Columns() {
+  static const std::vector<std::string> columns = {
+      "scenario",      "vertices",       "faces",        "cell_width",   "particles",
+      "d1",            "scales_n",       "precompute_ms", "rigidity_ms", "setup_ms",
+      "selected_scale", "scale_nodes",   "totally_free", "half_free",    "nodes_optimized",
+      "variables",     "frame_ms"};
+  return columns;
+}
+const std::vector<std::string>& Table2Columns() {
+  static const std::vector<std::string> columns = {
+      "scenario",          "method",          "energy",          "vertices",
+      "nodes_optimized",   "variables",       "frame_ms",        "solve_ms",
+      "skin_ms",           "setup_ms",        "iterations",      "unconverged_frames",
+      "handle_rms_rel",    "fixed_max_rel",   "arap_energy",     "arap_energy_joint",
+      "strain",            "leakage_rel",     "leakage_max_rel", "orthogonality",
+      "arap_distance_rel", "other_backend_frame_ms", "precompute_ms", "rigidity_ms"};
+  return columns;
+}
+const std::vector<std::string>& AblationColumns() {
+  static const std::vector<std::string> columns = {
+      "scenario",       "method",          "energy",        "selected_scale", "nodes_optimized",
+      "variables",      "frame_ms",        "iterations",    "handle_rms_rel", "fixed_max_rel",
+      "arap_energy",    "arap_energy_joint", "strain",      "leakage_rel",    "leakage_max_rel",
+      "orthogonality",  "arap_distance_rel"};
+  return columns;
+}
+
+// What a run covers once the options are resolved: the scenario files, the
+// methods of table 2, the ablation scenarios and the frame count.
+struct RunPlan {
+  std::vector<std::string> scenario_files;
+  std::vector<std::string> methods;
+  std::vector<std::string> ablation_scenarios;
+  int frames = 0;
+};
+
+bool PlanRun(const RunnerOptions& options, RunPlan* plan, std::string* error) {
   // The scenario entries, in name order.
   std::vector<std::string> files;
   if (!ListScenarioFiles(options.scenario_dir, &files, error)) return false;
   std::vector<std::string> only = options.only;
-  std::vector<std::string> methods = options.methods;
-  if (methods.empty()) methods = MethodNames();
-  std::vector<std::string> ablation_names = options.ablation_scenarios;
-  int frames = options.frames;
+  plan->methods = options.methods;
+  if (plan->methods.empty()) plan->methods = MethodNames();
+  plan->ablation_scenarios = options.ablation_scenarios;
+  plan->frames = options.frames;
   if (options.quick) {
     if (only.empty()) only = {"cactus", "hand_finger"};
-    ablation_names = {"cactus"};
-    if (frames == 0) frames = 5;
+    plan->ablation_scenarios = {"cactus"};
+    if (plan->frames == 0) plan->frames = 5;
   }
-  std::vector<std::string> selected;
   for (const std::string& file : files) {
-    if (only.empty() || Contains(only, fs::path(file).stem().string())) selected.push_back(file);
+    if (only.empty() || Contains(only, fs::path(file).stem().string())) {
+      plan->scenario_files.push_back(file);
+    }
   }
-  if (selected.empty()) {
+  if (plan->scenario_files.empty()) {
     *error = options.scenario_dir + ": no scenario selected";
     return false;
   }
@@ -333,149 +441,118 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
     *error = options.out_dir + ": " + ec.message();
     return false;
   }
+  return true;
+}
 
-  DeformerOptions base = options.deformer;
-  base.num_threads = options.threads;
-  base.graph.num_threads = options.threads;
-  MethodOptions method_base;
-  method_base.deformer = base;
-  method_base.cgal = options.cgal;
-  method_base.fastlsm = options.fastlsm;
-
-  Table table1{"Table 1: the multi-scale method per model (paper Table 1)",
-               {"model", "scenario", "vertices", "faces", "cell_width", "particles", "d1",
-                "scales_n", "precompute_ms", "rigidity_ms", "setup_ms", "selected_scale",
-                "scale_nodes", "totally_free", "half_free", "nodes_optimized", "variables",
-                "frame_ms"},
-               {},
-               {}};
+struct ExperimentTables {
+  Table table1{"Table 1: the multi-scale method per model (paper Table 1)", {}, {}, {}};
   Table table2{"Table 2: multi-scale against the single static graphs, CGAL's ARAP and SR-ARAP, and FastLSM",
-               {"scenario", "method", "energy", "vertices", "nodes_optimized", "variables", "frame_ms",
-                "solve_ms", "skin_ms", "setup_ms", "iterations", "unconverged_frames",
-                "handle_rms_rel", "fixed_max_rel", "arap_energy", "arap_energy_joint", "strain",
-                "leakage_rel", "leakage_max_rel", "orthogonality", "arap_distance_rel",
-                "other_backend_frame_ms", "precompute_ms", "rigidity_ms"},
-               {},
-               {}};
-  Table ablations{"Ablations (docs/method.md §7; paper Fig. 5 and 7)",
-                  {"scenario", "variant", "energy", "selected_scale", "nodes_optimized", "variables",
-                   "frame_ms", "iterations", "handle_rms_rel", "fixed_max_rel", "arap_energy",
-                   "arap_energy_joint", "strain", "leakage_rel", "leakage_max_rel",
-                   "orthogonality", "arap_distance_rel"},
-                  {},
-                  {}};
-  auto add_table2 = [&](const RunResult& r) {
-    table2.AddRow({r.scenario, r.method, r.energy, Int(r.vertices), Int(r.nodes_optimized),
-                   Int(r.variables), FormatNumber(r.frame_ms), FormatNumber(r.solve_ms),
-                   FormatNumber(r.skin_ms), FormatNumber(r.setup_ms),
-                   FormatNumber(r.iterations_median), Int(r.unconverged_frames),
-                   FormatNumber(r.handle_rms_rel), FormatNumber(r.fixed_max_rel),
-                   FormatNumber(r.arap_energy), FormatNumber(r.arap_energy_joint),
-                   FormatNumber(r.strain), FormatNumber(r.leakage_rel),
-                   FormatNumber(r.leakage_max_rel), FormatNumber(r.orthogonality),
-                   FormatNumber(r.arap_distance_rel), FormatNumber(r.other_backend_frame_ms),
-                   FormatNumber(r.precompute_ms), FormatNumber(r.rigidity_ms)});
-  };
+               Table2Columns(), {}, {}};
+  Table ablations{"Ablations (docs/method.md §7; paper Fig. 5 and 7)", {}, {}, {}};
 
-  int index = 0;
-  for (const std::string& file : selected) {
-    ++index;
-    const auto scenario_start = Clock::now();
-    ExperimentScenario scenario;
-    if (!LoadExperimentScenario(file, frames, &scenario, error)) return false;
-    std::ostringstream line;
-    line << "[" << index << "/" << selected.size() << "] " << scenario.name << " ("
-         << scenario.mesh.num_vertices() << " vertices, " << scenario.layout.fixed.size()
-         << " fixed, " << scenario.layout.moveable.size() << " handle, "
-         << (scenario.has_watch ? std::to_string(scenario.watch.size()) : std::string("no"))
-         << " watch, " << scenario.path.size() << " frames):";
+  ExperimentTables() {
+    table1.columns = {"model"};
+    table1.columns.insert(table1.columns.end(), Table1Columns().begin(), Table1Columns().end());
+    // The ablations name a row's method its variant.
+    ablations.columns = AblationColumns();
+    ablations.columns[1] = "variant";
+  }
+};
 
-    // The reference method first: its final mesh is the reference of
-    // arap_distance_rel (its own row then measures 0).
-    Eigen::Matrix3Xd reference_result;
-    const bool run_reference =
-        !options.reference_method.empty() && Contains(methods, options.reference_method);
-    RunResult reference_row;
-    if (run_reference &&
-        !RunMethod(scenario, options.reference_method, method_base, options.reference_method,
-                   nullptr, &reference_row, &reference_result, error)) {
-      return false;
-    }
-    if (run_reference) reference_row.arap_distance_rel = 0.0;
-    const Eigen::Matrix3Xd* reference = run_reference ? &reference_result : nullptr;
-    for (const std::string& method : MethodNames()) {
-      if (!Contains(methods, method)) continue;
-      // The graph methods once per energy, the others once.
-      const std::vector<Energy> row_energies =
-          IsGraphMethod(method) ? options.energies : std::vector<Energy>{base.energy};
-      for (const Energy energy : row_energies) {
-        MethodOptions run_options = method_base;
-        run_options.deformer.energy = energy;
-        RunResult r;
-        if (method == options.reference_method && energy == base.energy) {
-          r = reference_row;
-        } else if (!RunMethod(scenario, method, run_options, method, reference, &r, nullptr,
-                              error)) {
+// Table 2's rows of one scenario (every method of the plan, the graph
+// methods once per energy; the reference method first) and its table 1 row.
+bool RunScenarioMethods(const ExperimentScenario& scenario, const RunnerOptions& options,
+                        const RunPlan& plan, const MethodOptions& method_base,
+                        Eigen::Matrix3Xd* reference_result, ExperimentTables* tables,
+                        std::ostringstream* line, std::string* error) {
+  const DeformerOptions& base = method_base.deformer;
+  // The reference method first: its final mesh is the reference of
+  // arap_distance_rel (its own row then measures 0).
+  const bool run_reference =
+      !options.reference_method.empty() && Contains(plan.methods, options.reference_method);
+  RunResult reference_row;
+  if (run_reference &&
+      !RunMethod(scenario, options.reference_method, method_base, options.reference_method,
+                 nullptr, &reference_row, reference_result, error)) {
+    return false;
+  }
+  if (run_reference) reference_row.arap_distance_rel = 0.0;
+  const Eigen::Matrix3Xd* reference = run_reference ? reference_result : nullptr;
+  for (const std::string& method : MethodNames()) {
+    if (!Contains(plan.methods, method)) continue;
+    // The graph methods once per energy, the others once.
+    const std::vector<Energy> row_energies =
+        IsGraphMethod(method) ? options.energies : std::vector<Energy>{base.energy};
+    for (const Energy energy : row_energies) {
+      MethodOptions run_options = method_base;
+      run_options.deformer.energy = energy;
+      RunResult r;
+      if (method == options.reference_method && energy == base.energy) {
+        r = reference_row;
+      } else if (!RunMethod(scenario, method, run_options, method, reference, &r, nullptr,
+                            error)) {
+        return false;
+      }
+      if (options.time_other_backend && Contains(options.other_backend_methods, method) &&
+          energy == Energy::kEd) {
+        MethodOptions other_options = run_options;
+        other_options.deformer.backend =
+            base.backend == Solver::kCeres ? Solver::kGaussNewton : Solver::kCeres;
+        RunResult other;
+        if (!RunMethod(scenario, method, other_options, method, nullptr, &other, nullptr,
+                       error)) {
           return false;
         }
-        if (options.time_other_backend && Contains(options.other_backend_methods, method) &&
-            energy == Energy::kEd) {
-          MethodOptions other_options = run_options;
-          other_options.deformer.backend =
-              base.backend == Solver::kCeres ? Solver::kGaussNewton : Solver::kCeres;
-          RunResult other;
-          if (!RunMethod(scenario, method, other_options, method, nullptr, &other, nullptr,
-                         error)) {
-            return false;
-          }
-          r.other_backend_frame_ms = other.frame_ms;
-        }
-        add_table2(r);
-        line << " " << Describe(r) << ";";
-        if (method == options.table1_method && energy == row_energies.front()) {
-          line << " [scale " << r.selected_scale << "/" << r.num_scales << ", "
-               << r.shared_cells << " particles shared by handle and fixed]";
-          table1.AddRow({fs::path(scenario.mesh_path).stem().string(), r.scenario,
-                         Int(r.vertices), Int(r.faces), FormatNumber(r.cell_width),
-                         Int(r.particles), Int(r.dg1_nodes), Int(r.num_scales),
-                         FormatNumber(r.precompute_ms), FormatNumber(r.rigidity_ms),
-                         FormatNumber(r.setup_ms), Int(r.selected_scale), Int(r.graph_nodes),
-                         Int(r.totally_free), Int(r.half_free), Int(r.nodes_optimized),
-                         Int(r.variables), FormatNumber(r.frame_ms)});
-        }
+        r.other_backend_frame_ms = other.frame_ms;
+      }
+      tables->table2.AddRow(ResultCells(r, Table2Columns()));
+      *line << " " << Describe(r) << ";";
+      if (method == options.table1_method && energy == row_energies.front()) {
+        *line << " [scale " << r.selected_scale << "/" << r.num_scales << ", "
+              << r.shared_cells << " particles shared by handle and fixed]";
+        std::vector<std::string> row = {fs::path(scenario.mesh_path).stem().string()};
+        const std::vector<std::string> cells = ResultCells(r, Table1Columns());
+        row.insert(row.end(), cells.begin(), cells.end());
+        tables->table1.AddRow(row);
       }
     }
-
-    if (Contains(ablation_names, scenario.name)) {
-      for (const Variant& variant : Ablations()) {
-        DeformerOptions run_options = base;
-        run_options.method = Method::kMultiScale;
-        variant.apply(&run_options);
-        RunResult r;
-        if (!RunDeformer(scenario, run_options, variant.name, reference, &r, error)) return false;
-        ablations.AddRow({r.scenario, r.method, r.energy, Int(r.selected_scale), Int(r.nodes_optimized),
-                          Int(r.variables), FormatNumber(r.frame_ms),
-                          FormatNumber(r.iterations_median), FormatNumber(r.handle_rms_rel),
-                          FormatNumber(r.fixed_max_rel), FormatNumber(r.arap_energy),
-                          FormatNumber(r.arap_energy_joint), FormatNumber(r.strain),
-                          FormatNumber(r.leakage_rel), FormatNumber(r.leakage_max_rel),
-                          FormatNumber(r.orthogonality), FormatNumber(r.arap_distance_rel)});
-      }
-      line << " ablations;";
-    }
-    line << " " << FormatFixed(MillisecondsSince(scenario_start) / 1000.0, 1) << " s";
-    progress(line.str());
   }
+  return true;
+}
 
+// The ablation rows of one scenario: the multi-scale method with each variant.
+bool RunScenarioAblations(const ExperimentScenario& scenario, const DeformerOptions& base,
+                          const Eigen::Matrix3Xd* reference, ExperimentTables* tables,
+                          std::string* error) {
+  for (const Variant& variant : Ablations()) {
+    DeformerOptions run_options = base;
+    run_options.method = Method::kMultiScale;
+    variant.apply(&run_options);
+    RunResult r;
+    if (!RunDeformer(scenario, run_options, variant.name, reference, &r, error)) return false;
+    tables->ablations.AddRow(ResultCells(r, AblationColumns()));
+  }
+  return true;
+}
+
+// The tables' headers (provenance, settings, base options) and notes, then
+// the three tables as .csv and .md.
+bool WriteExperimentTables(const RunnerOptions& options, const RunPlan& plan,
+                           const DeformerOptions& base, ExperimentTables* tables,
+                           std::string* error) {
+  const int frames = plan.frames;
+  Table& table1 = tables->table1;
+  Table& table2 = tables->table2;
+  Table& ablations = tables->ablations;
   std::ostringstream settings;
   settings << "settings: " << (options.quick ? "quick subset, " : "full run, ")
            << (frames > 0 ? std::to_string(frames) + " frames per drag"
                           : std::string("each scenario's frames"))
            << ", " << options.threads << " thread(s), " << SolverName(base.backend)
            << " backend, max " << base.stopping.max_iterations << " iterations per frame, CGAL "
-           << options.cgal.iterations << " iterations per frame, FastLSM "
-           << options.fastlsm.steps_per_frame << " steps per frame (r = "
-           << options.fastlsm.region_half_width << ", damping " << options.fastlsm.damping
+           << options.method_options.cgal.iterations << " iterations per frame, FastLSM "
+           << options.method_options.fastlsm.steps_per_frame << " steps per frame (r = "
+           << options.method_options.fastlsm.region_half_width << ", damping " << options.method_options.fastlsm.damping
            << "), seed " << base.graph.seed << ", graph methods with energies";
   for (size_t i = 0; i < options.energies.size(); ++i) {
     settings << (i == 0 ? " " : ", ") << EnergyName(options.energies[i]);
@@ -525,6 +602,57 @@ bool RunExperiments(const RunnerOptions& options, std::string* error) {
         std::make_pair("ablations", &ablations)}) {
     if (!WriteTable(options.out_dir, stem, *table, header, error)) return false;
   }
+  return true;
+}
+
+}  // namespace
+
+bool RunExperiments(const RunnerOptions& options, std::string* error) {
+  if (!options.Check(error)) return false;
+  auto progress = [&](const std::string& line) {
+    if (options.progress) options.progress(line);
+  };
+  const auto start = Clock::now();
+  RunPlan plan;
+  if (!PlanRun(options, &plan, error)) return false;
+
+  MethodOptions method_base = options.method_options;
+  method_base.deformer.num_threads = options.threads;
+  method_base.deformer.graph.num_threads = options.threads;
+  const DeformerOptions& base = method_base.deformer;
+
+  ExperimentTables tables;
+  int index = 0;
+  for (const std::string& file : plan.scenario_files) {
+    ++index;
+    const auto scenario_start = Clock::now();
+    ExperimentScenario scenario;
+    if (!LoadExperimentScenario(file, plan.frames, &scenario, error)) return false;
+    std::ostringstream line;
+    line << "[" << index << "/" << plan.scenario_files.size() << "] " << scenario.name << " ("
+         << scenario.mesh.num_vertices() << " vertices, " << scenario.layout.fixed.size()
+         << " fixed, " << scenario.layout.moveable.size() << " handle, "
+         << (scenario.has_watch ? std::to_string(scenario.watch.size()) : std::string("no"))
+         << " watch, " << scenario.path.size() << " frames):";
+    Eigen::Matrix3Xd reference_result;
+    if (!RunScenarioMethods(scenario, options, plan, method_base, &reference_result, &tables,
+                            &line, error)) {
+      return false;
+    }
+    if (Contains(plan.ablation_scenarios, scenario.name)) {
+      const bool run_reference = !options.reference_method.empty() &&
+                                 Contains(plan.methods, options.reference_method);
+      if (!RunScenarioAblations(scenario, base, run_reference ? &reference_result : nullptr,
+                                &tables, error)) {
+        return false;
+      }
+      line << " ablations;";
+    }
+    line << " " << FormatFixed(MillisecondsSince(scenario_start) / 1000.0, 1) << " s";
+    progress(line.str());
+  }
+
+  if (!WriteExperimentTables(options, plan, base, &tables, error)) return false;
   progress("wrote table1, table2 and ablations (.csv, .md) to " + options.out_dir +
            " in " + FormatFixed(MillisecondsSince(start) / 1000.0, 1) + " s");
   return true;

@@ -81,19 +81,35 @@ struct RunResult {
   double wall_ms = 0.0;
 };
 
-// True for the methods that run the Deformer (multiscale, static,
-// static_dense): those that take DeformerOptions::energy.
-bool IsGraphMethod(const std::string& method);
+// RunResult's columns, declared once (as OptionTable declares options): the
+// name the tables, Python's run_deformer dicts and the sweeps spell
+// ("d1" for dg1_nodes, "iterations" for iterations_median), the kind, whether
+// it depends on the clock, and the field. The CSV and markdown tables pick
+// their columns by name (ResultCells); Python's dicts and the sweeps'
+// metric and timing columns are every column in this order. A new column
+// is a RunResult field and one row in experiments/runner.cc.
+enum class ResultColumnKind { kText, kInt, kNumber };
+struct ResultColumn {
+  std::string name;
+  ResultColumnKind kind = ResultColumnKind::kNumber;
+  bool timing = false;  // a time: differs between runs of the same task
+  std::string RunResult::*text = nullptr;    // kText
+  int RunResult::*integer = nullptr;         // kInt
+  double RunResult::*number = nullptr;       // kNumber (NaN: does not apply)
+};
+const std::vector<ResultColumn>& RunResultColumns();
+// The column named `name`, or null.
+const ResultColumn* FindResultColumn(const std::string& name);
+// The cells of `r` in the named columns as the tables print them: text as
+// is, integers in decimal, numbers with FormatNumber (empty for NaN).
+std::vector<std::string> ResultCells(const RunResult& r, const std::vector<std::string>& columns);
 
-// The energy a method minimises, the tables' `energy` cell: the graph
-// methods' DeformerOptions::energy ("ed": Eq. 17; "arap": the mesh's
-// cotangent ARAP energy over the graph's subspace, scales/subspace_arap.h);
-// "arap" for cgal_arap (the same cotangent ARAP energy, one rotation per
-// vertex, every non-fixed vertex free), "sr_arap" for cgal_sr_arap (ARAP
-// with CGAL's rotation smoothing), "shape_matching" for fastlsm (lattice
-// shape matching, not an energy minimised by a solver); "-" for a method
-// not listed here.
-std::string MinimisedEnergy(const std::string& method, const MethodOptions& options);
+// The tables' `energy` cell is MinimisedEnergy (methods/registry.h): the
+// graph methods' DeformerOptions::energy ("ed": Eq. 17; "arap": the mesh's
+// cotangent ARAP energy over the graph's subspace), another method's
+// descriptor energy ("arap" for cgal_arap, "sr_arap" for cgal_sr_arap,
+// "shape_matching" for fastlsm). Whether a method is a graph is
+// IsGraphMethod (methods/registry.h).
 
 // Runs the registered method `method` with `options` over the scenario's drag
 // path through the method interface and measures it. `label` names the row
@@ -152,12 +168,11 @@ struct RunnerOptions {
                                                 "man_leg_lift", "cactus", "cylinder_bend",
                                                 "armadillo_hand_drag", "camel_hoof_drag",
                                                 "camel_hoof_lift_free_leg"};
-  // Base deformer settings (seed, lattice, ...); method, energy (table 2) and
-  // ablation switches are set per run. The ablations start from its energy
-  // (ed by default); energy_arap and the arap_* variants set arap.
-  DeformerOptions deformer;
-  CgalArapOptions cgal;
-  FastLsmOptions fastlsm;
+  // Base settings of every method: method_options.deformer (seed, lattice,
+  // ...; method, energy (table 2) and ablation switches are set per run; the
+  // ablations start from its energy, ed by default, and energy_arap and the
+  // arap_* variants set arap) and each method's own rows (cgal, fastlsm).
+  MethodOptions method_options;
   // Called with one line per finished scenario (and per table); may be empty.
   std::function<void(const std::string&)> progress;
 

@@ -1,7 +1,9 @@
 #include "msdeform/methods/method_option_table.h"
 
+#include <algorithm>
 #include <limits>
 
+#include "msdeform/methods/registry.h"
 #include "msdeform/scales/rigidity.h"
 
 namespace msdeform {
@@ -62,8 +64,16 @@ const OptionTable<MethodOptions>& MethodOptionTable() {
   static const OptionTable<MethodOptions> table = [] {
     OptionTable<MethodOptions> t;
     t.Embed("", &MethodOptions::deformer, DeformerOptionTable());
-    t.Embed("cgal", &MethodOptions::cgal, CgalArapOptionTable());
-    t.Embed("fastlsm", &MethodOptions::fastlsm, FastLsmOptionTable());
+    // Each method's own rows, from its descriptor, once per prefix.
+    std::vector<std::string> added;
+    for (const MethodDescriptor& method : RegisteredMethods()) {
+      if (!method.add_option_rows ||
+          std::find(added.begin(), added.end(), method.options) != added.end()) {
+        continue;
+      }
+      method.add_option_rows(&t);
+      added.push_back(method.options);
+    }
     return t;
   }();
   return table;
@@ -72,9 +82,19 @@ const OptionTable<MethodOptions>& MethodOptionTable() {
 bool IsMethodOwnRow(const std::string& name) { return !MethodsOfRow(name).empty(); }
 
 std::vector<std::string> MethodsOfRow(const std::string& name) {
-  if (name.rfind("cgal.", 0) == 0) return {"cgal_arap", "cgal_sr_arap"};
-  if (name.rfind("fastlsm.", 0) == 0) return {"fastlsm"};
-  return {};
+  std::vector<std::string> methods;
+  for (const MethodDescriptor& method : RegisteredMethods()) {
+    if (!method.options.empty() && name.rfind(method.options + ".", 0) == 0) {
+      methods.push_back(method.name);
+    }
+  }
+  return methods;
+}
+
+bool MethodOptions::Check(std::string* error) const {
+  // Every row's range (the methods' own under their prefix: "cgal.iterations=0:
+  // ..."), then what the Deformer's rows cannot say.
+  return MethodOptionTable().CheckRanges(*this, error) && deformer.Check(error);
 }
 
 }  // namespace msdeform

@@ -26,8 +26,9 @@ const OptionTable<MethodOptions>& MethodOptionTable();
 // True for a row of MethodOptionTable() that is a method's own (not one of
 // DeformerOptionTable()'s): "cgal.iterations", "fastlsm.damping".
 bool IsMethodOwnRow(const std::string& name);
-// The registered methods that read a method's own row: cgal_arap and
-// cgal_sr_arap for "cgal.*", fastlsm for "fastlsm.*"; none for any other.
+// The registered methods that read a method's own row, from their
+// descriptors' prefixes (methods/registry.h): cgal_arap and cgal_sr_arap for
+// "cgal.*", fastlsm for "fastlsm.*"; none for any other.
 std::vector<std::string> MethodsOfRow(const std::string& name);
 
 }  // namespace msdeform

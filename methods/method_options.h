@@ -22,6 +22,10 @@ struct MethodOptions {
   CgalArapOptions cgal;
   // fastlsm.
   FastLsmOptions fastlsm;
+
+  // The ranges of every row of MethodOptionTable() (methods/method_option_table.h),
+  // then DeformerOptions::Check: one line naming the row.
+  bool Check(std::string* error) const;
 };
 
 }  // namespace msdeform

@@ -44,6 +44,8 @@ struct PyDeformer {
   }
 };
 
+}  // namespace
+
 py::dict StatsToDict(const DragStats& stats) {
   py::dict dict;
   dict["frame_ms"] = stats.frame_ms;
@@ -63,6 +65,8 @@ py::dict StatsToDict(const DragStats& stats) {
   dict["trace"] = trace;
   return dict;
 }
+
+namespace {
 
 std::unique_ptr<PyDeformer> MakeDeformer(const py::object& vertices, const py::object& faces,
                                          const py::object& options, const py::kwargs& kwargs) {
@@ -124,11 +128,15 @@ py::array_t<double> Drag(const py::object& self_object, const py::object& matrix
 }
 
 // The handle's rest centroid: the pivot of msdeform's --sel/--def drags.
+Eigen::Vector3d RestCentroid(const Eigen::Matrix3Xd& rest, const std::vector<int>& vertices) {
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (int v : vertices) centroid += rest.col(v);
+  return centroid / static_cast<double>(vertices.size());
+}
+
 Eigen::Vector3d HandleCentroid(const PyDeformer& self) {
   self.RequireHandles();
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (int v : self.layout.moveable) centroid += self.deformer.rest_mesh().vertices.col(v);
-  return centroid / static_cast<double>(self.layout.moveable.size());
+  return RestCentroid(self.deformer.rest_mesh().vertices, self.layout.moveable);
 }
 
 // `frames` (None: 1) as a frame count in 1..kMaxScenarioFrames.
@@ -147,8 +155,11 @@ int FrameCount(const py::object& frames) {
   return count.cast<int>();
 }
 
-std::vector<Eigen::Affine3d> PathFromArguments(const PyDeformer& self, const py::object& matrix,
-                                               const py::object& frames) {
+}  // namespace
+
+std::vector<Eigen::Affine3d> DragPathFrom(const Eigen::Matrix3Xd& rest,
+                                          const std::vector<int>& moveable,
+                                          const py::object& matrix, const py::object& frames) {
   const py::array array = py::array::ensure(matrix);
   if (array && array.ndim() == 3) {
     if (!frames.is_none()) {
@@ -165,7 +176,15 @@ std::vector<Eigen::Affine3d> PathFromArguments(const PyDeformer& self, const py:
     return path;
   }
   const Eigen::Affine3d transform = TransformFromArray(matrix, "M");
-  return InterpolateDragPath(transform, HandleCentroid(self), FrameCount(frames));
+  return InterpolateDragPath(transform, RestCentroid(rest, moveable), FrameCount(frames));
+}
+
+namespace {
+
+std::vector<Eigen::Affine3d> PathFromArguments(const PyDeformer& self, const py::object& matrix,
+                                               const py::object& frames) {
+  self.RequireHandles();
+  return DragPathFrom(self.deformer.rest_mesh().vertices, self.layout.moveable, matrix, frames);
 }
 
 py::array_t<double> DragAlongPath(const py::object& self_object, const py::object& matrix,

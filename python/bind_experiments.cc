@@ -26,51 +26,24 @@ namespace msdeform {
 namespace python {
 namespace {
 
-// One run as the tables name its numbers: table 2's columns, with table 1's
-// names for the lattice and graph sizes (d1, scales_n, scale_nodes), and
-// the RunResult names for the rest. NaN where a number does not apply (the
-// tables print an empty cell).
+// One run as the tables name its numbers: every column of RunResultColumns()
+// (experiments/runner.h), in its order. NaN where a number does not apply
+// (the tables print an empty cell).
 py::dict RunResultToDict(const RunResult& r) {
   py::dict d;
-  d["scenario"] = r.scenario;
-  d["method"] = r.method;
-  d["energy"] = r.energy;
-  d["vertices"] = r.vertices;
-  d["faces"] = r.faces;
-  d["diagonal"] = r.diagonal;
-  d["cell_width"] = r.cell_width;
-  d["particles"] = r.particles;
-  d["d1"] = r.dg1_nodes;
-  d["scales_n"] = r.num_scales;
-  d["shared_cells"] = r.shared_cells;
-  d["selected_scale"] = r.selected_scale;
-  d["scale_nodes"] = r.graph_nodes;
-  d["totally_free"] = r.totally_free;
-  d["half_free"] = r.half_free;
-  d["nodes_optimized"] = r.nodes_optimized;
-  d["variables"] = r.variables;
-  d["precompute_ms"] = r.precompute_ms;
-  d["rigidity_ms"] = r.rigidity_ms;
-  d["setup_ms"] = r.setup_ms;
-  d["frame_ms"] = r.frame_ms;
-  d["solve_ms"] = r.solve_ms;
-  d["skin_ms"] = r.skin_ms;
-  d["solve_total_ms"] = r.solve_total_ms;
-  d["iterations"] = r.iterations_median;
-  d["iterations_total"] = r.iterations_total;
-  d["final_cost"] = r.final_cost;
-  d["unconverged_frames"] = r.unconverged_frames;
-  d["handle_rms_rel"] = r.handle_rms_rel;
-  d["fixed_max_rel"] = r.fixed_max_rel;
-  d["leakage_rel"] = r.leakage_rel;
-  d["leakage_max_rel"] = r.leakage_max_rel;
-  d["arap_energy"] = r.arap_energy;
-  d["arap_energy_joint"] = r.arap_energy_joint;
-  d["strain"] = r.strain;
-  d["orthogonality"] = r.orthogonality;
-  d["arap_distance_rel"] = r.arap_distance_rel;
-  d["other_backend_frame_ms"] = r.other_backend_frame_ms;
-  d["wall_ms"] = r.wall_ms;
+  for (const ResultColumn& column : RunResultColumns()) {
+    switch (column.kind) {
+      case ResultColumnKind::kText:
+        d[column.name.c_str()] = r.*(column.text);
+        break;
+      case ResultColumnKind::kInt:
+        d[column.name.c_str()] = r.*(column.integer);
+        break;
+      case ResultColumnKind::kNumber:
+        d[column.name.c_str()] = r.*(column.number);
+        break;
+    }
+  }
   return d;
 }
 
@@ -477,6 +450,13 @@ void BindMetrics(py::module_& m) {
 }  // namespace
 
 void BindExperiments(py::module_& m) {
+  // RunResult's columns (experiments/runner.h): (name, timing) pairs in the
+  // order of run_deformer's dicts; the sweeps derive their columns from it.
+  py::list columns;
+  for (const ResultColumn& column : RunResultColumns()) {
+    columns.append(py::make_tuple(column.name, column.timing));
+  }
+  m.attr("RESULT_COLUMNS") = py::tuple(columns);
   BindScenario(m);
   BindRunner(m);
   BindMetrics(m);

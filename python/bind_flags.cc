@@ -1,5 +1,5 @@
 // DeformerOptions from msdeform's command-line flag names (the gflags of
-// scales/deformer_flags.h) or any name of the options table: what a sweep
+// apps/flags/deformer_flags.h) or any name of the options table: what a sweep
 // file or a script that mirrors a command line writes, {"w_con": 1000,
 // "backend": "ceres", "selection.member_extent": "mean"}, turned into the
 // options the command line would build, by the command line's own code.
@@ -15,8 +15,8 @@
 #include <gflags/gflags.h>
 #include <pybind11/stl.h>
 
+#include "apps/flags/deformer_flags.h"
 #include "msdeform/methods/method_option_table.h"
-#include "msdeform/scales/deformer_flags.h"
 #include "python/bindings.h"
 
 namespace msdeform {
@@ -145,7 +145,7 @@ void BindFlags(py::module_& m) {
         "flag name (without '--') or option name to value, e.g. {'w_con': 1000, 'backend': "
         "'ceres', 'method': 'static', 'selection.member_extent': 'mean'}; flags not given keep "
         "their defaults. Parsed and checked by the "
-        "command line's own code (scales/deformer_flags.h). Raises ValueError naming the flag "
+        "command line's own code (apps/flags/deformer_flags.h). Raises ValueError naming the flag "
         "for an unknown name (with the nearest flag) or a bad value, TypeError for a value "
         "that is not a bool, int, float or str.");
   m.def("option_rows", &OptionRows,

@@ -28,19 +28,17 @@ struct PyMethod {
   std::unique_ptr<EditingMethod> method;
   std::mutex mutex;
   int num_vertices = 0;
+  Eigen::Matrix3Xd rest;  // the mesh's vertices: drag_along's pivot
+  HandleLayout layout;    // the last layout set_handles was given
   std::vector<MethodStats> frames;
-};
+  std::vector<int> failed_frames;
 
-py::dict FrameToDict(const MethodStats& stats) {
-  py::dict dict;
-  dict["frame_ms"] = stats.frame_ms;
-  dict["solve_ms"] = stats.solve_ms;
-  dict["skin_ms"] = stats.skin_ms;
-  dict["iterations"] = stats.iterations;
-  dict["final_cost"] = stats.final_cost;
-  dict["converged"] = stats.converged;
-  return dict;
-}
+  void RequireHandles() const {
+    if (!method->handles_set()) {
+      ThrowRuntimeError("no handle layout: call set_handles (with a valid layout) first");
+    }
+  }
+};
 
 std::unique_ptr<PyMethod> MakeMethod(const py::object& vertices, const py::object& faces,
                                      const std::string& name, const py::object& options,
@@ -52,6 +50,7 @@ std::unique_ptr<PyMethod> MakeMethod(const py::object& vertices, const py::objec
   self->method = CreateMethod(name, &error);
   if (self->method == nullptr) ThrowValueError("method: " + error);
   self->num_vertices = mesh.num_vertices();
+  self->rest = mesh.vertices;
   bool ok;
   {
     py::gil_scoped_release release;
@@ -76,6 +75,8 @@ void SetHandles(PyMethod& self, const py::object& status) {
     py::gil_scoped_release release;
     std::lock_guard<std::mutex> lock(self.mutex);
     self.frames.clear();
+    self.failed_frames.clear();
+    self.layout = layout;
     ok = self.method->SetHandles(layout, &error);
   }
   if (!ok) ThrowValueError(error);
@@ -109,6 +110,31 @@ py::array_t<double> Drag(const py::object& self_object, const py::object& matrix
   return ReadOnlyView(self.method->deformed_vertices(), self_object);
 }
 
+py::array_t<double> DragAlongPath(const py::object& self_object, const py::object& matrix,
+                                  const py::object& frames, bool continue_after_failure) {
+  PyMethod& self = self_object.cast<PyMethod&>();
+  std::vector<Eigen::Affine3d> path;
+  {
+    std::lock_guard<std::mutex> lock(self.mutex);
+    self.RequireHandles();
+    path = DragPathFrom(self.rest, self.layout.moveable, matrix, frames);
+  }
+  DragAlongOptions options;
+  options.continue_after_failure = continue_after_failure;
+  DragLog log;
+  std::string error;
+  bool ok;
+  {
+    py::gil_scoped_release release;
+    std::lock_guard<std::mutex> lock(self.mutex);
+    ok = DragAlong(self.method.get(), path, options, &log, &error);
+    for (MethodStats& stats : log.frames) self.frames.push_back(std::move(stats));
+    self.failed_frames = log.failed_frames;
+  }
+  if (!ok) ThrowRuntimeError(error);
+  return ReadOnlyView(self.method->deformed_vertices(), self_object);
+}
+
 // The constructor's doc: the methods' own keywords from their rows.
 std::string MethodDoc() {
   std::string doc =
@@ -136,6 +162,12 @@ std::string MethodDoc() {
 
 void BindMethod(py::module_& m) {
   m.attr("METHODS") = py::tuple(py::cast(MethodNames()));
+  // The deformation-graph methods, from the registry's descriptors.
+  std::vector<std::string> graph_methods;
+  for (const MethodDescriptor& method : RegisteredMethods()) {
+    if (method.graph) graph_methods.push_back(method.name);
+  }
+  m.attr("GRAPH_METHODS") = py::tuple(py::cast(graph_methods));
   py::class_<PyMethod> c(
       m, "Method",
       "Any registered editing method by name (msdeform.METHODS; methods/method.h):\n\n"
@@ -159,11 +191,38 @@ void BindMethod(py::module_& m) {
   c.def_property_readonly("nodes_optimized",
                           [](const PyMethod& s) { return s.method->nodes_optimized(); });
   c.def_property_readonly("variables", [](const PyMethod& s) { return s.method->variables(); });
+  c.def("drag_along", &DragAlongPath, py::arg("M"), py::arg("frames") = py::none(),
+        py::arg("continue_after_failure") = false,
+        "Drags through a path with the C++ DragAlong, as Deformer.drag_along: M one transform "
+        "reached in `frames` equal steps (default 1) about the handle's rest centroid, or a "
+        "(frames, 4, 4) path. continue_after_failure: a failed intermediate frame keeps the "
+        "last good pose and the drag goes on. Raises RuntimeError with 'frame F of N: ...'.");
+  c.def(
+      "drag_path",
+      [](PyMethod& self, const py::object& matrix, const py::object& frames) {
+        std::lock_guard<std::mutex> lock(self.mutex);
+        self.RequireHandles();
+        return TransformsToArray(DragPathFrom(self.rest, self.layout.moveable, matrix, frames));
+      },
+      py::arg("M"), py::arg("frames"),
+      "The (frames, 4, 4) path drag_along(M, frames=frames) drags through.");
+  c.def_property_readonly("graph", [](const PyMethod& s) { return FindMethod(s.method->name())->graph; },
+                          "Whether the method is a deformation graph (its descriptor, methods/registry.h).");
+  c.def_property_readonly("energy", [](const PyMethod& s) {
+    const MethodDescriptor* d = FindMethod(s.method->name());
+    return d->graph ? std::string(EnergyName(s.method->deformer()->options().energy)) : d->energy;
+  }, "What the method minimises: ed or arap for a graph method, else its own (arap, sr_arap, shape_matching).");
   c.def_property_readonly("frame_stats", [](const PyMethod& s) {
     py::list frames;
-    for (const MethodStats& stats : s.frames) frames.append(FrameToDict(stats));
+    for (const MethodStats& stats : s.frames) frames.append(StatsToDict(stats));
     return frames;
-  });
+  }, "The statistics of every successful frame since set_handles (dicts as Deformer.last_stats).");
+  c.def_property_readonly("last_stats", [](const PyMethod& s) -> py::object {
+    if (s.frames.empty()) return py::none();
+    return StatsToDict(s.frames.back());
+  }, "The last successful frame's statistics as a dict; None before the first frame.");
+  c.def_property_readonly("failed_frames", [](const PyMethod& s) { return s.failed_frames; },
+                          "1-based frames of the last drag_along whose solve failed.");
 }
 
 }  // namespace python

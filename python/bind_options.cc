@@ -118,10 +118,15 @@ void ApplyKeywords(const py::object& target, const py::dict& keywords) {
       check_once(path, spelling, value);
       SetPath(target, path, value);
     } else {
-      std::vector<std::string> names;
+      std::vector<std::string> names, spellings;
       for (const py::handle field : fields) names.push_back(py::str(field));
-      ThrowTypeError(name + ": unknown option " + Repr(key) + "; the options are " +
-                     Join(names));
+      spellings = names;
+      for (const auto& alias : aliases) spellings.push_back(py::str(alias.first));
+      // "did you mean" as the command line offers it (core/option_table.h).
+      const std::string nearest = NearestName(spelling, spellings);
+      ThrowTypeError(name + ": unknown option " + Repr(key) +
+                     (nearest.empty() ? "" : " (did you mean '" + nearest + "'?)") +
+                     "; the options are " + Join(names));
     }
   }
 }

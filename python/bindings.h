@@ -100,6 +100,16 @@ MethodOptions MethodOptionsFrom(const py::handle& options, const py::kwargs& kwa
 // fastlsm_steps_per_frame, fastlsm_steps).
 std::vector<std::string> MethodKeywords(const std::string& row_name);
 
+// A frame's statistics as a dict (frame_ms, solve_ms, skin_ms, iterations,
+// factorizations, initial_cost, final_cost, converged, trace).
+py::dict StatsToDict(const DragStats& stats);
+// drag_along's path: a (frames, 4, 4) array as given (then `frames` must be
+// None), or one transform M reached in `frames` equal steps (None: 1) about
+// the rest centroid of `moveable` (msdeform.drag_path).
+std::vector<Eigen::Affine3d> DragPathFrom(const Eigen::Matrix3Xd& rest,
+                                          const std::vector<int>& moveable,
+                                          const py::object& matrix, const py::object& frames);
+
 }  // namespace python
 }  // namespace msdeform
 

@@ -56,7 +56,8 @@ const OptionTable<GraphOptions>& GraphOptionTable() {
     t.Int("extra_rings", &G::extra_rings,
           "Cell rings searched beyond the first that reaches k + 1 nodes.");
     t.Int("num_threads", &G::num_threads,
-          "OpenMP threads for building; 0 uses the OpenMP default.");
+          "OpenMP threads for building; 0 uses the OpenMP default.")
+        .Range(0, kMaxThreads, "an integer in 0..1024 (0: OpenMP default)");
   });
   return table;
 }
@@ -69,12 +70,14 @@ const OptionTable<RigidityOptions>& RigidityOptionTable() {
            "shape matching after a kick).");
     t.Int("num_steps", &R::num_steps, "S: shape-matching steps of the paper's rigidity.")
         .Range(1, kIntMax, "an integer >= 1");
-    t.Double("time_step", &R::time_step, "h: time step, lattice-time units.");
+    t.Double("time_step", &R::time_step, "h: time step, lattice-time units.")
+        .Above(0, "a finite number > 0");
     t.Double("external_stiffness", &R::external_stiffness,
              "k_ext h^2 of the rigidity estimation (docs/method.md §2).")
         .AtLeast(0, "a finite number >= 0");
     t.Double("initial_speed", &R::initial_speed,
-             "|v0| of the moveable-handle particles, cell widths per time step.");
+             "|v0| of the moveable-handle particles, cell widths per time step.")
+        .Above(0, "a finite number > 0");
     t.Double("damping", &R::damping, "Velocity damping per shape-matching step, in [0, 1).")
         .Range(0, 1, "a number in [0, 1)", /*high_open=*/true);
     t.Int("region_half_width", &R::region_half_width,
@@ -84,9 +87,11 @@ const OptionTable<RigidityOptions>& RigidityOptionTable() {
     t.Enum("region_summation", &R::region_summation, RegionSummationNames(),
            "box (FastLSM box sums) or per_region; the same numbers up to rounding.");
     t.Int("max_rotation_iterations", &R::max_rotation_iterations,
-          "Polar-decomposition updates per region and step, at most.");
+          "Polar-decomposition updates per region and step, at most.")
+        .Range(1, kIntMax, "an integer >= 1");
     t.Double("rotation_tolerance", &R::rotation_tolerance,
-             "Stop the updates below this rotation (radians).");
+             "Stop the updates below this rotation (radians).")
+        .Above(0, "a finite number > 0");
   });
   return table;
 }
@@ -99,13 +104,17 @@ const OptionTable<ScaleSelectionOptions>& ScaleSelectionOptionTable() {
                  "Lower bound of the rigidity threshold T (Eq. 7: 0.1).")
             .Range(0, 1, "a number in [0, 1)", /*high_open=*/true);
         t.Double("fixed_extent_cutoff", &S::fixed_extent_cutoff,
-                 "Fixed-handle nodes with e' below this count towards T (Eq. 7: 0.5).");
+                 "Fixed-handle nodes with e' below this count towards T (Eq. 7: 0.5).")
+            .Range(0, 1, "a number in (0, 1]")
+            .lo_open = true;
         t.Enum("member_extent", &S::member_extent, MemberExtentNames(),
                "A coarse node's e' from its DG1 members: max or mean (an ablation).");
         t.Double("local_detail_distance", &S::local_detail_distance,
-                 "Local-detail edit within this geodesic distance, over the diagonal.");
+                 "Local-detail edit within this geodesic distance, over the diagonal.")
+            .AtLeast(0, "a finite number >= 0");
         t.Double("omega_max", &S::omega_max,
-                 "Totally Free nodes map e to omega in [1, omega_max].");
+                 "Totally Free nodes map e to omega in [1, omega_max].")
+            .AtLeast(1, "a finite number >= 1");
         t.Bool("alpha_all_one", &S::alpha_all_one, "Every coherence weight alpha = 1.");
         t.Enum("half_free", &S::half_free, HalfFreeRuleNames(),
                "Which fixed-handle nodes are Half Free: next_to_totally_free, "
@@ -229,8 +238,7 @@ const OptionTable<DeformerOptions>& DeformerOptionTable() {
     t.Enum("method", &DO::method, GraphMethodNames(),
            "multiscale (the paper), static (one graph of static_nodes nodes), static_dense "
            "(every DG1 node); where a program runs any registered method (msdeform, the "
-           "editor, the experiments: methods/registry.h) also cgal_arap, cgal_sr_arap and "
-           "fastlsm.")
+           "editor, the experiments: methods/registry.h) also the others.")
         .Flag("method");
     t.Embed("lattice", &DO::lattice, LatticeOptionTable());
     t.Embed("graph", &DO::graph, GraphOptionTable());

@@ -1,6 +1,5 @@
 #include "msdeform/scales/deformer_options.h"
 
-#include <cmath>
 #include <cstdio>
 #include <string>
 #include <utility>
@@ -89,37 +88,14 @@ DeformerOptions PaperProcedure(DeformerOptions options) {
 }
 
 bool DeformerOptions::Check(std::string* error) const {
-  if (!lattice.Check(error) || !graph.Check(error) || !rigidity.Check(error) ||
-      !selection.Check(error) || !arap.Check(error)) {
-    return false;
-  }
-  if (static_nodes < 1) {
-    *error = "static_nodes must be >= 1";
-    return false;
-  }
-  if (!(length_unit >= 0.0) || !std::isfinite(length_unit)) {
-    *error = "length_unit must be a finite number >= 0 (0: the bounding-box diagonal)";
-    return false;
-  }
-  for (const auto& [name, weight] :
-       {std::pair<const char*, double>{"w_rot", w_rot}, {"w_coh", w_coh}, {"w_con", w_con}}) {
-    if (!(weight >= 0.0) || !std::isfinite(weight)) {
-      *error = std::string(name) + " (energy weight of Eq. 17) must be finite and >= 0";
-      return false;
-    }
-  }
-  if (!(w_con > 0.0)) {
-    *error = "w_con must be > 0 (the handle would not follow its target)";
-    return false;
-  }
-  if (num_threads < 1 || num_threads > kMaxThreads) {
-    *error = "num_threads must be in 1.." + std::to_string(kMaxThreads);
-    return false;
-  }
-  if (cached_scales < 1) {
-    *error = "cached_scales must be >= 1";
-    return false;
-  }
-  return stopping.Check(error) && gauss_newton.Check(error) && ceres.Check(error);
+  // Every row's range, checked from DeformerOptionTable(): a C++ or Python
+  // caller gets the command line's one line ("rigidity.damping=1: expected a
+  // number in [0, 1)"), and a range is written only in its row.
+  if (!DeformerOptionTable().CheckRanges(*this, error)) return false;
+  // What a row cannot say: relations between fields and the embedded
+  // structs' own checks (core's lattice and graph, the solvers').
+  return lattice.Check(error) && graph.Check(error) && rigidity.Check(error) &&
+         selection.Check(error) && arap.Check(error) && stopping.Check(error) &&
+         gauss_newton.Check(error) && ceres.Check(error);
 }
 }  // namespace msdeform

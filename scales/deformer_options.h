@@ -134,7 +134,7 @@ struct DeformerOptions {
 // the struct spells it ("stopping.max_iterations"), type, help, range, enum
 // names, the command-line topic and the legacy flag spellings ("solver" for
 // backend, "cell_width" for lattice.cell_width), which every front end
-// accepts as aliases. DescribeOptions, the flags (scales/deformer_flags.h),
+// accepts as aliases. DescribeOptions, the flags (apps/flags/deformer_flags.h),
 // the Python keywords and the editor's panels are derived from it; a new
 // option is a struct field plus one row here (docs/extending.md, "Adding an option").
 const OptionTable<DeformerOptions>& DeformerOptionTable();
@@ -142,8 +142,8 @@ const OptionTable<DeformerOptions>& DeformerOptionTable();
 // (Python's LatticeOptions, ...) or a larger options struct that embeds them.
 const OptionTable<LatticeOptions>& LatticeOptionTable();
 const OptionTable<GraphOptions>& GraphOptionTable();
-const OptionTable<RigidityOptions>& RigidityOptionTable();
-const OptionTable<ScaleSelectionOptions>& ScaleSelectionOptionTable();
+// RigidityOptionTable() and ScaleSelectionOptionTable() are declared beside
+// their structs (scales/rigidity.h, scales/scale_selection.h), whose Check reads them.
 const OptionTable<StoppingRule>& StoppingRuleTable();
 const OptionTable<GaussNewtonOptions>& GaussNewtonOptionTable();
 const OptionTable<CeresOptions>& CeresOptionTable();

@@ -109,30 +109,11 @@ const EnumNames<RegionSummation>& RegionSummationNames() {
 }
 
 bool RigidityOptions::Check(std::string* error) const {
-  auto fail = [error](const std::string& message) {
-    *error = message;
-    return false;
-  };
-  if (num_steps < 1) return fail("num_steps (S) must be >= 1");
-  if (!(time_step > 0.0) || !std::isfinite(time_step)) {
-    return fail("time_step (h) must be a finite number > 0");
-  }
-  if (!(external_stiffness >= 0.0) || !std::isfinite(external_stiffness)) {
-    return fail("external_stiffness (k_ext) must be a finite number >= 0");
-  }
+  // The ranges are RigidityOptionTable()'s rows (scales/deformer_options.h).
+  if (!RigidityOptionTable().CheckRanges(*this, error)) return false;
   if (external_stiffness * time_step * time_step > 1.0) {
-    return fail("external_stiffness * time_step^2 (k_ext h^2) must be <= 1 for a stable step");
-  }
-  if (!(initial_speed > 0.0) || !std::isfinite(initial_speed)) {
-    return fail("initial_speed (|v0| in w / h) must be a finite number > 0");
-  }
-  if (!(damping >= 0.0 && damping < 1.0)) return fail("damping must be in [0, 1)");
-  if (region_half_width < 1 || region_half_width > kMaxRegionHalfWidth) {
-    return fail("region_half_width must be in 1.." + std::to_string(kMaxRegionHalfWidth));
-  }
-  if (max_rotation_iterations < 1) return fail("max_rotation_iterations must be >= 1");
-  if (!(rotation_tolerance > 0.0) || !std::isfinite(rotation_tolerance)) {
-    return fail("rotation_tolerance must be a finite number > 0");
+    *error = "external_stiffness * time_step^2 (k_ext h^2) must be <= 1 for a stable step";
+    return false;
   }
   return true;
 }

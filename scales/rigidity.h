@@ -120,8 +120,13 @@ struct RigidityOptions {
   int max_rotation_iterations = 20;
   double rotation_tolerance = 1e-6;
 
+  // The ranges of RigidityOptionTable()'s rows, then k_ext h^2 <= 1.
   bool Check(std::string* error) const;
 };
+
+// One row per field (core/option_table.h), with its range: what Check,
+// the command line and the Python keywords read (scales/deformer_option_table.cc).
+const OptionTable<RigidityOptions>& RigidityOptionTable();
 
 struct RigidityEstimate {
   Eigen::VectorXd extent;           // e_i in mesh units. #particles.

@@ -62,23 +62,8 @@ const EnumNames<MemberExtent>& MemberExtentNames() {
 }
 
 bool ScaleSelectionOptions::Check(std::string* error) const {
-  if (!(threshold_floor >= 0.0 && threshold_floor < 1.0)) {
-    *error = "threshold_floor must be in [0, 1)";
-    return false;
-  }
-  if (!(fixed_extent_cutoff > 0.0 && fixed_extent_cutoff <= 1.0)) {
-    *error = "fixed_extent_cutoff must be in (0, 1]";
-    return false;
-  }
-  if (!(local_detail_distance >= 0.0) || !std::isfinite(local_detail_distance)) {
-    *error = "local_detail_distance must be a finite number >= 0";
-    return false;
-  }
-  if (!(omega_max >= 1.0) || !std::isfinite(omega_max)) {
-    *error = "omega_max must be a finite number >= 1";
-    return false;
-  }
-  return true;
+  // The ranges are ScaleSelectionOptionTable()'s rows (scales/deformer_options.h).
+  return ScaleSelectionOptionTable().CheckRanges(*this, error);
 }
 
 double ScaleSelection::Alpha(int j, int k) const {

@@ -107,8 +107,13 @@ struct ScaleSelectionOptions {
   // the paper's classes, where only Position terms hold the fixed vertices.
   bool pin_fixed_region = true;
 
+  // The ranges of ScaleSelectionOptionTable()'s rows.
   bool Check(std::string* error) const;
 };
+
+// One row per field (core/option_table.h), with its range: what Check,
+// the command line and the Python keywords read (scales/deformer_option_table.cc).
+const OptionTable<ScaleSelectionOptions>& ScaleSelectionOptionTable();
 
 // Which DG1 nodes (surface cells) hold handle vertices.
 struct HandleNodes {

@@ -297,9 +297,8 @@ bool EditSession::SetMethod(const std::string& name, std::string* error) {
   return true;
 }
 
-void EditSession::SetMethodOptions(const CgalArapOptions& cgal, const FastLsmOptions& fastlsm) {
-  method_options_.cgal = cgal;
-  method_options_.fastlsm = fastlsm;
+void EditSession::SetMethodOptions(const MethodOptions& options) {
+  method_options_ = options;
   SetOptions(options_);
 }
 

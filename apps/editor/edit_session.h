@@ -80,8 +80,10 @@ class EditSession {
   // as SetOptions. False, with "--method=<name>: expected <names>", for an
   // unknown name (nothing changes).
   bool SetMethod(const std::string& name, std::string* error);
-  // CGAL's iterations and FastLSM's steps; applied as SetOptions.
-  void SetMethodOptions(const CgalArapOptions& cgal, const FastLsmOptions& fastlsm);
+  // The methods' own options (every part of `options` but its deformer,
+  // which SetOptions sets: CGAL's iterations, FastLSM's steps, ...); applied
+  // as SetOptions.
+  void SetMethodOptions(const MethodOptions& options);
   // The registered name of the method in use.
   std::string method_name() const;
   const MethodOptions& method_options() const { return method_options_; }
@@ -170,7 +172,7 @@ class EditSession {
   // Empty: the graph method options_.method; else a registered method that is
   // not a graph.
   std::string other_method_;
-  MethodOptions method_options_;  // its cgal and fastlsm parts
+  MethodOptions method_options_;  // the methods' own parts (deformer: options_)
   mutable Eigen::Matrix3Xd method_normals_;  // normals of a non-graph method's pose
   mutable int method_normals_version_ = -1;
   std::vector<VertexLabel> labels_;

@@ -17,10 +17,10 @@
 #include "apps/editor/option_flags.h"
 #include "apps/editor/overlays.h"
 #include "apps/editor/timing_report.h"
+#include "apps/flags/deformer_flags.h"
 #include "apps/outputs.h"
 #include "msdeform/methods/method_option_table.h"
 #include "msdeform/methods/registry.h"
-#include "msdeform/scales/deformer_flags.h"
 
 namespace msdeform {
 namespace editor {
@@ -258,7 +258,7 @@ void EditorApp::DrawMethodChooser() {
         status_.Show(error);
       } else {
         status_.Clear();
-        session_->SetMethodOptions(options.cgal, options.fastlsm);
+        session_->SetMethodOptions(options);
       }
     }
     Help(row.help.c_str());

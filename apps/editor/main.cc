@@ -8,7 +8,7 @@
 //       replay a script of actions in a hidden window, then exit.
 // Inputs are read and checked as msdeform reads them (apps/editor/edit_inputs.h),
 // with msdeform's messages; the method, solver and ablation flags are
-// msdeform's own (scales/deformer_flags.h).
+// msdeform's own (apps/flags/deformer_flags.h).
 
 #include <gflags/gflags.h>
 #include <glog/logging.h>
@@ -25,12 +25,12 @@
 #include "apps/editor/script.h"
 #include "apps/editor/script_runner.h"
 #include "apps/editor/timing_report.h"
+#include "apps/flags/deformer_flags.h"
+#include "apps/flags/method_flags.h"
+#include "apps/flags/program.h"
 #include "apps/outputs.h"
 #include "msdeform/core/build_info.h"
-#include "msdeform/core/main_guard.h"
-#include "msdeform/methods/method_flags.h"
 #include "msdeform/methods/registry.h"
-#include "msdeform/scales/deformer_flags.h"
 
 
 namespace {
@@ -131,7 +131,7 @@ int RunScriptMode(DeformerOptions options, const MethodOptions& method_options,
   }
   EditSession session;
   if (!session.SetMethod(method, &error)) return Fail(error);
-  session.SetMethodOptions(method_options.cgal, method_options.fastlsm);
+  session.SetMethodOptions(method_options);
   EditorApp app(&session);
   if (!app.Init(WindowOptions(FLAGS_keep_open), &error)) return Fail(error);
   StagedOutputs staged;
@@ -172,7 +172,7 @@ int RunFilesMode(const DeformerOptions& options, const MethodOptions& method_opt
   }
   EditSession session;
   if (!session.SetMethod(method, &error)) return Fail(error);
-  session.SetMethodOptions(method_options.cgal, method_options.fastlsm);
+  session.SetMethodOptions(method_options);
   session.Open(std::move(inputs), options);
   if (!one_shot) {
     EditorApp app(&session);
@@ -245,33 +245,20 @@ int Run() {
 }  // namespace editor
 }  // namespace msdeform
 
-// The program; main() below adds the out-of-memory report.
-static int Main(int argc, char** argv) {
-  const std::string usage =
+int main(int argc, char** argv) {
+  msdeform::ProgramInfo info;
+  info.name = "msdeform_editor";
+  info.usage =
       "msdeform_editor: select handles and drag them with the multi-scale method of Liu & Su "
       "2008.\n"
       "  msdeform_editor [--mesh=PATH [--sel=PATH --def=PATH] | --scenario=PATH] [flags]\n"
       "  msdeform_editor --mesh=M --sel=S --def=D --screenshot=OUT.png   (one shot, then exit)\n"
       "  msdeform_editor --script=FILE                                   (replay, then exit)\n"
       "With no input: msdeform's default edit (data/scenarios/armadillo_claw.json).";
-  if (msdeform::HandleHelpRequest(argc, argv, usage, std::cout)) return 0;
-  std::string error;
-  if (!msdeform::CheckFlagNames(argc, argv, &error)) return msdeform::editor::Fail(error);
-  gflags::SetUsageMessage(usage);
-  gflags::SetVersionString(std::string(msdeform::MsdeformVersion()) + " (commit " +
-                           msdeform::MsdeformCommit() + ")");
-  gflags::ParseCommandLineFlags(&argc, &argv, true);
-  google::InitGoogleLogging(argv[0]);
-  FLAGS_logtostderr = true;
-  FLAGS_minloglevel = FLAGS_verbose ? 0 : 3;
-  if (argc > 1) {
-    return msdeform::editor::Fail(std::string("unexpected argument '") + argv[1] +
-                                  "' (flags are --name=value)");
-  }
-  return msdeform::editor::Run();
-}
-
-// Out of memory ends the run with one line and exit 1 (core/main_guard.h).
-int main(int argc, char** argv) {
-  return msdeform::RunReportingOutOfMemory("msdeform_editor", Main, argc, argv);
+  info.version =
+      std::string(msdeform::MsdeformVersion()) + " (commit " + msdeform::MsdeformCommit() + ")";
+  info.quiet_log_level = 3;
+  info.verbose = &FLAGS_verbose;
+  return msdeform::RunProgram(
+      info, [](const std::vector<std::string>&) { return msdeform::editor::Run(); }, argc, argv);
 }

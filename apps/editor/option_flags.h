@@ -1,6 +1,6 @@
 // The method, solver, weight, rigidity and ablation settings the window and
 // scripts change, set through msdeform's own command-line flags
-// (scales/deformer_flags.h): a change is parsed and checked exactly as
+// (apps/flags/deformer_flags.h): a change is parsed and checked exactly as
 // `msdeform --name=value` would be, with the same message when it is refused.
 
 #ifndef MSDEFORM_APPS_EDITOR_OPTION_FLAGS_H_

@@ -261,7 +261,7 @@ class Runner {
       // A method's own option (--fastlsm_steps, fastlsm.damping).
       MethodOptions options = session_.method_options();
       if (!SetMethodFlag(flag, text, &options, error)) return false;
-      session_.SetMethodOptions(options.cgal, options.fastlsm);
+      session_.SetMethodOptions(options);
       return Settled(error);
     }
     if (!SetDeformerFlag(flag, text, options_, error)) return false;

@@ -25,7 +25,9 @@ import inspect as _inspect
 
 from ._msdeform import (
     COMMIT,
+    GRAPH_METHODS,
     NODE_CLASSES,
+    RESULT_COLUMNS,
     CeresOptions,
     Deformer,
     DeformerOptions,
@@ -81,8 +83,10 @@ OPTIONS_CLASSES = (
 
 __all__ = [
     "COMMIT",
+    "GRAPH_METHODS",
     "NODE_CLASSES",
     "OPTIONS_CLASSES",
+    "RESULT_COLUMNS",
     "CeresOptions",
     "Deformer",
     "DeformerOptions",

@@ -32,7 +32,7 @@ import msdeform
 # grid, the others (CGAL's ARAP and SR-ARAP, FastLSM) the grid of their own options
 # (method_rows()), once per scenario without any (cgal_iterations for CGAL's).
 METHODS = tuple(msdeform.METHODS)
-DEFORMER_METHODS = ("multiscale", "static", "static_dense")
+DEFORMER_METHODS = tuple(msdeform.GRAPH_METHODS)  # the registry's descriptors
 
 # Which option the seeds axis sets: the --seed flag (graph and rigidity seeds, as the command
 # line), or one of the two seeds alone (no flag has them; set as DeformerOptions fields).

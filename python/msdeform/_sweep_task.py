@@ -20,18 +20,16 @@ from msdeform._sweep_grid import DEFORMER_METHODS, build_options, method_keyword
 # opt_<option>...); energy is what the method minimised, as run_deformer says.
 STATUS_COLUMNS = ("status", "error_type", "error")
 # run_deformer's numbers that do not depend on the clock: the same task gives the same values.
-METRIC_COLUMNS = (
-    "vertices", "faces", "diagonal", "cell_width", "particles", "d1", "scales_n", "shared_cells",
-    "selected_scale", "scale_nodes", "totally_free", "half_free", "nodes_optimized", "variables",
-    "iterations", "iterations_total", "final_cost", "unconverged_frames", "handle_rms_rel",
-    "fixed_max_rel", "leakage_rel", "leakage_max_rel", "arap_energy", "arap_energy_joint",
-    "strain", "orthogonality", "arap_distance_rel")
+# Read from RunResult's one column table (msdeform.RESULT_COLUMNS, experiments/runner.h), less
+# the parameters a task already has (scenario, method, energy).
+_PARAMETER_COLUMNS = ("scenario", "method", "energy")
+METRIC_COLUMNS = tuple(name for name, timing in msdeform.RESULT_COLUMNS
+                       if not timing and name not in _PARAMETER_COLUMNS)
 # Times (ms): run_deformer's, then the task's own (load_ms: reading the scenario; task_ms: the
 # whole task on its worker; task_cpu_ms: the CPU time of the thread that ran it, which other
 # load on the machine does not inflate). They differ between runs of the same task.
-TIMING_COLUMNS = (
-    "precompute_ms", "rigidity_ms", "setup_ms", "frame_ms", "solve_ms", "skin_ms",
-    "solve_total_ms", "other_backend_frame_ms", "wall_ms", "load_ms", "task_ms", "task_cpu_ms")
+TIMING_COLUMNS = tuple(name for name, timing in msdeform.RESULT_COLUMNS if timing) + (
+    "load_ms", "task_ms", "task_cpu_ms")
 # Where and by what the row was made: the worker (differs between runs) and msdeform's commit.
 PROVENANCE_COLUMNS = ("worker", "commit")
 

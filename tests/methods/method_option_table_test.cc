@@ -78,5 +78,33 @@ TEST(MethodOptionTableTest, DefaultsAreTheStructs) {
   EXPECT_EQ(fields.back().second, "0.10000000000000001");
 }
 
+// MethodOptions::Check reads every row's range: a C++ caller gets the
+// command line's words, named by the row.
+TEST(MethodOptionTableTest, CheckReadsTheRowsRanges) {
+  std::string error;
+  EXPECT_TRUE(MethodOptions().Check(&error)) << error;
+  MethodOptions options;
+  options.cgal.iterations = 0;
+  EXPECT_FALSE(options.Check(&error));
+  EXPECT_EQ(error, "cgal.iterations=0: expected an integer >= 1");
+  options = MethodOptions();
+  options.fastlsm.damping = 1.0;
+  EXPECT_FALSE(options.Check(&error));
+  EXPECT_EQ(error, "fastlsm.damping=1: expected a number in [0, 1)");
+  options = MethodOptions();
+  options.deformer.rigidity.time_step = 0.0;
+  EXPECT_FALSE(options.Check(&error));
+  EXPECT_EQ(error, "rigidity.time_step=0: expected a finite number > 0");
+  options = MethodOptions();
+  options.deformer.selection.fixed_extent_cutoff = 0.0;
+  EXPECT_FALSE(options.Check(&error));
+  EXPECT_EQ(error, "selection.fixed_extent_cutoff=0: expected a number in (0, 1]");
+  // What a row cannot say is still checked: k_ext h^2 <= 1.
+  options = MethodOptions();
+  options.deformer.rigidity.external_stiffness = 2.0;
+  EXPECT_FALSE(options.Check(&error));
+  EXPECT_EQ(error, "external_stiffness * time_step^2 (k_ext h^2) must be <= 1 for a stable step");
+}
+
 }  // namespace
 }  // namespace msdeform

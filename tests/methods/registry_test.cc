@@ -1,17 +1,79 @@
 #include "msdeform/methods/registry.h"
 
+#include <set>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "msdeform/methods/method_option_table.h"
+
 namespace msdeform {
 namespace {
 
-TEST(RegistryTest, ListsEveryMethod) {
-  EXPECT_EQ(MethodNames(), (std::vector<std::string>{"multiscale", "static", "static_dense",
-                                                      "cgal_arap", "cgal_sr_arap", "fastlsm"}));
-  EXPECT_EQ(MethodNameList(), "multiscale, static, static_dense, cgal_arap, cgal_sr_arap, fastlsm");
+// The project's methods, registered in this order; a method added later
+// comes after them and needs no change here.
+const std::vector<std::string> kProjectMethods = {"multiscale", "static",       "static_dense",
+                                                  "cgal_arap",  "cgal_sr_arap", "fastlsm"};
+
+TEST(RegistryTest, ListsEveryMethodOnceInRegistrationOrder) {
+  const std::vector<std::string> names = MethodNames();
+  ASSERT_GE(names.size(), kProjectMethods.size());
+  EXPECT_EQ(std::vector<std::string>(names.begin(), names.begin() + kProjectMethods.size()),
+            kProjectMethods);
+  EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), names.size());
+  std::string list;
+  for (const std::string& name : names) list += (list.empty() ? "" : ", ") + name;
+  EXPECT_EQ(MethodNameList(), list);
+  EXPECT_EQ(MethodNameList().rfind(
+                "multiscale, static, static_dense, cgal_arap, cgal_sr_arap, fastlsm", 0),
+            0u);
+}
+
+// The descriptors the front ends read: graph or not, what each minimises,
+// the prefix of its own rows (known answers).
+TEST(RegistryTest, DescriptorsSayGraphEnergyAndOwnRows) {
+  DeformerOptions ed, arap;
+  arap.energy = Energy::kArap;
+  for (const char* name : {"multiscale", "static", "static_dense"}) {
+    const MethodDescriptor* d = FindMethod(name);
+    ASSERT_NE(d, nullptr) << name;
+    EXPECT_TRUE(d->graph) << name;
+    EXPECT_TRUE(IsGraphMethod(name));
+    EXPECT_EQ(d->options, "") << name;
+    EXPECT_EQ(MinimisedEnergy(name, ed), "ed");
+    EXPECT_EQ(MinimisedEnergy(name, arap), "arap");
+  }
+  const struct {
+    const char* name;
+    const char* energy;
+    const char* options;
+  } kOthers[] = {{"cgal_arap", "arap", "cgal"},
+                 {"cgal_sr_arap", "sr_arap", "cgal"},
+                 {"fastlsm", "shape_matching", "fastlsm"}};
+  for (const auto& other : kOthers) {
+    const MethodDescriptor* d = FindMethod(other.name);
+    ASSERT_NE(d, nullptr) << other.name;
+    EXPECT_FALSE(d->graph);
+    EXPECT_FALSE(IsGraphMethod(other.name));
+    EXPECT_EQ(d->energy, other.energy);
+    EXPECT_EQ(d->options, other.options);
+    EXPECT_EQ(MinimisedEnergy(other.name, arap), other.energy);
+  }
+  EXPECT_EQ(MinimisedEnergy("no_such_method", ed), "-");
+  EXPECT_EQ(FindMethod("no_such_method"), nullptr);
+  // The methods' own rows come from the descriptors' prefixes.
+  EXPECT_EQ(MethodsOfRow("cgal.iterations"), (std::vector<std::string>{"cgal_arap", "cgal_sr_arap"}));
+  EXPECT_EQ(MethodsOfRow("fastlsm.damping"), (std::vector<std::string>{"fastlsm"}));
+  EXPECT_TRUE(MethodsOfRow("w_con").empty());
+  for (const MethodDescriptor& d : RegisteredMethods()) {
+    if (d.options.empty()) continue;
+    bool has_row = false;
+    for (const auto& row : MethodOptionTable().rows()) {
+      has_row = has_row || row.name.rfind(d.options + ".", 0) == 0;
+    }
+    EXPECT_TRUE(has_row) << d.name << ": no row " << d.options << ".*";
+  }
 }
 
 TEST(RegistryTest, CreatesEachByItsName) {
@@ -22,14 +84,14 @@ TEST(RegistryTest, CreatesEachByItsName) {
     EXPECT_EQ(method->name(), name);
     EXPECT_FALSE(method->precomputed());
     EXPECT_TRUE(IsMethodName(name));
+    EXPECT_EQ(method->deformer() == nullptr, !FindMethod(name)->graph) << name;
   }
 }
 
 TEST(RegistryTest, UnknownNameIsOneLineNamingItAndTheChoices) {
   std::string error;
   EXPECT_EQ(CreateMethod("arap", &error), nullptr);
-  EXPECT_EQ(error, "unknown method 'arap' (expected multiscale, static, static_dense, cgal_arap, "
-                   "cgal_sr_arap, fastlsm)");
+  EXPECT_EQ(error, "unknown method 'arap' (expected " + MethodNameList() + ")");
   EXPECT_EQ(error.find('\n'), std::string::npos);
   EXPECT_FALSE(IsMethodName("arap"));
   EXPECT_FALSE(IsMethodName(""));

@@ -130,3 +130,41 @@ def test_method_keywords_out_of_range_name_the_keyword(meshes):
     with pytest.raises(ValueError, match=r"^fastlsm_steps: one option "
                                          r"\(fastlsm.steps_per_frame\), given twice$"):
         msdeform.Method(V, F, "fastlsm", fastlsm_steps=3, fastlsm_steps_per_frame=4)
+
+
+@pytest.mark.parametrize("method", msdeform.METHODS)
+def test_drag_along_is_drag_through_its_path(scenarios, method):
+    """Every registered method through the one class: drag_along(M, frames) drags through
+    drag_path(M, frames), frame by frame, to the same vertices."""
+    scenario = msdeform.load_scenario(scenarios / "cactus.json", frames=3)
+    along = msdeform.Method(scenario.V, scenario.F, method)
+    along.set_handles(scenario.status)
+    V_along = along.drag_along(scenario.path[-1], frames=3).copy()
+    assert len(along.frame_stats) == 3
+    assert along.last_stats["frame_ms"] == along.frame_stats[-1]["frame_ms"]
+    assert along.failed_frames == []
+    stepped = msdeform.Method(scenario.V, scenario.F, method)
+    stepped.set_handles(scenario.status)
+    path = stepped.drag_path(scenario.path[-1], frames=3)
+    assert path.shape == (3, 4, 4)
+    assert np.array_equal(stepped.drag(path), V_along)
+
+
+@pytest.mark.parametrize("method", msdeform.METHODS)
+def test_method_says_what_it_minimises(meshes, method):
+    V, F = msdeform.read_mesh(meshes / "cactus.off")
+    e = msdeform.Method(V, F, method)
+    known = {"cgal_arap": "arap", "cgal_sr_arap": "sr_arap", "fastlsm": "shape_matching"}
+    if method in known:
+        assert not e.graph and e.energy == known[method]
+    if e.graph:
+        assert e.energy == "ed"
+        assert msdeform.Method(V, F, method, energy="arap").energy == "arap"
+
+
+def test_unknown_keyword_offers_the_nearest(meshes):
+    V, F = msdeform.read_mesh(meshes / "cactus.off")
+    with pytest.raises(TypeError, match=r"unknown option 'w_cn' \(did you mean 'w_con'\?\)"):
+        msdeform.Method(V, F, "fastlsm", w_cn=1.0)
+    with pytest.raises(TypeError, match=r"unknown option 'w_cn' \(did you mean 'w_con'\?\)"):
+        msdeform.Deformer(V, F, w_cn=1.0)

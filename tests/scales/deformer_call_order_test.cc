@@ -94,13 +94,13 @@ TEST(DeformerCallOrderTest, OptionsRefuseAZeroHandleWeightAndTooManyThreads) {
   DeformerOptions options;
   options.w_con = 0.0;
   EXPECT_FALSE(options.Check(&error));
-  EXPECT_EQ(error, "w_con must be > 0 (the handle would not follow its target)");
+  EXPECT_EQ(error, "w_con=0: expected a finite weight > 0 (at 0 the handle would not follow its target)");
   options = DeformerOptions();
   options.num_threads = kMaxThreads;
   EXPECT_TRUE(options.Check(&error)) << error;
   options.num_threads = kMaxThreads + 1;
   EXPECT_FALSE(options.Check(&error));
-  EXPECT_EQ(error, "num_threads must be in 1..1024");
+  EXPECT_EQ(error, "num_threads=1025: expected an integer in 1..1024");
 }
 
 // Invalid options leave the object as it was (the layout too); a failure

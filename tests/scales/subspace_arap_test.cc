@@ -18,8 +18,8 @@
 #include <gflags/gflags.h>
 #include <gtest/gtest.h>
 
+#include "apps/flags/deformer_flags.h"
 #include "msdeform/core/metrics.h"
-#include "msdeform/scales/deformer_flags.h"
 #include "msdeform/solvers/arap_solver.h"
 #include "tests/scales/subspace_arap_test_util.h"
 
@@ -345,13 +345,13 @@ TEST(SubspaceArapTest, BadOptionsNameTheOption) {
     const char* message;
   };
   for (const Bad& bad :
-       {Bad{[](ArapOptions* o) { o->num_clusters = 0; }, "arap.num_clusters must be >= 1"},
+       {Bad{[](ArapOptions* o) { o->num_clusters = 0; }, "arap.num_clusters=0: expected an integer >= 1"},
         Bad{[](ArapOptions* o) { o->kmeans_iterations = -1; },
-            "arap.kmeans_iterations must be >= 0"},
+            "arap.kmeans_iterations=-1: expected an integer >= 0"},
         Bad{[](ArapOptions* o) { o->soft_weight = 0.0; },
-            "arap.soft_weight must be a finite weight > 0"},
+            "arap.soft_weight=0: expected a finite weight > 0"},
         Bad{[](ArapOptions* o) { o->soft_weight = std::nan(""); },
-            "arap.soft_weight must be a finite weight > 0"}}) {
+            "arap.soft_weight=nan: expected a finite weight > 0"}}) {
     DeformerOptions options =
         ArapOptionsFor(Method::kMultiScale, RotationClusters::kWeights, ArapConstraints::kExact);
     bad.set(&options.arap);

@@ -1,8 +1,8 @@
-#include "msdeform/methods/method_flags.h"
+#include "apps/flags/method_flags.h"
 
+#include "apps/flags/deformer_flags.h"
 #include "msdeform/methods/method_option_table.h"
 #include "msdeform/methods/registry.h"
-#include "msdeform/scales/deformer_flags.h"
 
 namespace msdeform {
 namespace {

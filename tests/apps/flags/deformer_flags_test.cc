@@ -1,6 +1,6 @@
-// The command-line flags of DeformerOptions (scales/deformer_flags.h).
+// The command-line flags of DeformerOptions (apps/flags/deformer_flags.h).
 
-#include "msdeform/scales/deformer_flags.h"
+#include "apps/flags/deformer_flags.h"
 
 #include <map>
 #include <set>

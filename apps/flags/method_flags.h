@@ -1,5 +1,5 @@
 // The command-line flags of every editing method: the Deformer's
-// (scales/deformer_flags.h) and the methods' own rows of MethodOptionTable()
+// (apps/flags/deformer_flags.h) and the methods' own rows of MethodOptionTable()
 // (--cgal_iterations, --fastlsm_steps, ...), registered from the rows, so an
 // executable that links this has them all and --help lists them under
 // "method".
@@ -7,8 +7,8 @@
 //   MethodOptions options;
 //   if (!MethodOptionsFromFlags(&options, &error)) ...  // "--fastlsm_steps=0: expected ..."
 
-#ifndef MSDEFORM_METHODS_METHOD_FLAGS_H_
-#define MSDEFORM_METHODS_METHOD_FLAGS_H_
+#ifndef MSDEFORM_APPS_FLAGS_METHOD_FLAGS_H_
+#define MSDEFORM_APPS_FLAGS_METHOD_FLAGS_H_
 
 #include <string>
 
@@ -27,4 +27,4 @@ bool MethodOwnOptionsFromFlags(MethodOptions* options, std::string* error);
 
 }  // namespace msdeform
 
-#endif  // MSDEFORM_METHODS_METHOD_FLAGS_H_
+#endif  // MSDEFORM_APPS_FLAGS_METHOD_FLAGS_H_

@@ -1,4 +1,4 @@
-#include "msdeform/scales/deformer_flags.h"
+#include "apps/flags/deformer_flags.h"
 
 #include <algorithm>
 #include <deque>
@@ -11,9 +11,10 @@
 #include <gflags/gflags.h>
 
 #include "msdeform/core/option_table.h"
+#include "msdeform/methods/registry.h"
 
 // The flags are the rows of an options table that have a command-line topic
-// (DeformerOptionTable()'s here, the methods' own in methods/method_flags.cc),
+// (DeformerOptionTable()'s here, the methods' own in apps/flags/method_flags.cc),
 // registered with gflags at start-up under each of the row's spellings: its
 // name where it has no dot, and its aliases (the legacy spellings: --solver
 // for backend, --cell_width for lattice.cell_width). Name, type, default and
@@ -89,8 +90,16 @@ bool SameRow(const TableFlag& a, const TableFlag& b) {
   return a.group == b.group && a.row == b.row;
 }
 
-// The Deformer's rows, registered before main parses argv.
-const int kDeformerGroup = RegisterFlagRows(FlagRowsOf(DeformerOptionTable(), DeformerOptions()));
+// The Deformer's rows, registered before main parses argv. --method takes
+// every registered method's name (methods/registry.h): its help lists them.
+std::vector<FlagRow> DeformerFlagRows() {
+  std::vector<FlagRow> rows = FlagRowsOf(DeformerOptionTable(), DeformerOptions());
+  for (FlagRow& row : rows) {
+    if (row.name == "method") row.description += " Registered: " + MethodNameList() + ".";
+  }
+  return rows;
+}
+const int kDeformerGroup = RegisterFlagRows(DeformerFlagRows());
 
 }  // namespace
 
@@ -203,22 +212,6 @@ std::vector<gflags::CommandLineFlagInfo> ProgramFlags() {
   return own;
 }
 
-// Levenshtein distance.
-int EditDistance(const std::string& a, const std::string& b) {
-  std::vector<int> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = static_cast<int>(j);
-  for (size_t i = 1; i <= a.size(); ++i) {
-    int diagonal = row[0];
-    row[0] = static_cast<int>(i);
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const int up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
-}
-
 }  // namespace
 
 bool CheckFlagNames(int argc, char** argv, std::string* error) {
@@ -235,19 +228,11 @@ bool CheckFlagNames(int argc, char** argv, std::string* error) {
         info.type == "bool") {
       continue;
     }
-    std::string nearest;
-    int best = 1 << 30;
-    for (const gflags::CommandLineFlagInfo& flag : ProgramFlags()) {
-      const int distance = EditDistance(name, flag.name);
-      if (distance < best) {
-        best = distance;
-        nearest = flag.name;
-      }
-    }
+    std::vector<std::string> names;
+    for (const gflags::CommandLineFlagInfo& flag : ProgramFlags()) names.push_back(flag.name);
+    const std::string nearest = NearestName(name, names);
     *error = "unknown flag --" + name;
-    if (!nearest.empty() && best <= std::max<int>(2, static_cast<int>(name.size()) / 3)) {
-      *error += " (did you mean --" + nearest + "?)";
-    }
+    if (!nearest.empty()) *error += " (did you mean --" + nearest + "?)";
     *error += "; --help lists the flags";
     return false;
   }

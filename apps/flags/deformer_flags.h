@@ -9,8 +9,8 @@
 // PrintFlagHelp lists msdeform's own flags (not glog's or gflags's), grouped
 // by topic, for --help, --helpshort and -h.
 
-#ifndef MSDEFORM_SCALES_DEFORMER_FLAGS_H_
-#define MSDEFORM_SCALES_DEFORMER_FLAGS_H_
+#ifndef MSDEFORM_APPS_FLAGS_DEFORMER_FLAGS_H_
+#define MSDEFORM_APPS_FLAGS_DEFORMER_FLAGS_H_
 
 #include <iosfwd>
 #include <string>
@@ -52,7 +52,7 @@ std::vector<std::string> FlagSpellings(const OptionRow<T>& row) {
 }
 
 // The flags of any options table's rows (the Deformer's here; the methods'
-// own in methods/method_flags.cc): what gflags needs of a row.
+// own in apps/flags/method_flags.cc): what gflags needs of a row.
 struct FlagRow {
   std::string name;  // the row's ("fastlsm.steps_per_frame")
   OptionType type = OptionType::kDouble;
@@ -104,4 +104,4 @@ std::vector<std::pair<std::string, std::string>> ProgramFlagValues();
 
 }  // namespace msdeform
 
-#endif  // MSDEFORM_SCALES_DEFORMER_FLAGS_H_
+#endif  // MSDEFORM_APPS_FLAGS_DEFORMER_FLAGS_H_
