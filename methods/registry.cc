@@ -5,6 +5,7 @@
 
 #include "msdeform/methods/fastlsm.h"
 #include "msdeform/methods/graph_method.h"
+#include "msdeform/methods/rigid_cells.h"
 #ifdef MSDEFORM_HAVE_CGAL
 #include "msdeform/methods/cgal_arap.h"
 #endif
@@ -27,6 +28,7 @@ const std::vector<std::pair<std::string, Factory>>& Registry() {
        [] { return std::make_unique<CgalArapMethod>("cgal_sr_arap", ArapVariant::kSmoothRotationEnhanced); }},
 #endif
       {"fastlsm", [] { return std::make_unique<FastLsm>(); }},
+      {"rigid_cells", [] { return std::make_unique<RigidCells>(); }},
   };
   return registry;
 }

@@ -16,7 +16,7 @@
 namespace msdeform {
 
 // Every registered name, in registration order: multiscale, static,
-// static_dense, cgal_arap, cgal_sr_arap (when built with CGAL), fastlsm.
+// static_dense, cgal_arap, cgal_sr_arap (when built with CGAL), fastlsm, rigid_cells.
 std::vector<std::string> MethodNames();
 // The names joined by ", " (for help texts and errors).
 std::string MethodNameList();

@@ -10,8 +10,10 @@ namespace {
 
 TEST(RegistryTest, ListsEveryMethod) {
   EXPECT_EQ(MethodNames(), (std::vector<std::string>{"multiscale", "static", "static_dense",
-                                                      "cgal_arap", "cgal_sr_arap", "fastlsm"}));
-  EXPECT_EQ(MethodNameList(), "multiscale, static, static_dense, cgal_arap, cgal_sr_arap, fastlsm");
+                                                      "cgal_arap", "cgal_sr_arap", "fastlsm",
+                                                      "rigid_cells"}));
+  EXPECT_EQ(MethodNameList(), "multiscale, static, static_dense, cgal_arap, cgal_sr_arap, fastlsm, "
+                             "rigid_cells");
 }
 
 TEST(RegistryTest, CreatesEachByItsName) {
