@@ -53,7 +53,7 @@ DEFINE_string(variants, "",
               "gn_exact, ceres_lm_eigen_sparse, arap_local_global).");
 DEFINE_string(methods, "",
               "[method] Comma-separated methods of table 2, any registered one: multiscale, "
-              "static, static_dense, cgal_arap, cgal_sr_arap, fastlsm (default: all; "
+              "static, static_dense, cgal_arap, cgal_sr_arap, fastlsm, rigid_cells (default: all; "
               "methods/registry.h).");
 DEFINE_string(energies, "ed,arap",
               "[method] Comma-separated energies that multiscale, static and static_dense run "

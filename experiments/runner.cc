@@ -67,6 +67,7 @@ std::string MinimisedEnergy(const std::string& method, const MethodOptions& opti
   if (method == "cgal_arap") return "arap";
   if (method == "cgal_sr_arap") return "sr_arap";
   if (method == "fastlsm") return "shape_matching";
+  if (method == "rigid_cells") return "rigid_cells";
   return "-";
 }
 

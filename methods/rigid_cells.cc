@@ -71,13 +71,14 @@ Eigen::Affine3d RigidCells::cell_transform(int cell) const {
 
 bool RigidCells::DoPrecompute(const Mesh& mesh, const MethodOptions& options, std::string* error) {
   const auto start = Clock::now();
+  precompute_stages_ = StageTimes();
   stages_ = StageTimes();
   if (!options.rigid_cells.Check(error)) return false;
   options_ = options.rigid_cells;
   num_threads_ = options.deformer.num_threads;
   if (!ValidateMesh(mesh, error)) return false;
   {
-    ScopedStage stage(&stages_, "precompute.lattice");
+    ScopedStage stage(&precompute_stages_, "precompute.lattice");
     LatticeOptions lattice_options = options.deformer.lattice;
     lattice_options.cells_per_diagonal = options_.cells_per_diagonal;
     if (!Lattice::Build(mesh, lattice_options, &lattice_, error)) return false;
@@ -102,7 +103,7 @@ bool RigidCells::DoPrecompute(const Mesh& mesh, const MethodOptions& options, st
   {
     // [Phi P; P^T 0] on centres shifted to their mean and scaled by the
     // lattice's extent (conditioning), factorised once.
-    ScopedStage stage(&stages_, "precompute.rbf_factorization");
+    ScopedStage stage(&precompute_stages_, "precompute.rbf_factorization");
     rbf_origin_ = rbf_centres_.rowwise().mean();
     rbf_scale_ = std::max(lattice_.cell_width() * lattice_.dims().maxCoeff(), 1e-300);
     const Eigen::Matrix3Xd centres = (rbf_centres_.colwise() - rbf_origin_) / rbf_scale_;
@@ -126,6 +127,7 @@ bool RigidCells::DoPrecompute(const Mesh& mesh, const MethodOptions& options, st
   rotations_.row(3).setOnes();
   positions_ = lattice_.rest_positions();
   problem_.reset();
+  stages_ = precompute_stages_;
   precompute_ms_ = MillisecondsSince(start);
   return true;
 }
@@ -185,7 +187,7 @@ bool RigidCells::DoSetHandles(const HandleLayout& layout, std::string* error) {
   }
   deformed_vertices_ = mesh_.vertices;
   constraint_gap_ = 0.0;
-  stages_ = StageTimes();
+  stages_ = precompute_stages_;
   stages_.Append(layout_stages);
   setup_ms_ = MillisecondsSince(start);
   return true;

@@ -54,18 +54,20 @@ struct RigidCellsOptions {
   // Cells per bounding-box diagonal of the method's lattice, replacing
   // deformer.lattice.cells_per_diagonal (a deformer.lattice.cell_width > 0
   // still wins). The RBF system is dense in the cells, so the lattice is
-  // coarser than the graph methods' 48: 16 gives 400-1,500 cells on the
-  // scenario meshes (docs/decisions/rigid-cells.md). In [2, 64].
-  double cells_per_diagonal = 16.0;
+  // coarser than the graph methods' 48: 32 gives 700-1,300 cells on the
+  // cactus, man and armadillo (16: 170-270 cells, whose ARAP energy on the
+  // man's foot drag was 3.1x that of 32; docs/decisions/rigid-cells.md).
+  // In [2, 64].
+  double cells_per_diagonal = 32.0;
   // The most cells (RBF centres) accepted: the factorised dense system takes
   // 8 (#cells + 4)^2 bytes (6,000: 290 MB). In [1, 20000].
   int max_cells = 6000;
   // Each frame's solve (num_threads is set from deformer.num_threads):
-  // Levenberg-Marquardt, SPARSE_NORMAL_CHOLESKY on SUITE_SPARSE (on the
-  // cactus faster than EIGEN_SPARSE here, docs/decisions/rigid-cells.md), at most 50 iterations,
-  // stopping at a relative cost change of 1e-10 (a rigid motion is then
-  // reached to 1e-15 of the diagonal; the frames of the scenarios take 4-8
-  // iterations), silent.
+  // Levenberg-Marquardt, SPARSE_NORMAL_CHOLESKY on SUITE_SPARSE (faster
+  // than EIGEN_SPARSE on these 26-neighbour lattices in a first comparison;
+  // docs/decisions/rigid-cells.md), at most 50 iterations, stopping at a
+  // relative cost change of 1e-10 (a rigid motion is then reached to 4e-15
+  // of the diagonal; the scenarios' frames take 4-13 iterations), silent.
   ceres::Solver::Options solver = DefaultSolverOptions();
 
   bool Check(std::string* error) const;
@@ -124,7 +126,8 @@ class RigidCells : public EditingMethod {
   double constraint_gap_ = 0.0;
   double precompute_ms_ = 0.0;
   double setup_ms_ = 0.0;
-  StageTimes stages_;
+  StageTimes precompute_stages_;
+  StageTimes stages_;  // precompute_stages_ and the layout's
 };
 
 }  // namespace msdeform

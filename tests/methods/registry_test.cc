@@ -31,7 +31,7 @@ TEST(RegistryTest, UnknownNameIsOneLineNamingItAndTheChoices) {
   std::string error;
   EXPECT_EQ(CreateMethod("arap", &error), nullptr);
   EXPECT_EQ(error, "unknown method 'arap' (expected multiscale, static, static_dense, cgal_arap, "
-                   "cgal_sr_arap, fastlsm)");
+                   "cgal_sr_arap, fastlsm, rigid_cells)");
   EXPECT_EQ(error.find('\n'), std::string::npos);
   EXPECT_FALSE(IsMethodName("arap"));
   EXPECT_FALSE(IsMethodName(""));

@@ -50,6 +50,7 @@ TEST(RigidCellsTest, RigidMotionOfTheHandleWithNothingFixedMovesEveryVertex) {
   layout.moveable = VerticesWithX(bar, 7.0, 8.0);
   RigidCells method;
   MethodOptions options;
+  options.rigid_cells.cells_per_diagonal = 16.0;  // 153 cells: a quick test
   std::string error;
   ASSERT_TRUE(method.Precompute(bar, options, &error)) << error;
   ASSERT_TRUE(method.SetHandles(layout, &error)) << error;
@@ -72,6 +73,7 @@ TEST(RigidCellsTest, HandleAndFixedVerticesAreExact) {
   layout.moveable = VerticesWithX(bar, 7.0, 9.0);
   RigidCells method;
   MethodOptions options;
+  options.rigid_cells.cells_per_diagonal = 16.0;  // 153 cells: a quick test
   std::string error;
   ASSERT_TRUE(method.Precompute(bar, options, &error)) << error;
   ASSERT_TRUE(method.SetHandles(layout, &error)) << error;
@@ -101,6 +103,7 @@ TEST(RigidCellsTest, BarBentFromOneEndDeformsSmoothly) {
   layout.moveable = VerticesWithX(bar, 7.0, 9.0);
   RigidCells method;
   MethodOptions options;
+  options.rigid_cells.cells_per_diagonal = 16.0;  // 153 cells: a quick test
   std::string error;
   ASSERT_TRUE(method.Precompute(bar, options, &error)) << error;
   ASSERT_TRUE(method.SetHandles(layout, &error)) << error;
