@@ -148,6 +148,7 @@ std::string ExpectedEnergy(const std::string& method) {
   if (method == "cgal_arap") return "arap";
   if (method == "cgal_sr_arap") return "sr_arap";
   if (method == "fastlsm") return "shape_matching";
+  if (method == "rigid_cells") return "rigid_cells";
   return "";
 }
 
@@ -168,7 +169,7 @@ TEST_F(QuickTablesTest, Table2HasTheColumnsAndFiniteValues) {
   std::set<std::string> methods;
   for (const auto& row : table.rows) methods.insert(row[table.Column("method")]);
   EXPECT_EQ(methods, (std::set<std::string>{"multiscale", "static", "static_dense", "cgal_arap",
-                                            "cgal_sr_arap", "fastlsm"}));
+                                            "cgal_sr_arap", "fastlsm", "rigid_cells"}));
   // Leakage only where the scenario has a watch region (hand_finger).
   for (const auto& row : table.rows) {
     const bool has_watch = row[table.Column("scenario")] == "hand_finger";
