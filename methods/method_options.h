@@ -1,7 +1,7 @@
 // The options of every editing method (methods/method.h), one struct per
 // method with its documented defaults. A method reads its own part: the graph
 // methods `deformer` (whose `method` field the registry sets from the name),
-// CGAL's `cgal`, FastLSM `fastlsm`.
+// CGAL's `cgal`, FastLSM `fastlsm`, rigid cells `rigid_cells`.
 
 #ifndef MSDEFORM_METHODS_METHOD_OPTIONS_H_
 #define MSDEFORM_METHODS_METHOD_OPTIONS_H_
@@ -10,6 +10,7 @@
 
 #include "msdeform/methods/cgal_arap.h"
 #include "msdeform/methods/fastlsm.h"
+#include "msdeform/methods/rigid_cells.h"
 #include "msdeform/scales/deformer_options.h"
 
 namespace msdeform {
@@ -22,6 +23,8 @@ struct MethodOptions {
   CgalArapOptions cgal;
   // fastlsm.
   FastLsmOptions fastlsm;
+  // rigid_cells (with deformer.lattice and deformer.num_threads).
+  RigidCellsOptions rigid_cells;
 
   // The ranges of every row of MethodOptionTable() (methods/method_option_table.h),
   // then DeformerOptions::Check: one line naming the row.

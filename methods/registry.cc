@@ -3,6 +3,7 @@
 #include <utility>
 
 #include "msdeform/methods/fastlsm.h"
+#include "msdeform/methods/rigid_cells.h"
 #include "msdeform/methods/graph_method.h"
 #include "msdeform/methods/method_option_table.h"
 #ifdef MSDEFORM_HAVE_CGAL
@@ -55,6 +56,11 @@ std::vector<MethodDescriptor> BuildRegistry() {
   };
   fastlsm.create = [] { return std::make_unique<FastLsm>(); };
   registry.push_back(std::move(fastlsm));
+  MethodDescriptor rigid_cells;
+  rigid_cells.name = "rigid_cells";
+  rigid_cells.energy = "rigid_cells";
+  rigid_cells.create = [] { return std::make_unique<RigidCells>(); };
+  registry.push_back(std::move(rigid_cells));
   return registry;
 }
 

@@ -32,7 +32,7 @@ if "${msdeform}" --quiet --scenario="${scenario}" --method=arap --out="${work}/a
      2> "${work}/stderr"; then
   echo "cli_methods_test: --method=arap succeeded"; exit 1
 fi
-expected="msdeform: --method=arap: expected multiscale, static, static_dense, cgal_arap, cgal_sr_arap, fastlsm"
+expected="msdeform: --method=arap: expected multiscale, static, static_dense, cgal_arap, cgal_sr_arap, fastlsm, rigid_cells"
 if [[ "$(cat "${work}/stderr")" != "${expected}" ]]; then
   echo "cli_methods_test: stderr was: $(cat "${work}/stderr")"; exit 1
 fi

@@ -12,7 +12,7 @@ from conftest import read_off_exact
 
 def test_methods_lists_the_registry():
     assert msdeform.METHODS == ("multiscale", "static", "static_dense", "cgal_arap",
-                                "cgal_sr_arap", "fastlsm")
+                                "cgal_sr_arap", "fastlsm", "rigid_cells")
 
 
 @pytest.mark.parametrize("method", ["multiscale", "static", "cgal_arap", "cgal_sr_arap",
@@ -51,7 +51,7 @@ def test_unknown_method_and_drag_before_handles_are_errors(meshes):
     V, F = msdeform.read_mesh(meshes / "cactus.off")
     with pytest.raises(ValueError, match=r"^method: unknown method 'arap' \(expected multiscale, "
                                          r"static, static_dense, cgal_arap, cgal_sr_arap, "
-                                         r"fastlsm\)$"):
+                                         r"fastlsm, rigid_cells\)$"):
         msdeform.Method(V, F, "arap")
     e = msdeform.Method(V, F, "fastlsm")
     with pytest.raises(RuntimeError, match="fastlsm: Drag before a successful SetHandles"):

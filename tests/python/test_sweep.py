@@ -220,7 +220,7 @@ def test_failed_task_is_recorded_and_the_sweep_goes_on(source, tmp_path):
      "half_free, border, pin_fixed_region)"),
     ({"methods": ["multiscale", "arap"]}, "methods[1]",
      "'arap': expected one of multiscale, static, static_dense, cgal_arap, cgal_sr_arap, "
-     "fastlsm"),
+     "fastlsm, rigid_cells"),
     ({"scenarios": ["nowhere.json"]}, "scenarios[0]", "nowhere.json: no such file"),
     ({"seeds": [1, -2]}, "seeds[1]", "expected an integer in 0..2^64-1, got -2"),
     ({"frame": 5}, "frame", "unknown key"),
