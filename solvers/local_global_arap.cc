@@ -1,0 +1,327 @@
+#include "msdeform/solvers/local_global_arap.h"
+
+#include <chrono>
+#include <cmath>
+#include <deque>
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <glog/logging.h>
+
+#include "msdeform/core/cotangent_weights.h"
+#include "msdeform/core/parallel.h"
+#include "msdeform/core/timing.h"
+#include "msdeform/scales/polar_decomposition.h"
+#include "msdeform/solvers/anderson_acceleration.h"
+
+namespace msdeform {
+namespace {
+
+// Vertices per task of the local step and of the right-hand side.
+constexpr int64_t kChunk = 4096;
+// The local step's rotation fit: updates and tolerance (radians) of
+// ExtractRotation from the last rotation; far below the energy's resolution.
+constexpr int kRotationIterations = 50;
+constexpr double kRotationTolerance = 1e-13;
+
+}  // namespace
+
+bool LocalGlobalArapOptions::Check(std::string* error) const {
+  if (!(relative_tolerance >= 0.0) || !std::isfinite(relative_tolerance)) {
+    *error = "relative_tolerance must be finite and >= 0";
+    return false;
+  }
+  if (max_iterations < 0) {
+    *error = "max_iterations must be >= 0";
+    return false;
+  }
+  if (anderson_window < 0) {
+    *error = "anderson_window must be >= 0";
+    return false;
+  }
+  if (num_threads < 0) {
+    *error = "num_threads must be >= 0";
+    return false;
+  }
+  return true;
+}
+
+struct LocalGlobalArap::Impl {
+  LocalGlobalArapOptions options;
+  Eigen::Matrix3Xd rest;
+  CotangentWeights cotangent;
+  double normaliser = 0.0;  // sum over spokes of w |r_i - r_k|^2
+  // -1 for a constant vertex (constrained, or reached by no constraint),
+  // else its row in the Laplacian.
+  std::vector<int> free_index;
+  std::vector<int> free_vertices;
+  std::vector<int> constrained;
+  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> llt;
+  // Per vertex: the last local step's rotation (its warm start).
+  std::vector<Eigen::Quaterniond> rotation;
+  double setup_ms = 0.0;
+
+  // The local step at `x`: fits every vertex's rotation into *rotations
+  // (warm-started from its entries) and returns the normalised energy.
+  double Local(const Eigen::Matrix3Xd& x, std::vector<Eigen::Quaterniond>* rotations) const;
+  // The global step: the free vertices' positions minimising the energy for
+  // the rotations, the constant ones read from `x`; n_free by 3.
+  Eigen::MatrixXd Global(const Eigen::Matrix3Xd& x,
+                         const std::vector<Eigen::Quaterniond>& rotations) const;
+};
+
+double LocalGlobalArap::Impl::Local(const Eigen::Matrix3Xd& x,
+                                    std::vector<Eigen::Quaterniond>* rotations) const {
+  const int n = static_cast<int>(rest.cols());
+  const VertexAdjacency& adjacency = cotangent.adjacency;
+  std::vector<double> chunk_energy(NumChunks(n, kChunk), 0.0);
+  ForEachChunk(n, kChunk, ThreadsFor(options.num_threads, n),
+               [&](int64_t begin, int64_t end, int64_t chunk) {
+                 double energy = 0.0;
+                 for (int64_t i = begin; i < end; ++i) {
+                   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+                   const int first = adjacency.offsets[i], last = adjacency.offsets[i + 1];
+                   for (int s = first; s < last; ++s) {
+                     const int k = adjacency.neighbors[s];
+                     covariance.noalias() += cotangent.weight[s] * (x.col(i) - x.col(k)) *
+                                             (rest.col(i) - rest.col(k)).transpose();
+                   }
+                   Eigen::Quaterniond& q = (*rotations)[i];
+                   if (first < last) {
+                     ExtractRotation(covariance, kRotationIterations, kRotationTolerance, &q);
+                   }
+                   const Eigen::Matrix3d r = q.toRotationMatrix();
+                   for (int s = first; s < last; ++s) {
+                     const int k = adjacency.neighbors[s];
+                     energy += cotangent.weight[s] *
+                               ((x.col(i) - x.col(k)) - r * (rest.col(i) - rest.col(k)))
+                                   .squaredNorm();
+                   }
+                 }
+                 chunk_energy[chunk] = energy;
+               });
+  double energy = 0.0;
+  for (double e : chunk_energy) energy += e;
+  return normaliser > 0.0 ? energy / normaliser : 0.0;
+}
+
+Eigen::MatrixXd LocalGlobalArap::Impl::Global(
+    const Eigen::Matrix3Xd& x, const std::vector<Eigen::Quaterniond>& rotations) const {
+  const int num_free = static_cast<int>(free_vertices.size());
+  const VertexAdjacency& adjacency = cotangent.adjacency;
+  // The rotations as matrices, once each (every spoke reads two).
+  const int n = static_cast<int>(rotations.size());
+  std::vector<Eigen::Matrix3d> r(n);
+  ForEachChunk(n, kChunk, ThreadsFor(options.num_threads, n),
+               [&](int64_t begin, int64_t end, int64_t) {
+                 for (int64_t i = begin; i < end; ++i) r[i] = rotations[i].toRotationMatrix();
+               });
+  Eigen::MatrixXd rhs(num_free, 3);
+  ForEachChunk(num_free, kChunk, ThreadsFor(options.num_threads, num_free),
+               [&](int64_t begin, int64_t end, int64_t) {
+                 for (int64_t row = begin; row < end; ++row) {
+                   const int i = free_vertices[row];
+                   Eigen::Vector3d b = Eigen::Vector3d::Zero();
+                   for (int s = adjacency.offsets[i]; s < adjacency.offsets[i + 1]; ++s) {
+                     const int k = adjacency.neighbors[s];
+                     const double w = cotangent.weight[s];
+                     b += 0.5 * w *
+                          ((r[i] + r[k]) * (rest.col(i) - rest.col(k)));
+                     if (free_index[k] < 0) b += w * x.col(k);
+                   }
+                   rhs.row(row) = b.transpose();
+                 }
+               });
+  Eigen::MatrixXd solution(num_free, 3);
+  // The three coordinates are independent solves with the one factor.
+#pragma omp parallel for num_threads(ThreadsFor(options.num_threads, num_free) > 1 ? 3 : 1)
+  for (int d = 0; d < 3; ++d) solution.col(d) = llt.solve(rhs.col(d));
+  return solution;
+}
+
+LocalGlobalArap::LocalGlobalArap() = default;
+LocalGlobalArap::~LocalGlobalArap() = default;
+
+bool LocalGlobalArap::Setup(const Mesh& rest, const std::vector<int>& constrained,
+                            const LocalGlobalArapOptions& options, std::string* error) {
+  impl_.reset();
+  if (!options.Check(error)) return false;
+  const auto start = std::chrono::steady_clock::now();
+  const int n = rest.num_vertices();
+  for (size_t j = 0; j < constrained.size(); ++j) {
+    if (constrained[j] < 0 || constrained[j] >= n) {
+      *error = "constrained vertex " + std::to_string(constrained[j]) + " is not a vertex (" +
+               std::to_string(n) + " vertices)";
+      return false;
+    }
+    if (j > 0 && constrained[j] <= constrained[j - 1]) {
+      *error = "constrained vertices must be sorted and unique";
+      return false;
+    }
+  }
+  auto impl = std::make_unique<Impl>();
+  impl->options = options;
+  impl->rest = rest.vertices;
+  impl->cotangent = ComputeCotangentWeights(rest);
+  impl->constrained = constrained;
+  const VertexAdjacency& adjacency = impl->cotangent.adjacency;
+  for (int i = 0; i < n; ++i) {
+    for (int s = adjacency.offsets[i]; s < adjacency.offsets[i + 1]; ++s) {
+      impl->normaliser += impl->cotangent.weight[s] *
+                          (rest.vertices.col(i) - rest.vertices.col(adjacency.neighbors[s]))
+                              .squaredNorm();
+    }
+  }
+
+  // Free: every vertex a constraint reaches through edges of positive weight
+  // (breadth first from the constrained vertices, numbered in vertex order).
+  std::vector<char> is_constrained(n, 0), reached(n, 0);
+  std::deque<int> queue;
+  for (int v : constrained) {
+    is_constrained[v] = 1;
+    reached[v] = 1;
+    queue.push_back(v);
+  }
+  while (!queue.empty()) {
+    const int i = queue.front();
+    queue.pop_front();
+    for (int s = adjacency.offsets[i]; s < adjacency.offsets[i + 1]; ++s) {
+      const int k = adjacency.neighbors[s];
+      if (!reached[k] && impl->cotangent.weight[s] > 0.0) {
+        reached[k] = 1;
+        queue.push_back(k);
+      }
+    }
+  }
+  impl->free_index.assign(n, -1);
+  for (int i = 0; i < n; ++i) {
+    if (reached[i] && !is_constrained[i]) {
+      impl->free_index[i] = static_cast<int>(impl->free_vertices.size());
+      impl->free_vertices.push_back(i);
+    }
+  }
+
+  // The Laplacian of the free vertices (lower triangle): L_ii = sum_k w_ik,
+  // L_ik = -w_ik.
+  const int num_free = static_cast<int>(impl->free_vertices.size());
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(adjacency.neighbors.size() / 2 + num_free);
+  for (int row = 0; row < num_free; ++row) {
+    const int i = impl->free_vertices[row];
+    double diagonal = 0.0;
+    for (int s = adjacency.offsets[i]; s < adjacency.offsets[i + 1]; ++s) {
+      const double w = impl->cotangent.weight[s];
+      diagonal += w;
+      const int column = impl->free_index[adjacency.neighbors[s]];
+      if (column >= 0 && column < row && w != 0.0) triplets.emplace_back(row, column, -w);
+    }
+    triplets.emplace_back(row, row, diagonal);
+  }
+  Eigen::SparseMatrix<double> laplacian(num_free, num_free);
+  laplacian.setFromTriplets(triplets.begin(), triplets.end());
+  impl->llt.compute(laplacian);
+  if (num_free > 0 && impl->llt.info() != Eigen::Success) {
+    *error = "the ARAP system of " + std::to_string(num_free) +
+             " free vertices could not be factorised (not positive definite)";
+    return false;
+  }
+  impl->rotation.assign(n, Eigen::Quaterniond::Identity());
+  impl->setup_ms = MillisecondsSince(start);
+  impl_ = std::move(impl);
+  return true;
+}
+
+LocalGlobalArapSummary LocalGlobalArap::Solve(const Eigen::Matrix3Xd& targets,
+                                              Eigen::Matrix3Xd* deformed) {
+  CHECK(impl_ != nullptr) << "Solve before a successful Setup";
+  Impl& impl = *impl_;
+  CHECK_EQ(targets.cols(), static_cast<int64_t>(impl.constrained.size()));
+  CHECK_EQ(deformed->cols(), impl.rest.cols());
+  const auto start = std::chrono::steady_clock::now();
+  Eigen::Matrix3Xd& x = *deformed;
+  for (size_t j = 0; j < impl.constrained.size(); ++j) x.col(impl.constrained[j]) = targets.col(j);
+
+  const int num_free = static_cast<int>(impl.free_vertices.size());
+  // The free positions as one vector, coordinate-major (x's of every free
+  // vertex, then y's, then z's): the accelerated variable.
+  auto gather = [&](const Eigen::Matrix3Xd& positions, Eigen::VectorXd* v) {
+    v->resize(3 * num_free);
+    for (int row = 0; row < num_free; ++row) {
+      for (int d = 0; d < 3; ++d) (*v)[d * num_free + row] = positions(d, impl.free_vertices[row]);
+    }
+  };
+  auto scatter = [&](const Eigen::VectorXd& v, Eigen::Matrix3Xd* positions) {
+    for (int row = 0; row < num_free; ++row) {
+      for (int d = 0; d < 3; ++d) (*positions)(d, impl.free_vertices[row]) = v[d * num_free + row];
+    }
+  };
+
+  LocalGlobalArapSummary summary;
+  double energy = impl.Local(x, &impl.rotation);
+  summary.initial_energy = energy;
+  summary.energy_trace.push_back(energy);
+  summary.ms_trace.push_back(0.0);
+  if (num_free == 0 || energy == 0.0) {
+    summary.final_energy = energy;
+    summary.converged = true;
+    return summary;
+  }
+  AndersonAcceleration anderson(3 * num_free, impl.options.anderson_window);
+  Eigen::VectorXd current, plain, next;
+  gather(x, &current);
+  std::vector<Eigen::Quaterniond> trial_rotation = impl.rotation;
+  Eigen::Matrix3Xd trial = x;
+  while (summary.iterations < impl.options.max_iterations) {
+    const Eigen::MatrixXd solution = impl.Global(x, impl.rotation);
+    plain = Eigen::Map<const Eigen::VectorXd>(solution.data(), solution.size());
+    anderson.Compute(current, plain, &next);
+    scatter(next, &trial);
+    trial_rotation = impl.rotation;
+    double trial_energy = impl.Local(trial, &trial_rotation);
+    // The safeguard: an accelerated step that does not lower the energy is
+    // replaced by the plain local/global step, which never raises it.
+    if (!(trial_energy < energy) && anderson.history() > 0) {
+      ++summary.rejected;
+      anderson.Reset();
+      next = plain;
+      scatter(next, &trial);
+      trial_rotation = impl.rotation;
+      trial_energy = impl.Local(trial, &trial_rotation);
+    }
+    ++summary.iterations;
+    const double decrease = energy - trial_energy;
+    std::swap(x, trial);
+    std::swap(impl.rotation, trial_rotation);
+    std::swap(current, next);
+    energy = trial_energy;
+    summary.energy_trace.push_back(energy);
+    summary.ms_trace.push_back(MillisecondsSince(start));
+    if (decrease <= impl.options.relative_tolerance * (energy + decrease)) {
+      summary.converged = true;
+      break;
+    }
+  }
+  summary.final_energy = energy;
+  return summary;
+}
+
+double LocalGlobalArap::Energy(const Eigen::Matrix3Xd& deformed) const {
+  CHECK(impl_ != nullptr);
+  CHECK_EQ(deformed.cols(), impl_->rest.cols());
+  std::vector<Eigen::Quaterniond> rotations = impl_->rotation;
+  return impl_->Local(deformed, &rotations);
+}
+
+int LocalGlobalArap::num_free() const {
+  return impl_ ? static_cast<int>(impl_->free_vertices.size()) : 0;
+}
+int LocalGlobalArap::num_vertices() const {
+  return impl_ ? static_cast<int>(impl_->rest.cols()) : 0;
+}
+const LocalGlobalArapOptions& LocalGlobalArap::options() const {
+  CHECK(impl_ != nullptr);
+  return impl_->options;
+}
+double LocalGlobalArap::setup_ms() const { return impl_ ? impl_->setup_ms : 0.0; }
+
+}  // namespace msdeform

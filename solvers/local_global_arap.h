@@ -1,0 +1,109 @@
+// The mesh's own as-rigid-as-possible energy (Sorkine & Alexa 2007) minimised
+// by local/global iterations, with Anderson acceleration (solvers/
+// anderson_acceleration.h) and its energy safeguard: the reference every
+// method's quality is measured against, and the method "full_arap".
+//
+// The energy is the one core/metrics.h measures (ArapEnergyPerVertex and
+// NormalisedArapEnergy): one rotation per vertex, cotangent weights
+// (core/cotangent_weights.h), every spoke of every vertex,
+//   E(x) = min_R sum_i sum_{k in N(i)} w_ik |(x_i - x_k) - R_i (r_i - r_k)|^2
+//          / sum_i sum_{k in N(i)} w_ik |r_i - r_k|^2,
+// r the rest positions. The constrained vertices (handles and fixed) are held
+// exactly at their targets; every other vertex that reaches a constrained one
+// through edges of positive weight is free; the rest (a part of the mesh no
+// constraint reaches) stays where it is, since nothing pins its position.
+//
+//   LocalGlobalArap arap;
+//   arap.Setup(mesh, constrained, options, &error);  // factorises, once per layout
+//   arap.Solve(targets, &deformed);                  // per frame, warm-started
+//
+// Local step: R_i = the rotation maximising tr(R^T S_i), S_i = sum_k w_ik
+// (x_i - x_k)(r_i - r_k)^T (scales' ExtractRotation, warm-started from the
+// last rotation). Global step: L x_free = b with L the cotangent Laplacian of
+// the free vertices (factorised once) and
+//   b_i = sum_k w_ik / 2 (R_i + R_k)(r_i - r_k) + sum_{k constrained} w_ik x_k.
+// Each iteration costs one local step, one right-hand side and three
+// triangular solve pairs; all but the solves run on `num_threads` in fixed
+// chunks, so the result is the same on any number of threads.
+
+#ifndef MSDEFORM_SOLVERS_LOCAL_GLOBAL_ARAP_H_
+#define MSDEFORM_SOLVERS_LOCAL_GLOBAL_ARAP_H_
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "msdeform/core/mesh.h"
+
+namespace msdeform {
+
+struct LocalGlobalArapOptions {
+  // Stop when an iteration lowers the energy by at most this fraction of it,
+  // (E_prev - E) <= relative_tolerance E_prev. The default is tight enough
+  // for a reference (the energy is then within about 1e-6 of its minimum on
+  // the tables' edits).
+  double relative_tolerance = 1e-9;
+  // Iterations per Solve at most (each one local and one global step).
+  int max_iterations = 10000;
+  // Anderson window m: the number of past iterates combined; 0 runs the plain
+  // local/global iteration.
+  int anderson_window = 5;
+  // Threads of the local step and the right-hand side (0: OpenMP's default).
+  int num_threads = 1;
+
+  // Messages name the field ("relative_tolerance must be >= 0").
+  bool Check(std::string* error) const;
+};
+
+struct LocalGlobalArapSummary {
+  int iterations = 0;        // global steps taken
+  int rejected = 0;          // accelerated steps the safeguard replaced by the plain one
+  double initial_energy = 0.0;  // E at the warm start (targets applied)
+  double final_energy = 0.0;
+  bool converged = false;       // the tolerance stopped it, not max_iterations
+  // The energy after each iteration (entry 0: the initial energy) and the
+  // milliseconds since Solve began.
+  std::vector<double> energy_trace;
+  std::vector<double> ms_trace;
+};
+
+class LocalGlobalArap {
+ public:
+  LocalGlobalArap();
+  ~LocalGlobalArap();
+  LocalGlobalArap(const LocalGlobalArap&) = delete;
+  LocalGlobalArap& operator=(const LocalGlobalArap&) = delete;
+
+  // `constrained`: the vertices held at targets (sorted, unique, in range).
+  // Builds the Laplacian of the free vertices and factorises it. False with a
+  // message on bad options or indices; the solver is then empty.
+  bool Setup(const Mesh& rest, const std::vector<int>& constrained,
+             const LocalGlobalArapOptions& options, std::string* error);
+
+  // Holds constrained[j] at targets.col(j) (3 by #constrained) and minimises
+  // the energy over the free vertices from *deformed (3 by #V; the warm
+  // start, the result on return; columns of vertices no constraint reaches
+  // are left as they are).
+  LocalGlobalArapSummary Solve(const Eigen::Matrix3Xd& targets, Eigen::Matrix3Xd* deformed);
+
+  // E(deformed) as above (per-vertex best rotations by the same local step,
+  // without changing the solver's warm-start rotations).
+  double Energy(const Eigen::Matrix3Xd& deformed) const;
+
+  int num_free() const;
+  int num_vertices() const;
+  const LocalGlobalArapOptions& options() const;
+  // Milliseconds of Setup: the Laplacian and its factorisation.
+  double setup_ms() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace msdeform
+
+#endif  // MSDEFORM_SOLVERS_LOCAL_GLOBAL_ARAP_H_
