@@ -21,8 +21,8 @@ namespace {
 constexpr int64_t kChunk = 4096;
 // The local step's rotation fit: updates and tolerance (radians) of
 // ExtractRotation from the last rotation; far below the energy's resolution.
-constexpr int kRotationIterations = 50;
-constexpr double kRotationTolerance = 1e-13;
+constexpr int kRotationIterations = 20;
+constexpr double kRotationTolerance = 1e-10;
 
 }  // namespace
 
@@ -56,29 +56,36 @@ struct LocalGlobalArap::Impl {
   std::vector<int> free_index;
   std::vector<int> free_vertices;
   std::vector<int> constrained;
+  // Vertices whose spokes can change during a solve (free, or a neighbour
+  // of a free vertex), and the others, whose spokes join constants: their
+  // energy is summed once per Solve.
+  std::vector<int> active, inactive;
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> llt;
   // Per vertex: the last local step's rotation (its warm start).
   std::vector<Eigen::Quaterniond> rotation;
   double setup_ms = 0.0;
 
-  // The local step at `x`: fits every vertex's rotation into *rotations
-  // (warm-started from its entries) and returns the normalised energy.
-  double Local(const Eigen::Matrix3Xd& x, std::vector<Eigen::Quaterniond>* rotations) const;
+  // The local step at `x` over `vertices`: fits their rotations into
+  // *rotations (warm-started from its entries) and returns the sum of their
+  // spokes' energy, not normalised.
+  double Local(const Eigen::Matrix3Xd& x, const std::vector<int>& vertices,
+               std::vector<Eigen::Quaterniond>* rotations) const;
   // The global step: the free vertices' positions minimising the energy for
   // the rotations, the constant ones read from `x`; n_free by 3.
   Eigen::MatrixXd Global(const Eigen::Matrix3Xd& x,
                          const std::vector<Eigen::Quaterniond>& rotations) const;
 };
 
-double LocalGlobalArap::Impl::Local(const Eigen::Matrix3Xd& x,
+double LocalGlobalArap::Impl::Local(const Eigen::Matrix3Xd& x, const std::vector<int>& vertices,
                                     std::vector<Eigen::Quaterniond>* rotations) const {
-  const int n = static_cast<int>(rest.cols());
+  const int n = static_cast<int>(vertices.size());
   const VertexAdjacency& adjacency = cotangent.adjacency;
   std::vector<double> chunk_energy(NumChunks(n, kChunk), 0.0);
   ForEachChunk(n, kChunk, ThreadsFor(options.num_threads, n),
                [&](int64_t begin, int64_t end, int64_t chunk) {
                  double energy = 0.0;
-                 for (int64_t i = begin; i < end; ++i) {
+                 for (int64_t index = begin; index < end; ++index) {
+                   const int i = vertices[index];
                    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
                    const int first = adjacency.offsets[i], last = adjacency.offsets[i + 1];
                    for (int s = first; s < last; ++s) {
@@ -102,19 +109,21 @@ double LocalGlobalArap::Impl::Local(const Eigen::Matrix3Xd& x,
                });
   double energy = 0.0;
   for (double e : chunk_energy) energy += e;
-  return normaliser > 0.0 ? energy / normaliser : 0.0;
+  return energy;
 }
 
 Eigen::MatrixXd LocalGlobalArap::Impl::Global(
     const Eigen::Matrix3Xd& x, const std::vector<Eigen::Quaterniond>& rotations) const {
   const int num_free = static_cast<int>(free_vertices.size());
   const VertexAdjacency& adjacency = cotangent.adjacency;
-  // The rotations as matrices, once each (every spoke reads two).
-  const int n = static_cast<int>(rotations.size());
-  std::vector<Eigen::Matrix3d> r(n);
-  ForEachChunk(n, kChunk, ThreadsFor(options.num_threads, n),
+  // The active rotations as matrices, once each (every spoke reads two).
+  const int num_active = static_cast<int>(active.size());
+  std::vector<Eigen::Matrix3d> r(rotations.size());
+  ForEachChunk(num_active, kChunk, ThreadsFor(options.num_threads, num_active),
                [&](int64_t begin, int64_t end, int64_t) {
-                 for (int64_t i = begin; i < end; ++i) r[i] = rotations[i].toRotationMatrix();
+                 for (int64_t j = begin; j < end; ++j) {
+                   r[active[j]] = rotations[active[j]].toRotationMatrix();
+                 }
                });
   Eigen::MatrixXd rhs(num_free, 3);
   ForEachChunk(num_free, kChunk, ThreadsFor(options.num_threads, num_free),
@@ -200,6 +209,13 @@ bool LocalGlobalArap::Setup(const Mesh& rest, const std::vector<int>& constraine
       impl->free_vertices.push_back(i);
     }
   }
+  for (int i = 0; i < n; ++i) {
+    bool active = impl->free_index[i] >= 0;
+    for (int s = adjacency.offsets[i]; s < adjacency.offsets[i + 1] && !active; ++s) {
+      active = impl->free_index[adjacency.neighbors[s]] >= 0;
+    }
+    (active ? impl->active : impl->inactive).push_back(i);
+  }
 
   // The Laplacian of the free vertices (lower triangle): L_ii = sum_k w_ik,
   // L_ik = -w_ik.
@@ -257,7 +273,12 @@ LocalGlobalArapSummary LocalGlobalArap::Solve(const Eigen::Matrix3Xd& targets,
   };
 
   LocalGlobalArapSummary summary;
-  double energy = impl.Local(x, &impl.rotation);
+  const double scale = impl.normaliser > 0.0 ? 1.0 / impl.normaliser : 0.0;
+  const double constant_energy = impl.Local(x, impl.inactive, &impl.rotation);
+  auto local = [&](const Eigen::Matrix3Xd& positions, std::vector<Eigen::Quaterniond>* r) {
+    return (constant_energy + impl.Local(positions, impl.active, r)) * scale;
+  };
+  double energy = local(x, &impl.rotation);
   summary.initial_energy = energy;
   summary.energy_trace.push_back(energy);
   summary.ms_trace.push_back(0.0);
@@ -277,7 +298,7 @@ LocalGlobalArapSummary LocalGlobalArap::Solve(const Eigen::Matrix3Xd& targets,
     anderson.Compute(current, plain, &next);
     scatter(next, &trial);
     trial_rotation = impl.rotation;
-    double trial_energy = impl.Local(trial, &trial_rotation);
+    double trial_energy = local(trial, &trial_rotation);
     // The safeguard: an accelerated step that does not lower the energy is
     // replaced by the plain local/global step, which never raises it.
     if (!(trial_energy < energy) && anderson.history() > 0) {
@@ -286,7 +307,7 @@ LocalGlobalArapSummary LocalGlobalArap::Solve(const Eigen::Matrix3Xd& targets,
       next = plain;
       scatter(next, &trial);
       trial_rotation = impl.rotation;
-      trial_energy = impl.Local(trial, &trial_rotation);
+      trial_energy = local(trial, &trial_rotation);
     }
     ++summary.iterations;
     const double decrease = energy - trial_energy;
@@ -309,7 +330,9 @@ double LocalGlobalArap::Energy(const Eigen::Matrix3Xd& deformed) const {
   CHECK(impl_ != nullptr);
   CHECK_EQ(deformed.cols(), impl_->rest.cols());
   std::vector<Eigen::Quaterniond> rotations = impl_->rotation;
-  return impl_->Local(deformed, &rotations);
+  const double energy = impl_->Local(deformed, impl_->active, &rotations) +
+                        impl_->Local(deformed, impl_->inactive, &rotations);
+  return impl_->normaliser > 0.0 ? energy / impl_->normaliser : 0.0;
 }
 
 int LocalGlobalArap::num_free() const {
