@@ -19,10 +19,32 @@ namespace {
 
 // Vertices per task of the local step and of the right-hand side.
 constexpr int64_t kChunk = 4096;
-// The local step's rotation fit: updates and tolerance (radians) of
-// ExtractRotation from the last rotation; far below the energy's resolution.
-constexpr int kRotationIterations = 20;
-constexpr double kRotationTolerance = 1e-10;
+
+// The rotation maximising tr(R^T S): the orthogonal factor of the polar
+// decomposition S = R P by Newton's iteration with Frobenius-norm scaling
+// (Higham 1986), X <- (g X + X^-T / g) / 2, g = (|X^-1| / |X|)^(1/2), which
+// converges quadratically from X = S in about 6 steps; for S with det S <= 0
+// or nearly singular (a flat one-ring: rank 2) the SVD, U diag(1, 1, det U V^T) V^T.
+// Exact to rounding either way (the local step must be exact for the
+// iteration never to raise the energy), and about 3x faster than the SVD on
+// the one-rings of a curved surface.
+Eigen::Matrix3d FitRotation(const Eigen::Matrix3d& covariance) {
+  const double norm = covariance.norm();
+  if (!(covariance.determinant() > 1e-6 * norm * norm * norm)) {
+    if (norm == 0.0) return Eigen::Matrix3d::Identity();
+    return RotationBySvd(covariance);
+  }
+  Eigen::Matrix3d x = covariance;
+  for (int k = 0; k < 30; ++k) {
+    const Eigen::Matrix3d inverse = x.inverse();
+    const double g = std::sqrt(std::sqrt(inverse.squaredNorm() / x.squaredNorm()));
+    const Eigen::Matrix3d next = 0.5 * (g * x + inverse.transpose() / g);
+    const double change = (next - x).squaredNorm();
+    x = next;
+    if (change <= 1e-28 * 3.0) break;
+  }
+  return x;
+}
 
 }  // namespace
 
@@ -61,23 +83,23 @@ struct LocalGlobalArap::Impl {
   // energy is summed once per Solve.
   std::vector<int> active, inactive;
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> llt;
-  // Per vertex: the last local step's rotation (its warm start).
-  std::vector<Eigen::Quaterniond> rotation;
+  // Per vertex: the last local step's rotation.
+  std::vector<Eigen::Matrix3d> rotation;
   double setup_ms = 0.0;
 
   // The local step at `x` over `vertices`: fits their rotations into
-  // *rotations (warm-started from its entries) and returns the sum of their
+  // *rotations and returns the sum of their
   // spokes' energy, not normalised.
   double Local(const Eigen::Matrix3Xd& x, const std::vector<int>& vertices,
-               std::vector<Eigen::Quaterniond>* rotations) const;
+               std::vector<Eigen::Matrix3d>* rotations) const;
   // The global step: the free vertices' positions minimising the energy for
   // the rotations, the constant ones read from `x`; n_free by 3.
   Eigen::MatrixXd Global(const Eigen::Matrix3Xd& x,
-                         const std::vector<Eigen::Quaterniond>& rotations) const;
+                         const std::vector<Eigen::Matrix3d>& rotations) const;
 };
 
 double LocalGlobalArap::Impl::Local(const Eigen::Matrix3Xd& x, const std::vector<int>& vertices,
-                                    std::vector<Eigen::Quaterniond>* rotations) const {
+                                    std::vector<Eigen::Matrix3d>* rotations) const {
   const int n = static_cast<int>(vertices.size());
   const VertexAdjacency& adjacency = cotangent.adjacency;
   std::vector<double> chunk_energy(NumChunks(n, kChunk), 0.0);
@@ -93,11 +115,8 @@ double LocalGlobalArap::Impl::Local(const Eigen::Matrix3Xd& x, const std::vector
                      covariance.noalias() += cotangent.weight[s] * (x.col(i) - x.col(k)) *
                                              (rest.col(i) - rest.col(k)).transpose();
                    }
-                   Eigen::Quaterniond& q = (*rotations)[i];
-                   if (first < last) {
-                     ExtractRotation(covariance, kRotationIterations, kRotationTolerance, &q);
-                   }
-                   const Eigen::Matrix3d r = q.toRotationMatrix();
+                   Eigen::Matrix3d& r = (*rotations)[i];
+                   if (first < last) r = FitRotation(covariance);
                    for (int s = first; s < last; ++s) {
                      const int k = adjacency.neighbors[s];
                      energy += cotangent.weight[s] *
@@ -113,18 +132,10 @@ double LocalGlobalArap::Impl::Local(const Eigen::Matrix3Xd& x, const std::vector
 }
 
 Eigen::MatrixXd LocalGlobalArap::Impl::Global(
-    const Eigen::Matrix3Xd& x, const std::vector<Eigen::Quaterniond>& rotations) const {
+    const Eigen::Matrix3Xd& x, const std::vector<Eigen::Matrix3d>& rotations) const {
   const int num_free = static_cast<int>(free_vertices.size());
   const VertexAdjacency& adjacency = cotangent.adjacency;
-  // The active rotations as matrices, once each (every spoke reads two).
-  const int num_active = static_cast<int>(active.size());
-  std::vector<Eigen::Matrix3d> r(rotations.size());
-  ForEachChunk(num_active, kChunk, ThreadsFor(options.num_threads, num_active),
-               [&](int64_t begin, int64_t end, int64_t) {
-                 for (int64_t j = begin; j < end; ++j) {
-                   r[active[j]] = rotations[active[j]].toRotationMatrix();
-                 }
-               });
+  const std::vector<Eigen::Matrix3d>& r = rotations;
   Eigen::MatrixXd rhs(num_free, 3);
   ForEachChunk(num_free, kChunk, ThreadsFor(options.num_threads, num_free),
                [&](int64_t begin, int64_t end, int64_t) {
@@ -241,7 +252,7 @@ bool LocalGlobalArap::Setup(const Mesh& rest, const std::vector<int>& constraine
              " free vertices could not be factorised (not positive definite)";
     return false;
   }
-  impl->rotation.assign(n, Eigen::Quaterniond::Identity());
+  impl->rotation.assign(n, Eigen::Matrix3d::Identity());
   impl->setup_ms = MillisecondsSince(start);
   impl_ = std::move(impl);
   return true;
@@ -275,7 +286,7 @@ LocalGlobalArapSummary LocalGlobalArap::Solve(const Eigen::Matrix3Xd& targets,
   LocalGlobalArapSummary summary;
   const double scale = impl.normaliser > 0.0 ? 1.0 / impl.normaliser : 0.0;
   const double constant_energy = impl.Local(x, impl.inactive, &impl.rotation);
-  auto local = [&](const Eigen::Matrix3Xd& positions, std::vector<Eigen::Quaterniond>* r) {
+  auto local = [&](const Eigen::Matrix3Xd& positions, std::vector<Eigen::Matrix3d>* r) {
     return (constant_energy + impl.Local(positions, impl.active, r)) * scale;
   };
   double energy = local(x, &impl.rotation);
@@ -290,7 +301,7 @@ LocalGlobalArapSummary LocalGlobalArap::Solve(const Eigen::Matrix3Xd& targets,
   AndersonAcceleration anderson(3 * num_free, impl.options.anderson_window);
   Eigen::VectorXd current, plain, next;
   gather(x, &current);
-  std::vector<Eigen::Quaterniond> trial_rotation = impl.rotation;
+  std::vector<Eigen::Matrix3d> trial_rotation = impl.rotation;
   Eigen::Matrix3Xd trial = x;
   while (summary.iterations < impl.options.max_iterations) {
     const Eigen::MatrixXd solution = impl.Global(x, impl.rotation);
@@ -329,7 +340,7 @@ LocalGlobalArapSummary LocalGlobalArap::Solve(const Eigen::Matrix3Xd& targets,
 double LocalGlobalArap::Energy(const Eigen::Matrix3Xd& deformed) const {
   CHECK(impl_ != nullptr);
   CHECK_EQ(deformed.cols(), impl_->rest.cols());
-  std::vector<Eigen::Quaterniond> rotations = impl_->rotation;
+  std::vector<Eigen::Matrix3d> rotations = impl_->rotation;
   const double energy = impl_->Local(deformed, impl_->active, &rotations) +
                         impl_->Local(deformed, impl_->inactive, &rotations);
   return impl_->normaliser > 0.0 ? energy / impl_->normaliser : 0.0;

@@ -18,8 +18,8 @@
 //   arap.Solve(targets, &deformed);                  // per frame, warm-started
 //
 // Local step: R_i = the rotation maximising tr(R^T S_i), S_i = sum_k w_ik
-// (x_i - x_k)(r_i - r_k)^T (scales' ExtractRotation, warm-started from the
-// last rotation). Global step: L x_free = b with L the cotangent Laplacian of
+// (x_i - x_k)(r_i - r_k)^T, exact to rounding (a scaled Newton polar
+// iteration, the SVD for a flat one-ring). Global step: L x_free = b with L the cotangent Laplacian of
 // the free vertices (factorised once) and
 //   b_i = sum_k w_ik / 2 (R_i + R_k)(r_i - r_k) + sum_{k constrained} w_ik x_k.
 // Each iteration costs one local step, one right-hand side and three
