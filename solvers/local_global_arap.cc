@@ -4,6 +4,7 @@
 #include <cmath>
 #include <deque>
 
+#include <Eigen/SVD>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <glog/logging.h>
@@ -11,7 +12,6 @@
 #include "msdeform/core/cotangent_weights.h"
 #include "msdeform/core/parallel.h"
 #include "msdeform/core/timing.h"
-#include "msdeform/scales/polar_decomposition.h"
 #include "msdeform/solvers/anderson_acceleration.h"
 
 namespace msdeform {
@@ -32,7 +32,11 @@ Eigen::Matrix3d FitRotation(const Eigen::Matrix3d& covariance) {
   const double norm = covariance.norm();
   if (!(covariance.determinant() > 1e-6 * norm * norm * norm)) {
     if (norm == 0.0) return Eigen::Matrix3d::Identity();
-    return RotationBySvd(covariance);
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance,
+                                                Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d u = svd.matrixU();
+    if ((u * svd.matrixV().transpose()).determinant() < 0.0) u.col(2) *= -1.0;
+    return u * svd.matrixV().transpose();
   }
   Eigen::Matrix3d x = covariance;
   for (int k = 0; k < 30; ++k) {
