@@ -1,5 +1,5 @@
-# Installs the libraries (msdeform::core, ::energies, ::solvers, ::scales, ::methods,
-# ::deformer_flags and the umbrella msdeform::msdeform), their headers under
+# Installs the libraries (msdeform::core, ::energies, ::solvers, ::scales, ::methods
+# and the umbrella msdeform::msdeform), their headers under
 # include/msdeform/<folder>/, and the CMake package that makes
 #   find_package(msdeform CONFIG REQUIRED)
 # work from another project (docs/library.md).

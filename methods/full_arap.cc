@@ -8,9 +8,39 @@
 
 namespace msdeform {
 
+const OptionTable<LocalGlobalArapOptions>& FullArapOptionTable() {
+  static const OptionTable<LocalGlobalArapOptions> table = [] {
+    using O = LocalGlobalArapOptions;
+    OptionTable<O> t;
+    t.Double("relative_tolerance", &O::relative_tolerance,
+             "full_arap: a frame stops when an iteration lowers the ARAP energy by at most this "
+             "fraction of it.")
+        .Range(0, 1, "a number in [0, 1]")
+        .Alias("full_arap_tolerance")
+        .Flag("method");
+    t.Int("max_iterations", &O::max_iterations,
+          "full_arap: local/global iterations per frame at most.")
+        .Range(1, 10000000, "an integer in 1..10000000")
+        .Alias("full_arap_max_iterations")
+        .Flag("method");
+    t.Int("anderson_window", &O::anderson_window,
+          "full_arap: Anderson acceleration's window (past iterates combined); 0 runs plain "
+          "local/global.")
+        .Range(0, 50, "an integer in 0..50")
+        .Alias("full_arap_anderson_window")
+        .Flag("method");
+    return t;
+  }();
+  return table;
+}
+
 bool FullArapMethod::DoPrecompute(const Mesh& mesh, const MethodOptions& options,
                                   std::string* error) {
   const auto start = std::chrono::steady_clock::now();
+  if (!FullArapOptionTable().CheckRanges(options.full_arap, error)) {
+    *error = "full_arap." + *error;
+    return false;
+  }
   if (!options.full_arap.Check(error) || !ValidateMesh(mesh, error)) return false;
   mesh_ = mesh;
   options_ = options.full_arap;

@@ -21,10 +21,15 @@
 
 #include "msdeform/core/handles.h"
 #include "msdeform/core/mesh.h"
+#include "msdeform/core/option_table.h"
 #include "msdeform/methods/method.h"
 #include "msdeform/solvers/local_global_arap.h"
 
 namespace msdeform {
+
+// The rows of full_arap's options ("full_arap.relative_tolerance", flags
+// --full_arap_tolerance, --full_arap_max_iterations, --full_arap_anderson_window).
+const OptionTable<LocalGlobalArapOptions>& FullArapOptionTable();
 
 class FullArapMethod : public EditingMethod {
  public:

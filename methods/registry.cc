@@ -3,6 +3,7 @@
 #include <utility>
 
 #include "msdeform/methods/fastlsm.h"
+#include "msdeform/methods/full_arap.h"
 #include "msdeform/methods/rigid_cells.h"
 #include "msdeform/methods/graph_method.h"
 #include "msdeform/methods/method_option_table.h"
@@ -61,6 +62,15 @@ std::vector<MethodDescriptor> BuildRegistry() {
   rigid_cells.energy = "rigid_cells";
   rigid_cells.create = [] { return std::make_unique<RigidCells>(); };
   registry.push_back(std::move(rigid_cells));
+  MethodDescriptor full_arap;
+  full_arap.name = "full_arap";
+  full_arap.energy = "arap";
+  full_arap.options = "full_arap";
+  full_arap.add_option_rows = [](OptionTable<MethodOptions>* t) {
+    t->Embed("full_arap", &MethodOptions::full_arap, FullArapOptionTable());
+  };
+  full_arap.create = [] { return std::make_unique<FullArapMethod>(); };
+  registry.push_back(std::move(full_arap));
   return registry;
 }
 

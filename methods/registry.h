@@ -43,7 +43,7 @@ struct MethodDescriptor {
 };
 
 // Every registered method, in registration order: multiscale, static,
-// static_dense, cgal_arap, cgal_sr_arap (when built with CGAL), fastlsm, rigid_cells.
+// static_dense, cgal_arap, cgal_sr_arap (when built with CGAL), fastlsm, rigid_cells, full_arap.
 const std::vector<MethodDescriptor>& RegisteredMethods();
 // The descriptor of `name`, or null.
 const MethodDescriptor* FindMethod(const std::string& name);

@@ -16,7 +16,7 @@ out="${2:?usage: scenario_outputs.sh MSDEFORM_BINARY OUT_DIR}"
 mkdir -p "${out}"
 
 graph_methods=(multiscale static static_dense)
-other_methods=(cgal_arap cgal_sr_arap fastlsm)
+other_methods=(cgal_arap cgal_sr_arap fastlsm rigid_cells full_arap)
 for scenario in "${root}"/experiments/scenarios/*.json; do
   name="$(basename "${scenario}" .json)"
   runs=()

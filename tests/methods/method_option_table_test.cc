@@ -4,6 +4,7 @@
 
 #include "msdeform/methods/method_option_table.h"
 
+#include <map>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -73,9 +74,13 @@ TEST(MethodOptionTableTest, DefaultsAreTheStructs) {
   std::string error;
   EXPECT_TRUE(MethodOptionTable().CheckRanges(defaults, &error)) << error;
   const auto fields = MethodOptionTable().Describe(defaults);
-  EXPECT_EQ(fields.size(), DeformerOptionTable().rows().size() + 6);
-  EXPECT_EQ(fields.back().first, "fastlsm.damping");
-  EXPECT_EQ(fields.back().second, "0.10000000000000001");
+  // The Deformer's rows, then each method's own (three each for cgal.*,
+  // fastlsm.* and full_arap.*).
+  EXPECT_EQ(fields.size(), DeformerOptionTable().rows().size() + 9);
+  std::map<std::string, std::string> values(fields.begin(), fields.end());
+  EXPECT_EQ(values["fastlsm.damping"], "0.10000000000000001");
+  EXPECT_EQ(values["full_arap.anderson_window"], "5");
+  EXPECT_EQ(values["full_arap.relative_tolerance"], "1.0000000000000001e-09");
 }
 
 // MethodOptions::Check reads every row's range: a C++ caller gets the

@@ -74,7 +74,8 @@ TEST_P(MethodTest, WholeMeshAsHandleMovesRigidly) {
   const Eigen::Matrix3Xd expected = RigidMotion() * bar.mesh.vertices;
   // The bar's diagonal is about 8.1; 1e-6 of it.
   EXPECT_LT((method->deformed_vertices() - expected).cwiseAbs().maxCoeff(), 1e-5);
-  EXPECT_GT(stats.iterations, 0);
+  // A method whose unknowns are the free vertices has none here: nothing to iterate.
+  if (method->variables() > 0) EXPECT_GT(stats.iterations, 0);
   EXPECT_GE(stats.frame_ms, stats.solve_ms);
 }
 

@@ -219,8 +219,7 @@ def test_failed_task_is_recorded_and_the_sweep_goes_on(source, tmp_path):
      "fixed_extent_cutoff, member_extent, local_detail_distance, omega_max, alpha_all_one, "
      "half_free, border, pin_fixed_region)"),
     ({"methods": ["multiscale", "arap"]}, "methods[1]",
-     "'arap': expected one of multiscale, static, static_dense, cgal_arap, cgal_sr_arap, "
-     "fastlsm, rigid_cells"),
+     "'arap': expected one of " + ", ".join(msdeform.METHODS)),
     ({"scenarios": ["nowhere.json"]}, "scenarios[0]", "nowhere.json: no such file"),
     ({"seeds": [1, -2]}, "seeds[1]", "expected an integer in 0..2^64-1, got -2"),
     ({"frame": 5}, "frame", "unknown key"),
