@@ -41,7 +41,11 @@ bool FullArapMethod::DoPrecompute(const Mesh& mesh, const MethodOptions& options
     *error = "full_arap." + *error;
     return false;
   }
-  if (!options.full_arap.Check(error) || !ValidateMesh(mesh, error)) return false;
+  if (!options.full_arap.Check(error)) {
+    *error = "full_arap." + *error;
+    return false;
+  }
+  if (!ValidateMesh(mesh, error)) return false;
   mesh_ = mesh;
   options_ = options.full_arap;
   options_.num_threads = options.deformer.num_threads;
@@ -71,6 +75,10 @@ bool FullArapMethod::DoSetHandles(const HandleLayout& layout, std::string* error
 bool FullArapMethod::DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* stats,
                             std::string* error) {
   const auto frame_start = std::chrono::steady_clock::now();
+  if (!deformed_from_rest.matrix().allFinite()) {
+    *error = "the handle transform is not finite";
+    return false;
+  }
   Eigen::Matrix3Xd targets(3, constrained_.size());
   for (size_t j = 0; j < constrained_.size(); ++j) {
     const Eigen::Vector3d rest = mesh_.vertices.col(constrained_[j]);

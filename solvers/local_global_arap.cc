@@ -1,5 +1,6 @@
 #include "msdeform/solvers/local_global_arap.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <deque>
@@ -158,7 +159,7 @@ Eigen::MatrixXd LocalGlobalArap::Impl::Global(
                });
   Eigen::MatrixXd solution(num_free, 3);
   // The three coordinates are independent solves with the one factor.
-#pragma omp parallel for num_threads(ThreadsFor(options.num_threads, num_free) > 1 ? 3 : 1)
+#pragma omp parallel for num_threads(std::min(3, ThreadsFor(options.num_threads, num_free)))
   for (int d = 0; d < 3; ++d) solution.col(d) = llt.solve(rhs.col(d));
   return solution;
 }
@@ -295,6 +296,10 @@ LocalGlobalArapSummary LocalGlobalArap::Solve(const Eigen::Matrix3Xd& targets,
   };
   double energy = local(x, &impl.rotation);
   summary.initial_energy = energy;
+  if (!std::isfinite(energy)) {  // non-finite targets or warm start: nothing to iterate
+    summary.final_energy = energy;
+    return summary;
+  }
   summary.energy_trace.push_back(energy);
   summary.ms_trace.push_back(0.0);
   if (num_free == 0 || energy == 0.0) {
@@ -311,20 +316,28 @@ LocalGlobalArapSummary LocalGlobalArap::Solve(const Eigen::Matrix3Xd& targets,
     const Eigen::MatrixXd solution = impl.Global(x, impl.rotation);
     plain = Eigen::Map<const Eigen::VectorXd>(solution.data(), solution.size());
     anderson.Compute(current, plain, &next);
+    bool accelerated = anderson.history() > 0;  // next combines past iterates
     scatter(next, &trial);
     trial_rotation = impl.rotation;
     double trial_energy = local(trial, &trial_rotation);
     // The safeguard: an accelerated step that does not lower the energy is
-    // replaced by the plain local/global step, which never raises it.
-    if (!(trial_energy < energy) && anderson.history() > 0) {
+    // replaced by the plain local/global step.
+    if (accelerated && !(trial_energy < energy)) {
       ++summary.rejected;
       anderson.Reset();
+      accelerated = false;
       next = plain;
       scatter(next, &trial);
       trial_rotation = impl.rotation;
       trial_energy = local(trial, &trial_rotation);
     }
     ++summary.iterations;
+    // A plain step never raises the energy but by rounding: at the minimum
+    // it may, and then the previous iterate is the result.
+    if (!accelerated && trial_energy > energy) {
+      summary.converged = true;
+      break;
+    }
     const double decrease = energy - trial_energy;
     std::swap(x, trial);
     std::swap(impl.rotation, trial_rotation);
@@ -333,8 +346,14 @@ LocalGlobalArapSummary LocalGlobalArap::Solve(const Eigen::Matrix3Xd& targets,
     summary.energy_trace.push_back(energy);
     summary.ms_trace.push_back(MillisecondsSince(start));
     if (decrease <= impl.options.relative_tolerance * (energy + decrease)) {
-      summary.converged = true;
-      break;
+      // Only a plain step's small decrease says the iteration has converged:
+      // an extrapolation can land close to the last iterate while the plain
+      // step would still go far. Let the next step be a plain one.
+      if (!accelerated) {
+        summary.converged = true;
+        break;
+      }
+      anderson.Reset();
     }
   }
   summary.final_energy = energy;

@@ -19,12 +19,14 @@
 //
 // Local step: R_i = the rotation maximising tr(R^T S_i), S_i = sum_k w_ik
 // (x_i - x_k)(r_i - r_k)^T, exact to rounding (a scaled Newton polar
-// iteration, the SVD for a flat one-ring). Global step: L x_free = b with L the cotangent Laplacian of
-// the free vertices (factorised once) and
+// iteration, the SVD for a flat one-ring). Global step: L x_free = b with L
+// the cotangent Laplacian of the free vertices (factorised once) and
 //   b_i = sum_k w_ik / 2 (R_i + R_k)(r_i - r_k) + sum_{k constrained} w_ik x_k.
 // Each iteration costs one local step, one right-hand side and three
-// triangular solve pairs; all but the solves run on `num_threads` in fixed
-// chunks, so the result is the same on any number of threads.
+// triangular solve pairs, on `num_threads` (the local step and the right-hand
+// side in fixed chunks, the solves one coordinate a thread), so the result is
+// the same on any number of threads. A frame stops when a plain (not
+// accelerated) step lowers the energy by at most the relative tolerance.
 
 #ifndef MSDEFORM_SOLVERS_LOCAL_GLOBAL_ARAP_H_
 #define MSDEFORM_SOLVERS_LOCAL_GLOBAL_ARAP_H_
@@ -51,7 +53,8 @@ struct LocalGlobalArapOptions {
   // Anderson window m: the number of past iterates combined; 0 runs the plain
   // local/global iteration.
   int anderson_window = 5;
-  // Threads of the local step and the right-hand side (0: OpenMP's default).
+  // Threads of the local step, the right-hand side and the three solves (at
+  // least 1; passes over fewer than 16,384 items run on one).
   int num_threads = 1;
 
   // Messages name the field ("relative_tolerance must be >= 0").
@@ -63,7 +66,8 @@ struct LocalGlobalArapSummary {
   int rejected = 0;          // accelerated steps the safeguard replaced by the plain one
   double initial_energy = 0.0;  // E at the warm start (targets applied)
   double final_energy = 0.0;
-  bool converged = false;       // the tolerance stopped it, not max_iterations
+  bool converged = false;       // a plain step's decrease met the tolerance (not max_iterations,
+                                // not a non-finite start)
   // The energy after each iteration (entry 0: the initial energy) and the
   // milliseconds since Solve began.
   std::vector<double> energy_trace;

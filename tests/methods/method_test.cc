@@ -75,7 +75,9 @@ TEST_P(MethodTest, WholeMeshAsHandleMovesRigidly) {
   // The bar's diagonal is about 8.1; 1e-6 of it.
   EXPECT_LT((method->deformed_vertices() - expected).cwiseAbs().maxCoeff(), 1e-5);
   // A method whose unknowns are the free vertices has none here: nothing to iterate.
-  if (method->variables() > 0) EXPECT_GT(stats.iterations, 0);
+  if (method->variables() > 0) {
+    EXPECT_GT(stats.iterations, 0);
+  }
   EXPECT_GE(stats.frame_ms, stats.solve_ms);
 }
 
