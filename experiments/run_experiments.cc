@@ -74,7 +74,7 @@ const char* EnergiesHelp() {
     }
     return "[method] Comma-separated energies that " + names +
            " run with in table 2, one row each: ed (Eq. 17), arap (the subspace ARAP energy, "
-           "scales/subspace_arap.h). The other methods run once; the ablations add their "
+           "solvers/subspace_arap.h). The other methods run once; the ablations add their "
            "energy_arap and arap_* rows either way.";
   }();
   return help.c_str();

@@ -339,7 +339,7 @@ std::vector<Variant> Ablations() {
       // equal handle error.
       {"w_con_1e3", [](DeformerOptions* o) { o->w_con = 1e3; }},
       {"w_con_1e4", [](DeformerOptions* o) { o->w_con = 1e4; }},
-      // The subspace ARAP energy (--energy=arap, scales/subspace_arap.h) on
+      // The subspace ARAP energy (--energy=arap, solvers/subspace_arap.h) on
       // the default, then one of its options changed each: the rotation
       // clusters (default: k-means on the skinning weights) and the handle
       // and fixed vertices (default: exact).
@@ -577,7 +577,7 @@ bool WriteExperimentTables(const RunnerOptions& options, const RunPlan& plan,
   table2.notes.push_back(
       "energy: what the row minimised. multiscale, static and static_dense run once per energy: "
       "ed (Eq. 17, the paper's) and arap (the mesh's cotangent ARAP energy over the selected "
-      "graph's subspace, --energy=arap, scales/subspace_arap.h); cgal_arap: arap (the same "
+      "graph's subspace, --energy=arap, solvers/subspace_arap.h); cgal_arap: arap (the same "
       "energy, one rotation per vertex, every non-fixed vertex free); cgal_sr_arap: sr_arap "
       "(ARAP with rotation smoothing); fastlsm: shape_matching (lattice shape matching, no "
       "energy minimised). other_backend_frame_ms: energy ed only (Ceres does not run arap).");

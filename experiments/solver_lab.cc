@@ -330,7 +330,7 @@ Table RunsTable(const std::vector<LabRow>& rows) {
           "ms_per_iteration = total solve ms / total iterations; iterations and factorizations "
           "are medians per frame.",
       "energy: what the variant minimises (ed: Eq. 17; arap: the subspace ARAP energy, "
-      "scales/subspace_arap.h), each against the reference of its own energy. "
+      "solvers/subspace_arap.h), each against the reference of its own energy. "
       "energy_gap = (E_f - E*_f) / E*_f per frame f (median, max, last frame, min), E_f the "
       "energy at the frame's solution evaluated by EvaluateEnergy and E*_f the same for "
       "the reference (energy_gap_min below 0 would be a lower minimum than the reference's); "

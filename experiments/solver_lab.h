@@ -1,7 +1,7 @@
 // The solver lab (issue 14, "The benchmark"): how fast each way of solving a
-// frame (scales/frame_solver.h) reaches the minimum of its energy: Eq. 17
+// frame (solvers/frame_solver.h) reaches the minimum of its energy: Eq. 17
 // (energy ed) or the subspace ARAP energy (energy arap,
-// scales/subspace_arap.h). Every solver variant x every scenario x every
+// solvers/subspace_arap.h). Every solver variant x every scenario x every
 // per-frame iteration budget is one drag; the variants of one energy share it
 // and the stopping rule and differ only in the solver. Each frame's energy
 // E_f (at the frame's solution, evaluated by EvaluateEnergy for every backend

@@ -349,17 +349,17 @@ void BindSubOptions(py::module_& m) {
       .Rows(ScaleSelectionOptionTable())
       .Finish();
   OptionsClass<StoppingRule>(m, "StoppingRule",
-                             "When a frame's solve stops, for both backends (scales/frame_solver.h).")
+                             "When a frame's solve stops, for both backends (solvers/frame_solver.h).")
       .Rows(StoppingRuleTable())
       .Finish();
   OptionsClass<GaussNewtonOptions>(m, "GaussNewtonOptions",
-                                   "The Gauss-Newton backend (scales/gauss_newton_solver.h).")
+                                   "The Gauss-Newton backend (solvers/gauss_newton_solver.h).")
       .Rows(GaussNewtonOptionTable())
       .Finish();
-  OptionsClass<CeresOptions>(m, "CeresOptions", "The Ceres backend (scales/ceres_solver.h).")
+  OptionsClass<CeresOptions>(m, "CeresOptions", "The Ceres backend (solvers/ceres_solver.h).")
       .Rows(CeresOptionTable())
       .Finish();
-  OptionsClass<ArapOptions>(m, "ArapOptions", "The subspace ARAP energy (scales/subspace_arap.h).")
+  OptionsClass<ArapOptions>(m, "ArapOptions", "The subspace ARAP energy (solvers/subspace_arap.h).")
       .Rows(ArapOptionTable())
       .Finish();
 }
