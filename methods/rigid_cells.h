@@ -53,12 +53,13 @@ namespace msdeform {
 struct RigidCellsOptions {
   // Cells per bounding-box diagonal of the method's lattice, replacing
   // deformer.lattice.cells_per_diagonal (a deformer.lattice.cell_width > 0
-  // still wins). The RBF system is dense in the cells, so the lattice is
-  // coarser than the graph methods' 48: 32 gives 700-1,300 cells on the
-  // cactus, man and armadillo (16: 170-270 cells, whose ARAP energy on the
-  // man's foot drag was 3.1x that of 32; docs/decisions/rigid-cells.md).
-  // In [2, 64].
-  double cells_per_diagonal = 32.0;
+  // still wins). The RBF system is dense in the cells and the solve slows
+  // steeply with them, so the lattice is coarser than the graph methods' 48:
+  // 16 gives 170-270 cells on the cactus, man and armadillo. 32 gives
+  // 700-1,300 there and a lower ARAP energy (on the man's foot drag 16 gave
+  // 3.1x that of 32), but 2,757 cells and 22 s a frame on hand_finger
+  // (docs/decisions/rigid-cells.md). In [2, 64].
+  double cells_per_diagonal = 16.0;
   // The most cells (RBF centres) accepted: the factorised dense system takes
   // 8 (#cells + 4)^2 bytes (6,000: 290 MB). In [1, 20000].
   int max_cells = 6000;
