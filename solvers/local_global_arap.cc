@@ -140,7 +140,6 @@ Eigen::MatrixXd LocalGlobalArap::Impl::Global(
     const Eigen::Matrix3Xd& x, const std::vector<Eigen::Matrix3d>& rotations) const {
   const int num_free = static_cast<int>(free_vertices.size());
   const VertexAdjacency& adjacency = cotangent.adjacency;
-  const std::vector<Eigen::Matrix3d>& r = rotations;
   Eigen::MatrixXd rhs(num_free, 3);
   ForEachChunk(num_free, kChunk, ThreadsFor(options.num_threads, num_free),
                [&](int64_t begin, int64_t end, int64_t) {
@@ -151,7 +150,7 @@ Eigen::MatrixXd LocalGlobalArap::Impl::Global(
                      const int k = adjacency.neighbors[s];
                      const double w = cotangent.weight[s];
                      b += 0.5 * w *
-                          ((r[i] + r[k]) * (rest.col(i) - rest.col(k)));
+                          ((rotations[i] + rotations[k]) * (rest.col(i) - rest.col(k)));
                      if (free_index[k] < 0) b += w * x.col(k);
                    }
                    rhs.row(row) = b.transpose();
@@ -310,6 +309,9 @@ LocalGlobalArapSummary LocalGlobalArap::Solve(const Eigen::Matrix3Xd& targets,
   AndersonAcceleration anderson(3 * num_free, impl.options.anderson_window);
   Eigen::VectorXd current, plain, next;
   gather(x, &current);
+  // The trial's rotations: the local step writes every active entry, and only
+  // active entries are read (the global step reads free vertices and their
+  // neighbours), so the buffer is never copied from the accepted one.
   std::vector<Eigen::Matrix3d> trial_rotation = impl.rotation;
   Eigen::Matrix3Xd trial = x;
   while (summary.iterations < impl.options.max_iterations) {
@@ -318,7 +320,6 @@ LocalGlobalArapSummary LocalGlobalArap::Solve(const Eigen::Matrix3Xd& targets,
     anderson.Compute(current, plain, &next);
     bool accelerated = anderson.history() > 0;  // next combines past iterates
     scatter(next, &trial);
-    trial_rotation = impl.rotation;
     double trial_energy = local(trial, &trial_rotation);
     // The safeguard: an accelerated step that does not lower the energy is
     // replaced by the plain local/global step.
@@ -328,7 +329,6 @@ LocalGlobalArapSummary LocalGlobalArap::Solve(const Eigen::Matrix3Xd& targets,
       accelerated = false;
       next = plain;
       scatter(next, &trial);
-      trial_rotation = impl.rotation;
       trial_energy = local(trial, &trial_rotation);
     }
     ++summary.iterations;
