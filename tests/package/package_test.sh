@@ -3,9 +3,10 @@
 # a project outside msdeform's tree, against
 #   install       msdeform installed with `cmake --install BUILD --prefix TMP`
 #                 and found with find_package(msdeform CONFIG REQUIRED);
-#   subdirectory  msdeform's source tree added with add_subdirectory (only
-#                 the libraries are built: tests, apps, experiments are OFF);
-# then runs it. Everything happens in a temporary folder, removed at exit.
+#   subdirectory  msdeform's source tree added with add_subdirectory (tests,
+#                 apps, experiments are OFF there; only bend_bar is built,
+#                 with the libraries it links: core to scales);
+# then runs its programs. Everything happens in a temporary folder, removed at exit.
 #
 #   bash tests/package/package_test.sh install BUILD_DIR
 #   bash tests/package/package_test.sh subdirectory
@@ -61,5 +62,13 @@ if [[ "${mode}" == subdirectory ]]; then
       || { echo "package_test: MSDEFORM_*${option} is not OFF in a subproject" >&2; exit 1; }
   done
 fi
-cmake --build "${work}/build" -j2 > "${work}/build.log" || { cat "${work}/build.log"; exit 1; }
-"${work}/build/bend_bar"
+if [[ "${mode}" == subdirectory ]]; then
+  programs=(bend_bar)
+else
+  programs=(bend_bar list_methods)
+fi
+for program in "${programs[@]}"; do
+  cmake --build "${work}/build" -j2 --target "${program}" >> "${work}/build.log" \
+    || { cat "${work}/build.log"; exit 1; }
+done
+for program in "${programs[@]}"; do "${work}/build/${program}"; done
