@@ -20,10 +20,10 @@ MESHES = ROOT / "data" / "meshes"
 
 
 def deform(V, F, status, M, method):
-    """Drags the handle to M in 10 frames; returns the deformed vertices and the Deformer."""
-    deformer = msdeform.Deformer(V, F, method=method)
-    deformer.set_handles(status)
-    return deformer.drag_along(M, frames=10).copy(), deformer
+    """Drags the handle to M in 10 frames; returns the deformed vertices and the Method."""
+    editor = msdeform.Method(V, F, method)
+    editor.set_handles(status)
+    return editor.drag_along(M, frames=10).copy(), editor
 
 
 def main(out_dir):
@@ -35,16 +35,16 @@ def main(out_dir):
     out_dir.mkdir(parents=True, exist_ok=True)
     print(f"cactus: {len(V)} vertices, {np.count_nonzero(status == 0)} fixed, {len(handle)} handle")
     for method in ("multiscale", "static"):
-        V2, deformer = deform(V, F, status, M, method)
-        frame_ms = np.median([frame["frame_ms"] for frame in deformer.frame_stats])
+        V2, editor = deform(V, F, status, M, method)
+        frame_ms = np.median([frame["frame_ms"] for frame in editor.frame_stats])
         handle_error = msdeform.handle_rms_error(V, V2, handle, M) / diagonal
         energy = msdeform.normalised_arap_energy(*msdeform.arap_energy_per_vertex(V, F, V2))
         if method == "multiscale":
-            graph = f"scale {deformer.selected_scale} of {deformer.num_scales}"
+            graph = f"scale {editor.selected_scale} of {editor.num_scales}"
         else:
             graph = "one static graph"
-        print(f"{method:>10}: {graph} ({len(deformer.node_positions)} nodes), "
-              f"{deformer.num_variables} variables, {frame_ms:.2f} ms/frame, "
+        print(f"{method:>10}: {graph} ({len(editor.node_positions)} nodes), "
+              f"{editor.num_variables} variables, {frame_ms:.2f} ms/frame, "
               f"handle error {handle_error:.2e} of the diagonal, ARAP energy {energy:.4f}")
         path = out_dir / f"cactus_{method}.off"
         msdeform.write_mesh(path, V2, F)

@@ -257,7 +257,7 @@ void BindScenario(py::module_& m) {
         return StatusFromLayout(s.layout, s.mesh.num_vertices());
       },
       "The handle layout as a per-vertex status array (0 fixed, 1 free, 2 handle), for "
-      "Deformer.set_handles.");
+      "Method.set_handles.");
   c.def_property_readonly(
       "fixed", [](const ExperimentScenario& s) { return IdsToArray(s.layout.fixed); },
       "The fixed vertex ids, sorted.");
@@ -274,7 +274,7 @@ void BindScenario(py::module_& m) {
   c.def_property_readonly(
       "path", [](const ExperimentScenario& s) { return TransformsToArray(s.path); },
       "The drag path, one 4x4 transform per frame, a (frames, 4, 4) array; the last is the "
-      "target. Deformer.drag_along(scenario.path) drags it as the runner does.");
+      "target. Method.drag_along(scenario.path) drags it as the runner does.");
   c.def_property_readonly(
       "frames", [](const ExperimentScenario& s) { return static_cast<int>(s.path.size()); },
       "Frames of the drag path.");
@@ -315,7 +315,7 @@ void BindRunner(py::module_& m) {
         "run_deformer(scenario, options=None, label=None, arap_result=None, **kwargs)\n\n"
         "Runs the deformer over the scenario's drag path and measures it as the experiment "
         "runner does (experiments/runner.h, RunDeformer). options and keyword arguments as for "
-        "Deformer (the runner uses num_threads=1); label names the row (default: the method). "
+        "Method (the runner uses num_threads=1); label names the row (default: the method). "
         "arap_result, CGAL ARAP's final vertices on the same drag (run_cgal_arap), gives "
         "arap_distance_rel (NaN without). Returns a dict keyed by the tables' column names: "
         "scenario, method, energy (what it minimised: ed or arap for the graph methods, "
@@ -431,7 +431,7 @@ void BindMetrics(py::module_& m) {
       py::arg("R"), py::arg("nodes"),
       "Mean over the node ids of ||R_j^T R_j - I||_F for rotations R (k, 3, 3) "
       "(OrthogonalityError): the tables' orthogonality over the optimised nodes "
-      "(Deformer.node_rotations, nodes whose class is not fixed).");
+      "(Method.node_rotations, nodes whose class is not fixed).");
   m.def(
       "vertices_near",
       [](const py::object& vertices, const py::object& faces, const py::object& sources,

@@ -1,11 +1,8 @@
-// Any registered editing method (methods/registry.h) as the Python class
-// Method: the one interface (methods/method.h) by name, for the methods the
-// Deformer class does not run (cgal_arap, cgal_sr_arap, fastlsm) as well as
-// the graph methods. The Deformer class stays the way to the graph methods'
-// intermediate results (e', node classes, scales).
-//
-// The GIL is released around Precompute, SetHandles and Drag; a mutex makes
-// calls on one Method from several threads take turns.
+// msdeform.Method (python/method_object.h): construction by name, set_handles,
+// drag and drag_along through the one C++ loop (DragAlong), the statistics,
+// and the members every method has.
+
+#include <Python.h>
 
 #include <memory>
 #include <mutex>
@@ -15,59 +12,97 @@
 
 #include <pybind11/stl.h>
 
+#include "msdeform/core/drag_path.h"
+#include "msdeform/core/scenario.h"
 #include "msdeform/methods/method_option_table.h"
 #include "msdeform/methods/method_options.h"
 #include "msdeform/methods/registry.h"
-#include "python/bindings.h"
+#include "python/method_object.h"
 
 namespace msdeform {
 namespace python {
+
+void PyMethod::RequireHandles() const {
+  if (!method->handles_set()) {
+    ThrowRuntimeError(name() + ": no handle layout: call set_handles (with a valid layout) first");
+  }
+}
+
+const Deformer& PyMethod::Graph(const char* member) const {
+  if (!graph) {
+    std::string graphs;
+    for (const MethodDescriptor& d : RegisteredMethods()) {
+      if (d.graph) graphs += (graphs.empty() ? "" : ", ") + d.name;
+    }
+    ThrowAttributeError(std::string(member) + ": " + name() +
+                        " is not a deformation-graph method (those are " + graphs + ")");
+  }
+  return *method->deformer();
+}
+
 namespace {
 
-struct PyMethod {
-  std::unique_ptr<EditingMethod> method;
-  std::mutex mutex;
-  int num_vertices = 0;
-  Eigen::Matrix3Xd rest;  // the mesh's vertices: drag_along's pivot
-  HandleLayout layout;    // the last layout set_handles was given
-  std::vector<MethodStats> frames;
-  std::vector<int> failed_frames;
-
-  void RequireHandles() const {
-    if (!method->handles_set()) {
-      ThrowRuntimeError("no handle layout: call set_handles (with a valid layout) first");
-    }
+py::dict StatsToDict(const MethodStats& stats) {
+  py::dict dict;
+  dict["frame_ms"] = stats.frame_ms;
+  dict["solve_ms"] = stats.solve_ms;
+  dict["skin_ms"] = stats.skin_ms;
+  dict["iterations"] = stats.iterations;
+  dict["factorizations"] = stats.factorizations;
+  dict["initial_cost"] = stats.initial_cost;
+  dict["final_cost"] = stats.final_cost;
+  dict["converged"] = stats.converged;
+  py::array_t<double> trace({static_cast<py::ssize_t>(stats.trace.size()), py::ssize_t{2}});
+  auto out = trace.mutable_unchecked<2>();
+  for (size_t i = 0; i < stats.trace.size(); ++i) {
+    out(i, 0) = stats.trace[i].ms;
+    out(i, 1) = stats.trace[i].cost;
   }
-};
+  dict["trace"] = trace;
+  return dict;
+}
+
+// The method's name: `method` (a str), or None for the one `options` names
+// (DeformerOptions.method, a graph method; 'multiscale' by default).
+std::string MethodNameFrom(const py::object& method, const MethodOptions& options) {
+  if (method.is_none()) return MethodName(options.deformer.method);
+  if (!py::isinstance<py::str>(method)) {
+    ThrowTypeError("method: expected a name in msdeform.METHODS (a str) or None, got " +
+                   std::string(py::repr(method)));
+  }
+  return method.cast<std::string>();
+}
 
 std::unique_ptr<PyMethod> MakeMethod(const py::object& vertices, const py::object& faces,
-                                     const std::string& name, const py::object& options,
+                                     const py::object& method, const py::object& options,
                                      const py::kwargs& kwargs) {
-  const Mesh mesh = MeshFromArrays(vertices, faces);
+  Mesh mesh = MeshFromArrays(vertices, faces);
   const MethodOptions method_options = MethodOptionsFrom(options, kwargs);
   auto self = std::make_unique<PyMethod>();
   std::string error;
-  self->method = CreateMethod(name, &error);
+  self->method = CreateMethod(MethodNameFrom(method, method_options), &error);
   if (self->method == nullptr) ThrowValueError("method: " + error);
-  self->num_vertices = mesh.num_vertices();
-  self->rest = mesh.vertices;
   bool ok;
   {
     py::gil_scoped_release release;
     ok = self->method->Precompute(mesh, method_options, &error);
   }
   if (!ok) ThrowValueError(error);
+  self->graph = self->method->deformer() != nullptr;
+  self->options = self->graph ? self->method->deformer()->options() : method_options.deformer;
+  self->rest = std::move(mesh);
   return self;
 }
 
 void SetHandles(PyMethod& self, const py::object& status) {
+  const int num_vertices = self.rest.num_vertices();
   HandleLayout layout;
   if (IsPathLike(status)) {
     const std::string path = PathFromObject(status, "status");
     std::string error;
-    if (!ReadSel(path, self.num_vertices, &layout, &error)) ThrowOSError(error);
+    if (!ReadSel(path, num_vertices, &layout, &error)) ThrowOSError(error);
   } else {
-    layout = LayoutFromStatus(status, self.num_vertices, "status");
+    layout = LayoutFromStatus(status, num_vertices, "status");
   }
   std::string error;
   bool ok;
@@ -76,49 +111,72 @@ void SetHandles(PyMethod& self, const py::object& status) {
     std::lock_guard<std::mutex> lock(self.mutex);
     self.frames.clear();
     self.failed_frames.clear();
-    self.layout = layout;
     ok = self.method->SetHandles(layout, &error);
+    if (ok) self.layout = std::move(layout);
   }
   if (!ok) ThrowValueError(error);
 }
 
-py::array_t<double> Drag(const py::object& self_object, const py::object& matrix) {
-  PyMethod& self = self_object.cast<PyMethod&>();
-  std::vector<Eigen::Affine3d> path;
-  const py::array array = py::array::ensure(matrix);
-  if (array && array.ndim() == 3) {
-    for (py::ssize_t f = 0; f < array.shape(0); ++f) {
-      const std::string name = "M[" + std::to_string(f) + "]";
-      path.push_back(TransformFromArray(array[py::int_(f)], name.c_str()));
-    }
-  } else {
-    path.push_back(TransformFromArray(matrix, "M"));
-  }
-  std::string error;
-  bool ok = true;
-  {
-    py::gil_scoped_release release;
-    std::lock_guard<std::mutex> lock(self.mutex);
-    for (const Eigen::Affine3d& transform : path) {
-      MethodStats stats;
-      ok = self.method->Drag(transform, &stats, &error);
-      if (!ok) break;
-      self.frames.push_back(stats);
-    }
-  }
-  if (!ok) ThrowRuntimeError(error);
-  return ReadOnlyView(self.method->deformed_vertices(), self_object);
+// The handle's rest centroid: the pivot of msdeform's --sel/--def drags.
+Eigen::Vector3d HandleCentroid(const PyMethod& self) {
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (int v : self.layout.moveable) centroid += self.rest.vertices.col(v);
+  return centroid / static_cast<double>(self.layout.moveable.size());
 }
 
-py::array_t<double> DragAlongPath(const py::object& self_object, const py::object& matrix,
-                                  const py::object& frames, bool continue_after_failure) {
-  PyMethod& self = self_object.cast<PyMethod&>();
-  std::vector<Eigen::Affine3d> path;
-  {
-    std::lock_guard<std::mutex> lock(self.mutex);
-    self.RequireHandles();
-    path = DragPathFrom(self.rest, self.layout.moveable, matrix, frames);
+// `frames` (None: 1) as a frame count in 1..kMaxScenarioFrames.
+int FrameCount(const py::object& frames) {
+  if (frames.is_none()) return 1;
+  PyObject* index = PyBool_Check(frames.ptr()) ? nullptr : PyNumber_Index(frames.ptr());
+  if (index == nullptr) {
+    PyErr_Clear();
+    ThrowTypeError("frames: expected an integer, got " + std::string(py::repr(frames)));
   }
+  const py::int_ count = py::reinterpret_steal<py::int_>(index);
+  if (count < py::int_(1) || count > py::int_(kMaxScenarioFrames)) {
+    ThrowValueError("frames: expected 1.." + std::to_string(kMaxScenarioFrames) + ", got " +
+                    std::string(py::repr(count)));
+  }
+  return count.cast<int>();
+}
+
+// A (frames, 4, 4) array as a path of transforms named `name`[f] in errors,
+// or null when `matrix` is not 3-D.
+bool PathFromArray(const py::object& matrix, const char* name,
+                   std::vector<Eigen::Affine3d>* path) {
+  const py::array array = py::array::ensure(matrix);
+  if (!array || array.ndim() != 3) return false;
+  for (py::ssize_t f = 0; f < array.shape(0); ++f) {
+    const std::string frame = std::string(name) + "[" + std::to_string(f) + "]";
+    path->push_back(TransformFromArray(array[py::int_(f)], frame.c_str()));
+  }
+  if (path->empty()) ThrowValueError(std::string(name) + ": no transform");
+  return true;
+}
+
+// drag_along's path (the lock held, a layout set): a (frames, 4, 4) array as
+// given (then `frames` must be None), or one transform M reached in `frames`
+// equal steps (None: 1) about the handle's rest centroid.
+std::vector<Eigen::Affine3d> DragAlongPathOf(const PyMethod& self, const py::object& matrix,
+                                             const py::object& frames) {
+  std::vector<Eigen::Affine3d> path;
+  if (PathFromArray(matrix, "path", &path)) {
+    if (!frames.is_none()) {
+      ThrowValueError("frames: give either a path of transforms (frames, 4, 4) or one "
+                      "transform and frames, not both");
+    }
+    return path;
+  }
+  const Eigen::Affine3d transform = TransformFromArray(matrix, "M");
+  return InterpolateDragPath(transform, HandleCentroid(self), FrameCount(frames));
+}
+
+// The one drag loop of drag and drag_along: the C++ DragAlong (the loop of
+// the command line and the runner) with the GIL released; every successful
+// frame's statistics appended. Returns the deformed vertices' view.
+py::array_t<double> DragThrough(const py::object& self_object, PyMethod& self,
+                                const std::vector<Eigen::Affine3d>& path,
+                                bool continue_after_failure) {
   DragAlongOptions options;
   options.continue_after_failure = continue_after_failure;
   DragLog log;
@@ -135,14 +193,40 @@ py::array_t<double> DragAlongPath(const py::object& self_object, const py::objec
   return ReadOnlyView(self.method->deformed_vertices(), self_object);
 }
 
+py::array_t<double> Drag(const py::object& self_object, const py::object& matrix) {
+  PyMethod& self = self_object.cast<PyMethod&>();
+  std::vector<Eigen::Affine3d> path;
+  {
+    std::lock_guard<std::mutex> lock(self.mutex);
+    self.RequireHandles();
+  }
+  if (!PathFromArray(matrix, "M", &path)) path.push_back(TransformFromArray(matrix, "M"));
+  return DragThrough(self_object, self, path, /*continue_after_failure=*/false);
+}
+
+py::array_t<double> DragAlongPath(const py::object& self_object, const py::object& matrix,
+                                  const py::object& frames, bool continue_after_failure) {
+  PyMethod& self = self_object.cast<PyMethod&>();
+  std::vector<Eigen::Affine3d> path;
+  {
+    std::lock_guard<std::mutex> lock(self.mutex);
+    self.RequireHandles();
+    path = DragAlongPathOf(self, matrix, frames);
+  }
+  return DragThrough(self_object, self, path, continue_after_failure);
+}
+
 // The constructor's doc: the methods' own keywords from their rows.
-std::string MethodDoc() {
+std::string ConstructorDoc() {
   std::string doc =
-      "Method(V, F, method='multiscale', options=None, **kwargs)\n\n"
-      "V float64 (#V, 3), F (#F, 3). `options` and the other keyword arguments are "
-      "DeformerOptions, as for Deformer (the graph methods use them, FastLSM its lattice "
-      "options). The methods' own options (msdeform.option_rows(), 'cgal.' and 'fastlsm.' "
-      "rows) are keywords too:\n";
+      "Method(V, F, method=None, options=None, **kwargs)\n\n"
+      "Builds what depends only on the mesh. V float64 (#V, 3) (any real dtype, converted), "
+      "F (#F, 3) of any integer dtype. `method` is a name in msdeform.METHODS; None takes "
+      "options.method (a graph method, 'multiscale' by default). `options` is a "
+      "DeformerOptions (or a dict of its fields); keyword arguments set its fields on top of "
+      "it (w_con=1e3, solver='ceres', stopping={'max_iterations': 5}, ...): the graph methods "
+      "read them all, the others their lattice and thread rows. The methods' own options "
+      "(msdeform.option_rows(), 'cgal.', 'fastlsm.', ... rows) are keywords too:\n";
   const MethodOptions defaults;
   for (const OptionRow<MethodOptions>& row : MethodOptionTable().rows()) {
     if (!IsMethodOwnRow(row.name)) continue;
@@ -154,15 +238,195 @@ std::string MethodDoc() {
            "): " + row.help + "\n";
   }
   return doc +
-         "Raises ValueError naming the registered methods for an unknown name, and naming the "
-         "keyword for an invalid option.";
+         "Raises TypeError for an unknown keyword (naming the nearest one, as the command line "
+         "does for a flag) or a wrong dtype; ValueError for an unknown method (naming the "
+         "registered ones), a wrong shape, an out-of-range face index (the C++ ValidateMesh "
+         "message) or an invalid option (naming the keyword).";
+}
+
+void BindDragging(py::class_<PyMethod>& c) {
+  c.def(py::init(&MakeMethod), py::arg("V"), py::arg("F"), py::arg("method") = py::none(),
+        py::arg("options") = py::none(), ConstructorDoc().c_str());
+  c.def("set_handles", &SetHandles, py::arg("status"),
+        "Sets the handle layout from a per-vertex status array (0 fixed, 1 free, 2 handle; "
+        "length #V) or the path of a .sel file (for the multi-scale method: rigidity "
+        "estimation, scale selection and node classes). Resets the deformation to the rest "
+        "pose and the frame statistics. Raises ValueError for a bad array or layout (the C++ "
+        "message, e.g. 'the moveable handle has no vertex') and OSError for a bad .sel file; "
+        "after a failure, drag raises until a layout is set.");
+  c.def("drag", &Drag, py::arg("M"),
+        "Moves the handle to M @ (its rest positions) (M: 4x4 with last row 0 0 0 1, or 3x4) "
+        "and deforms the mesh warm-started from the previous frame; or, for a (frames, 4, 4) "
+        "M, each transform in turn. Returns the deformed vertices as a read-only float64 "
+        "(#V, 3) view of the method's own storage (no copy); the view keeps the Method alive, "
+        "and the next drag or drag_along updates it in place: use .copy() to keep a frame. "
+        "Raises RuntimeError before set_handles and when a frame fails ('frame F of N: ' and "
+        "the C++ message; the last good pose is kept).");
+  c.def("drag_along", &DragAlongPath, py::arg("M"), py::arg("frames") = py::none(),
+        py::arg("continue_after_failure") = false,
+        "Drags through a path with the C++ DragAlong, the loop of the msdeform command line and "
+        "the experiment runner. M is either one transform, dragged to in `frames` equal steps "
+        "(default 1) about the handle's rest centroid as msdeform --sel/--def --frames=N does "
+        "(drag_path), or a (frames, 4, 4) array of transforms (then frames must be None). "
+        "continue_after_failure: a failed intermediate frame keeps the last good pose and the "
+        "drag goes on (the command line's behaviour); otherwise the first failure raises. "
+        "Returns the same view as drag(); frame_stats gains every frame's statistics and "
+        "failed_frames lists the failed ones. Raises RuntimeError with 'frame F of N: ...' on "
+        "failure.");
+  c.def(
+      "drag_path",
+      [](PyMethod& self, const py::object& matrix, const py::object& frames) {
+        std::lock_guard<std::mutex> lock(self.mutex);
+        self.RequireHandles();
+        return TransformsToArray(DragAlongPathOf(self, matrix, frames));
+      },
+      py::arg("M"), py::arg("frames"),
+      "The (frames, 4, 4) path drag_along(M, frames=frames) drags through.");
+}
+
+void BindStatistics(py::class_<PyMethod>& c) {
+  c.def_property_readonly(
+      "last_stats",
+      Locked([](const py::object&, PyMethod& s) -> py::object {
+        if (s.frames.empty()) return py::none();
+        return StatsToDict(s.frames.back());
+      }, false),
+      "The last successful frame's statistics as a dict (frame_ms, solve_ms, skin_ms, "
+      "iterations, factorizations, initial_cost, final_cost (NaN for a method without an "
+      "energy it minimises), converged, and trace: the solve's (ms, cost) points as a "
+      "(#points, 2) array); None before the first frame.");
+  c.def_property_readonly(
+      "frame_stats",
+      Locked([](const py::object&, PyMethod& s) {
+        py::list frames;
+        for (const MethodStats& stats : s.frames) frames.append(StatsToDict(stats));
+        return frames;
+      }, false),
+      "The statistics of every successful frame since set_handles, in order (dicts as "
+      "last_stats).");
+  c.def_property_readonly(
+      "failed_frames",
+      Locked([](const py::object&, PyMethod& s) { return s.failed_frames; }, false),
+      "1-based frames of the last drag or drag_along whose solve failed (they kept the "
+      "previous pose).");
+  c.def_property_readonly(
+      "precompute_ms",
+      Locked([](const py::object&, PyMethod& s) { return s.method->precompute_ms(); }, false),
+      "Milliseconds of the constructor's work (Precompute: the lattice and graphs of a graph "
+      "method).");
+  c.def_property_readonly(
+      "rigidity_ms",
+      Locked([](const py::object&, PyMethod& s) { return s.method->rigidity_ms(); }, true),
+      "Milliseconds of set_handles's rigidity estimation (0 without one).");
+  c.def_property_readonly(
+      "setup_ms",
+      Locked([](const py::object&, PyMethod& s) { return s.method->setup_ms(); }, true),
+      "Milliseconds of the rest of set_handles (scale selection, classes and problem build).");
+  c.def_property_readonly(
+      "num_variables",
+      Locked([](const py::object&, PyMethod& s) { return s.method->variables(); }, true),
+      "Unknowns of the per-frame problem (a graph method: 12 per Totally Free node + 9 per "
+      "Half Free node; the runner's `variables` column).");
+  c.def_property_readonly(
+      "nodes_optimized",
+      Locked([](const py::object&, PyMethod& s) { return s.method->nodes_optimized(); }, true),
+      "The elements that carry the unknowns: graph nodes optimised, ROI vertices or free "
+      "lattice particles (the runner's column).");
+}
+
+// The lattice of a method that has one; AttributeError naming the method
+// otherwise.
+const Lattice& LatticeOf(const PyMethod& self, const char* member) {
+  const Lattice* lattice = self.method->lattice();
+  if (lattice == nullptr) {
+    ThrowAttributeError(std::string(member) + ": " + self.name() + " has no lattice");
+  }
+  return *lattice;
+}
+
+void BindMeshAndLattice(py::class_<PyMethod>& c) {
+  c.def_property_readonly(
+      "V",
+      Locked([](const py::object& o, PyMethod& s) { return ReadOnlyView(s.rest.vertices, o); },
+             false),
+      "The rest vertices, a read-only float64 (#V, 3) view.");
+  c.def_property_readonly(
+      "F", Locked([](const py::object& o, PyMethod& s) { return ReadOnlyView(s.rest.faces, o); },
+                  false),
+      "The faces, a read-only int32 (#F, 3) view.");
+  c.def_property_readonly(
+      "deformed_vertices",
+      Locked([](const py::object& o, PyMethod& s) {
+        return ReadOnlyView(s.method->deformed_vertices(), o);
+      }, false),
+      "The current deformed vertices, the read-only (#V, 3) view drag() returns (the rest "
+      "vertices before the first drag after set_handles).");
+  c.def_property_readonly(
+      "deformed_normals",
+      Locked([](const py::object& o, PyMethod& s) {
+        if (s.graph) return ReadOnlyView(s.method->deformer()->deformed_normals(), o);
+        Mesh deformed;
+        deformed.vertices = s.method->deformed_vertices();
+        deformed.faces = s.rest.faces;
+        s.normals = VertexNormals(deformed);
+        return ReadOnlyView(s.normals, o);
+      }, false),
+      "The current deformed unit vertex normals, a read-only (#V, 3) view of the Method's "
+      "storage: a graph method's skinned normals (Eq. 10), another's area-weighted normals of "
+      "the deformed mesh (as the editor shows them). drag() moves positions only; the normals "
+      "are made when this property is read, so read it again after each drag (a view kept "
+      "from before shows the old normals until then).");
+  c.def_property_readonly(
+      "options",
+      Locked([](const py::object&, PyMethod& s) { return s.options; }, false),
+      "A copy of the DeformerOptions this Method was made with (a graph method's `method` is "
+      "its name; the other methods read its lattice and thread rows only).");
+  c.def_property_readonly(
+      "diagonal",
+      Locked([](const py::object&, PyMethod& s) {
+        return s.graph ? s.method->deformer()->diagonal() : BoundingBoxDiagonal(s.rest);
+      }, false),
+      "The rest mesh's bounding-box diagonal.");
+  c.def_property_readonly(
+      "cell_width",
+      Locked([](const py::object&, PyMethod& s) {
+        return LatticeOf(s, "cell_width").cell_width();
+      }, false),
+      "The lattice's cell width w (a method with a lattice: the graph methods, fastlsm, "
+      "rigid_cells).");
+  c.def_property_readonly(
+      "num_surface_particles",
+      Locked([](const py::object&, PyMethod& s) {
+        return LatticeOf(s, "num_surface_particles").num_surface_particles();
+      }, false),
+      "Surface particles of the lattice, one per piece of surface in a cell (= DG1 nodes = "
+      "the first particles).");
+  c.def_property_readonly(
+      "particle_positions",
+      Locked([](const py::object&, PyMethod& s) {
+        return PositionsToArray(LatticeOf(s, "particle_positions").rest_positions());
+      }, false),
+      "Rest positions of the lattice particles (cell centres), a new (#particles, 3) array; "
+      "particles 0 .. num_surface_particles - 1 are the surface particles.");
+  c.def_property_readonly(
+      "status",
+      Locked([](const py::object&, PyMethod& s) {
+        return StatusFromLayout(s.layout, s.rest.num_vertices());
+      }, true),
+      "The handle layout as a per-vertex status array (0 fixed, 1 free, 2 handle).");
+  c.def_property_readonly(
+      "handle_centroid",
+      Locked([](const py::object&, PyMethod& s) {
+        const Eigen::Vector3d centroid = HandleCentroid(s);
+        return py::array_t<double>(3, centroid.data());
+      }, true),
+      "The handle's rest centroid: the pivot of drag_along(M, frames=N).");
 }
 
 }  // namespace
 
 void BindMethod(py::module_& m) {
   m.attr("METHODS") = py::tuple(py::cast(MethodNames()));
-  // The deformation-graph methods, from the registry's descriptors.
   std::vector<std::string> graph_methods;
   for (const MethodDescriptor& method : RegisteredMethods()) {
     if (method.graph) graph_methods.push_back(method.name);
@@ -170,59 +434,30 @@ void BindMethod(py::module_& m) {
   m.attr("GRAPH_METHODS") = py::tuple(py::cast(graph_methods));
   py::class_<PyMethod> c(
       m, "Method",
-      "Any registered editing method by name (msdeform.METHODS; methods/method.h):\n\n"
-      "    e = msdeform.Method(V, F, 'fastlsm')  # what depends on the mesh only\n"
-      "    e.set_handles(status)                # a handle layout\n"
-      "    V2 = e.drag(M)                       # one frame (or a (frames, 4, 4) path)\n\n"
-      "Not copyable. Calls from several threads take turns; the GIL is released while it works.");
-  c.def(py::init(&MakeMethod), py::arg("V"), py::arg("F"), py::arg("method") = "multiscale",
-        py::arg("options") = py::none(),
-        MethodDoc().c_str());
-  c.def("set_handles", &SetHandles, py::arg("status"),
-        "A handle layout: a status array (#V,) with 0 fixed, 1 free, 2 moveable, or a .sel "
-        "path. Raises ValueError for an invalid layout.");
-  c.def("drag", &Drag, py::arg("M"),
-        "Moves the handle by the 4x4 transform M (or each of a (frames, 4, 4) path in turn) "
-        "and returns a read-only view (#V, 3) of the deformed vertices.");
-  c.def_property_readonly("name", [](const PyMethod& s) { return s.method->name(); });
-  c.def_property_readonly("deformed_vertices", [](const py::object& self_object) {
-    return ReadOnlyView(self_object.cast<PyMethod&>().method->deformed_vertices(), self_object);
-  });
-  c.def_property_readonly("nodes_optimized",
-                          [](const PyMethod& s) { return s.method->nodes_optimized(); });
-  c.def_property_readonly("variables", [](const PyMethod& s) { return s.method->variables(); });
-  c.def("drag_along", &DragAlongPath, py::arg("M"), py::arg("frames") = py::none(),
-        py::arg("continue_after_failure") = false,
-        "Drags through a path with the C++ DragAlong, as Deformer.drag_along: M one transform "
-        "reached in `frames` equal steps (default 1) about the handle's rest centroid, or a "
-        "(frames, 4, 4) path. continue_after_failure: a failed intermediate frame keeps the "
-        "last good pose and the drag goes on. Raises RuntimeError with 'frame F of N: ...'.");
-  c.def(
-      "drag_path",
-      [](PyMethod& self, const py::object& matrix, const py::object& frames) {
-        std::lock_guard<std::mutex> lock(self.mutex);
-        self.RequireHandles();
-        return TransformsToArray(DragPathFrom(self.rest, self.layout.moveable, matrix, frames));
-      },
-      py::arg("M"), py::arg("frames"),
-      "The (frames, 4, 4) path drag_along(M, frames=frames) drags through.");
-  c.def_property_readonly("graph", [](const PyMethod& s) { return FindMethod(s.method->name())->graph; },
-                          "Whether the method is a deformation graph (its descriptor, methods/registry.h).");
-  c.def_property_readonly("energy", [](const PyMethod& s) {
-    const MethodDescriptor* d = FindMethod(s.method->name());
-    return d->graph ? std::string(EnergyName(s.method->deformer()->options().energy)) : d->energy;
-  }, "What the method minimises: ed or arap for a graph method, else its own (arap, sr_arap, shape_matching).");
-  c.def_property_readonly("frame_stats", [](const PyMethod& s) {
-    py::list frames;
-    for (const MethodStats& stats : s.frames) frames.append(StatsToDict(stats));
-    return frames;
-  }, "The statistics of every successful frame since set_handles (dicts as Deformer.last_stats).");
-  c.def_property_readonly("last_stats", [](const PyMethod& s) -> py::object {
-    if (s.frames.empty()) return py::none();
-    return StatsToDict(s.frames.back());
-  }, "The last successful frame's statistics as a dict; None before the first frame.");
-  c.def_property_readonly("failed_frames", [](const PyMethod& s) { return s.failed_frames; },
-                          "1-based frames of the last drag_along whose solve failed.");
+      "Any registered editing method by name (msdeform.METHODS; methods/method.h): the "
+      "multi-scale method of Liu & Su 2008, its static-graph baselines and the other "
+      "methods:\n\n"
+      "    e = msdeform.Method(V, F, 'multiscale', w_con=1e3)  # what depends on the mesh\n"
+      "    e.set_handles(status)     # a handle layout (rigidity, scale, node classes)\n"
+      "    V2 = e.drag(M)            # one frame, warm-started\n"
+      "    V2 = e.drag_along(M, frames=30)  # the command line's --frames path\n\n"
+      "Every method has the members below; those of a deformation graph (msdeform."
+      "GRAPH_METHODS: node_classes, relative_extent, selected_scale, ...) raise "
+      "AttributeError naming the method for the others. Not copyable. Calls from several "
+      "threads take turns; the GIL is released while it works.");
+  BindDragging(c);
+  BindStatistics(c);
+  BindMeshAndLattice(c);
+  c.def_property_readonly(
+      "name", [](const PyMethod& s) { return s.name(); }, "The registered name.");
+  c.def_property_readonly(
+      "graph", [](const PyMethod& s) { return s.graph; },
+      "Whether the method is a deformation graph (its descriptor, methods/registry.h).");
+  c.def_property_readonly(
+      "energy", [](const PyMethod& s) { return MinimisedEnergy(s.name(), s.options); },
+      "What the method minimises: ed or arap for a graph method, else its own (arap, "
+      "sr_arap, shape_matching, ...).");
+  BindGraphMembers(m, c);
 }
 
 }  // namespace python

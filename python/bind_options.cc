@@ -367,8 +367,8 @@ void BindSubOptions(py::module_& m) {
 void BindDeformerOptions(py::module_& m) {
   using DO = DeformerOptions;
   OptionsClass<DO> options(m, "DeformerOptions",
-                           "Everything the Deformer takes (scales/deformer.h); Deformer(V, F, "
-                           "**kwargs) takes the same fields by keyword.");
+                           "Everything the Deformer takes (scales/deformer.h); Method(V, F, "
+                           "method, **kwargs) takes the same fields by keyword.");
   // The table's rows in order; an embedded struct's rows as one nested field.
   const std::map<std::string, std::function<void()>> nested = {
       {"lattice", [&] { options.Nested("lattice", &DO::lattice, "LatticeOptions: the cell width."); }},
@@ -450,6 +450,34 @@ DeformerOptions DeformerOptionsFrom(const py::handle& options, const py::kwargs&
   return resolved;
 }
 
+namespace {
+
+// TypeError for a keyword of a Method (or run_method) that is neither a
+// method's own nor a DeformerOptions spelling, offering the nearest of them
+// all as the command line does for a flag (apps/flags/deformer_flags.h).
+void CheckMethodKeywords(const py::kwargs& deformer_keywords) {
+  const py::object type = py::type::of<DeformerOptions>();
+  const py::tuple fields = type.attr("fields");
+  const py::dict aliases = type.attr("aliases");
+  for (const auto& [key, value] : deformer_keywords) {
+    if (fields.contains(key) || aliases.contains(key)) continue;
+    std::vector<std::string> spellings;
+    for (const py::handle field : fields) spellings.push_back(py::str(field));
+    for (const auto& alias : aliases) spellings.push_back(py::str(alias.first));
+    for (const OptionRow<MethodOptions>& row : MethodOptionTable().rows()) {
+      if (!IsMethodOwnRow(row.name)) continue;
+      for (const std::string& keyword : MethodKeywords(row.name)) spellings.push_back(keyword);
+    }
+    const std::string nearest = NearestName(py::str(key), spellings);
+    ThrowTypeError("unknown option " + Repr(key) +
+                   (nearest.empty() ? "" : " (did you mean '" + nearest + "'?)") +
+                   "; the options are the fields of msdeform.DeformerOptions and the methods' "
+                   "own keywords (help(msdeform.Method) lists them)");
+  }
+}
+
+}  // namespace
+
 std::vector<std::string> MethodKeywords(const std::string& row_name) {
   const OptionRow<MethodOptions>* row = MethodOptionTable().Find(row_name);
   std::string underscored = row_name;
@@ -483,6 +511,7 @@ MethodOptions MethodOptionsFrom(const py::handle& options, const py::kwargs& kwa
   for (const auto& [key, value] : kwargs) {
     if (consumed.count(py::str(key).cast<std::string>()) == 0) rest[key] = value;
   }
+  CheckMethodKeywords(rest);
   result.deformer = DeformerOptionsFrom(options, rest);
   return result;
 }

@@ -10,7 +10,8 @@
 //
 // Errors (README.md, "Python"): a wrong dtype raises TypeError; a wrong shape
 // or value (an array, an option, a handle layout) ValueError; a file that
-// cannot be read or written OSError; a failed solve RuntimeError. Each
+// cannot be read or written OSError; a failed solve RuntimeError; a graph
+// accessor of a method that is not a deformation graph AttributeError. Each
 // carries the C++ message unchanged where the C++ gives one.
 
 #ifndef MSDEFORM_PYTHON_BINDINGS_H_
@@ -38,7 +39,6 @@ namespace py = pybind11;
 // classes whose methods take them).
 void BindIo(py::module_& m);
 void BindOptions(py::module_& m);
-void BindDeformer(py::module_& m);
 void BindMethod(py::module_& m);
 void BindExperiments(py::module_& m);
 void BindFlags(py::module_& m);
@@ -48,6 +48,9 @@ void BindFlags(py::module_& m);
 [[noreturn]] void ThrowTypeError(const std::string& message);
 [[noreturn]] void ThrowOSError(const std::string& message);
 [[noreturn]] void ThrowRuntimeError(const std::string& message);
+// A member that the object's method does not have (a graph accessor of a
+// method that is not a deformation graph).
+[[noreturn]] void ThrowAttributeError(const std::string& message);
 
 // A str or os.PathLike as a path; TypeError naming `name` otherwise.
 std::string PathFromObject(const py::handle& path, const char* name);
@@ -99,16 +102,6 @@ MethodOptions MethodOptionsFrom(const py::handle& options, const py::kwargs& kwa
 // The keywords of a method's own row ("fastlsm.steps_per_frame":
 // fastlsm_steps_per_frame, fastlsm_steps).
 std::vector<std::string> MethodKeywords(const std::string& row_name);
-
-// A frame's statistics as a dict (frame_ms, solve_ms, skin_ms, iterations,
-// factorizations, initial_cost, final_cost, converged, trace).
-py::dict StatsToDict(const DragStats& stats);
-// drag_along's path: a (frames, 4, 4) array as given (then `frames` must be
-// None), or one transform M reached in `frames` equal steps (None: 1) about
-// the rest centroid of `moveable` (msdeform.drag_path).
-std::vector<Eigen::Affine3d> DragPathFrom(const Eigen::Matrix3Xd& rest,
-                                          const std::vector<int>& moveable,
-                                          const py::object& matrix, const py::object& frames);
 
 }  // namespace python
 }  // namespace msdeform

@@ -96,6 +96,7 @@ void ThrowValueError(const std::string& message) { Throw(PyExc_ValueError, messa
 void ThrowTypeError(const std::string& message) { Throw(PyExc_TypeError, message); }
 void ThrowOSError(const std::string& message) { Throw(PyExc_OSError, message); }
 void ThrowRuntimeError(const std::string& message) { Throw(PyExc_RuntimeError, message); }
+void ThrowAttributeError(const std::string& message) { Throw(PyExc_AttributeError, message); }
 
 bool IsPathLike(const py::handle& object) {
   return py::isinstance<py::str>(object) || py::isinstance<py::bytes>(object) ||

@@ -7,14 +7,14 @@
 PYBIND11_MODULE(_msdeform, m) {
   namespace python = msdeform::python;
   m.doc() =
-      "msdeform's C++ library: mesh and handle files, the multi-scale Deformer of Liu & Su "
-      "2008 and its options, and the experiments' scenarios, runner and metrics, on NumPy "
-      "arrays. Import the package msdeform rather than this module.";
+      "msdeform's C++ library: mesh and handle files, the editing methods (the multi-scale "
+      "method of Liu & Su 2008 and the others) and their options, and the experiments' "
+      "scenarios, runner and metrics, on NumPy arrays. Import the package msdeform rather than "
+      "this module.";
   m.attr("__version__") = msdeform::MsdeformVersion();
   m.attr("COMMIT") = msdeform::MsdeformCommit();
   python::BindIo(m);
   python::BindOptions(m);
-  python::BindDeformer(m);
   python::BindMethod(m);
   python::BindExperiments(m);
   python::BindFlags(m);

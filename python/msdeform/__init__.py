@@ -6,19 +6,23 @@ The C++ library (the extension ``msdeform._msdeform``) on NumPy arrays::
     V, F = msdeform.read_mesh("data/meshes/cactus.off")          # (#V, 3), (#F, 3)
     status = msdeform.read_sel("data/meshes/cactus.sel", len(V))  # 0 fixed, 1 free, 2 handle
     M = msdeform.read_def("data/meshes/cactus.def")               # 4 x 4
-    d = msdeform.Deformer(V, F, method="multiscale")
-    d.set_handles(status)
-    V2 = d.drag_along(M, frames=30)   # or d.drag(M): one frame
+    e = msdeform.Method(V, F, method="multiscale")                # any name in msdeform.METHODS
+    e.set_handles(status)
+    V2 = e.drag_along(M, frames=30)   # or e.drag(M): one frame
+
+``Method`` is the one class for every editing method; the deformation-graph methods
+(``GRAPH_METHODS``) also give their intermediate results (``node_classes``,
+``relative_extent``, ``selected_scale``, ...), which raise AttributeError for the others.
 
 Arrays: vertices float64 (#V, 3), faces int32 (#F, 3) (any integer dtype is accepted),
 vertex id lists 1-D integer arrays, transforms 4x4 with last row 0 0 0 1 (or 3x4).
-``Deformer.drag`` returns a read-only view of the Deformer's own storage that the next drag
+``Method.drag`` returns a read-only view of the method's own storage that the next drag
 updates in place; ``.copy()`` keeps a frame.
 
 Errors carry the C++ message: TypeError for a wrong type or dtype (or an unknown option
-keyword), ValueError for a wrong shape or value (arrays, options, handle layouts), OSError for
-a file that cannot be read or written, RuntimeError for a failed solve or a drag before
-set_handles.
+keyword, with the nearest one), ValueError for a wrong shape or value (arrays, options, handle
+layouts, method names), OSError for a file that cannot be read or written, RuntimeError for a
+failed solve or a drag before set_handles.
 """
 
 import inspect as _inspect
@@ -29,7 +33,6 @@ from ._msdeform import (
     NODE_CLASSES,
     RESULT_COLUMNS,
     CeresOptions,
-    Deformer,
     DeformerOptions,
     GaussNewtonOptions,
     GraphOptions,
@@ -88,7 +91,6 @@ __all__ = [
     "OPTIONS_CLASSES",
     "RESULT_COLUMNS",
     "CeresOptions",
-    "Deformer",
     "DeformerOptions",
     "GaussNewtonOptions",
     "GraphOptions",
@@ -147,15 +149,24 @@ for _cls in OPTIONS_CLASSES:
 del _cls
 
 
-def deform(V, F, status, M, frames=1, options=None, **kwargs):
+def deform(V, F, status, M, frames=1, method=None, options=None, **kwargs):
     """Deforms a mesh in one call and returns the deformed vertices as a new (#V, 3) array.
 
-    The one-off form of ``Deformer(V, F, options, **kwargs)``, ``set_handles(status)`` and
-    ``drag_along(M, frames=frames)``: ``status`` is a per-vertex array (0 fixed, 1 free,
+    The one-off form of ``Method(V, F, method, options, **kwargs)``, ``set_handles(status)``
+    and ``drag_along(M, frames=frames)``: ``status`` is a per-vertex array (0 fixed, 1 free,
     2 handle) or a .sel path, ``M`` the handle's final 4x4 transform, reached in ``frames``
     equal steps about the handle's rest centroid (as ``msdeform --sel --def --frames``).
-    Use a Deformer to drag the same layout more than once.
+    Use a Method to drag the same layout more than once.
     """
-    deformer = Deformer(V, F, options, **kwargs)
-    deformer.set_handles(status)
-    return deformer.drag_along(M, frames=frames).copy()
+    editor = Method(V, F, method, options, **kwargs)
+    editor.set_handles(status)
+    return editor.drag_along(M, frames=frames).copy()
+
+
+def __getattr__(name):
+    # The graph methods had a class of their own before Method took every method.
+    if name == "Deformer":
+        raise AttributeError(
+            "msdeform.Deformer is msdeform.Method now: Method(V, F, method='multiscale', "
+            "options=None, **options) takes every name in msdeform.METHODS")
+    raise AttributeError(f"module 'msdeform' has no attribute {name!r}")

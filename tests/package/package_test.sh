@@ -34,7 +34,7 @@ case "${mode}" in
 import numpy as np, msdeform
 V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
 F = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
-d = msdeform.Deformer(V, F)
+d = msdeform.Method(V, F)
 d.set_handles(np.full(4, 2))
 M = np.eye(4); M[:3, 3] = [1, 2, 3]
 assert np.abs(d.drag(M) - (V + [1, 2, 3])).max() < 1e-9

@@ -51,7 +51,7 @@ def test_corpus_entry_raises_the_command_lines_message(name, expected, kind, bar
             msdeform.read_sel(path, len(bar[0]))
     elif kind == "def":
         if "the solve failed" in expected:  # a valid file whose drag cannot be solved
-            d = msdeform.Deformer(*bar)
+            d = msdeform.Method(*bar)
             d.set_handles(BAD / "bar.sel")
             with pytest.raises(RuntimeError) as raised:
                 d.drag(msdeform.read_def(path))
@@ -68,15 +68,15 @@ def test_corpus_entry_raises_the_command_lines_message(name, expected, kind, bar
 def test_arrays_of_the_wrong_shape_or_type(bar):
     V, F = bar
     with pytest.raises(ValueError, match=r"F: expected an array of shape \(m, 3\), got shape \(144, 2\)"):
-        msdeform.Deformer(V, F[:, :2])
+        msdeform.Method(V, F[:, :2])
     with pytest.raises(TypeError, match="V: expected an array of real numbers, got dtype"):
-        msdeform.Deformer(V.astype(str), F)
+        msdeform.Method(V.astype(str), F)
     with pytest.raises(TypeError, match="F: expected an array of integers"):
-        msdeform.Deformer(V, F.astype(np.float64))
+        msdeform.Method(V, F.astype(np.float64))
     out_of_range = F.copy()
     out_of_range[3, 1] = len(V)
     with pytest.raises(ValueError, match="face 3"):
-        msdeform.Deformer(V, out_of_range)
+        msdeform.Method(V, out_of_range)
     with pytest.raises(ValueError, match="vertex 0 has a non-finite coordinate"):
         msdeform.write_mesh("never_written.off", np.full_like(V, np.nan), F)
     assert not os.path.exists("never_written.off")
@@ -85,16 +85,16 @@ def test_arrays_of_the_wrong_shape_or_type(bar):
 def test_bad_options():
     V, F = msdeform.read_mesh(BAD / "bar.off")
     with pytest.raises(TypeError, match="w_cn"):
-        msdeform.Deformer(V, F, w_cn=3.0)
+        msdeform.Method(V, F, w_cn=3.0)
     with pytest.raises(ValueError, match=r"^w_con=-1: expected a finite weight > 0 \(at 0 the handle would not follow"):
-        msdeform.Deformer(V, F, w_con=-1.0)
+        msdeform.Method(V, F, w_con=-1.0)
     with pytest.raises(ValueError, match="method"):
-        msdeform.Deformer(V, F, method="multi")
+        msdeform.Method(V, F, method="multi")
     with pytest.raises(ValueError, match=r"unknown flag --w_cn \(did you mean --w_con\?\)"):
         msdeform.options_from_flags({"w_cn": 1})
     # At w_con = 0 the handle stayed where it was and the drag reported success.
     with pytest.raises(ValueError, match=r"^w_con=0: expected a finite weight > 0 \(at 0 the handle would not follow"):
-        msdeform.Deformer(V, F, w_con=0.0)
+        msdeform.Method(V, F, w_con=0.0)
 
 
 def test_limits_that_crashed():
@@ -103,16 +103,16 @@ def test_limits_that_crashed():
     V, F = msdeform.read_mesh(BAD / "bar.off")
     with pytest.raises(ValueError, match=r"^graph\.num_threads=100000: expected an integer in "
                                          r"0\.\.1024 \(0: OpenMP default\)$"):
-        msdeform.Deformer(V, F, graph={"num_threads": 100000})
+        msdeform.Method(V, F, graph={"num_threads": 100000})
     # The keyword sets graph.num_threads too, which is checked first.
     with pytest.raises(ValueError, match=r"^graph\.num_threads=100000: expected an integer in 0\.\.1024"):
-        msdeform.Deformer(V, F, num_threads=100000)
+        msdeform.Method(V, F, num_threads=100000)
     with pytest.raises(ValueError, match=r"^rigidity\.region_half_width=2147483647: expected an integer in 1\.\.8"):
-        msdeform.Deformer(V, F, rigidity={"region_half_width": 2147483647})
+        msdeform.Method(V, F, rigidity={"region_half_width": 2147483647})
     # bar.off is 4 x 1 x 1: 500 cells per diagonal is about 6.5M particles.
     with pytest.raises(ValueError, match=r"the lattice has \d+ particles, more than 500000; use a "
                                          r"larger cell width"):
-        msdeform.Deformer(V, F, lattice={"cells_per_diagonal": 500})
+        msdeform.Method(V, F, lattice={"cells_per_diagonal": 500})
     scenario = BAD / "slab_x.json"
     for frames in (-1, msdeform.MAX_SCENARIO_FRAMES + 1, 2**31 - 1):
         with pytest.raises(ValueError, match=r"frames: expected 0\.\.100000 \(0: the scenario's\)"):
@@ -122,7 +122,7 @@ def test_limits_that_crashed():
 
 def test_bad_handles_and_drags(bar):
     V, F = bar
-    d = msdeform.Deformer(V, F)
+    d = msdeform.Method(V, F)
     with pytest.raises(RuntimeError, match="set_handles"):
         d.drag(np.eye(4))
     with pytest.raises(ValueError, match="status"):
@@ -138,7 +138,7 @@ def test_bad_handles_and_drags(bar):
         d.drag(not_affine)
     with pytest.raises(ValueError, match="M"):
         d.drag(np.eye(3))
-    # The Deformer still works after every failure above.
+    # The Method still works after every failure above.
     assert np.array_equal(d.drag(np.eye(4)).shape, V.shape)
 
 

@@ -72,7 +72,7 @@ def test_run_deformer_gives_the_tables_numbers(cpp_tables, cactus):
 
 def test_metrics_on_arrays_give_the_runners_numbers(cactus):
     row = msdeform.run_deformer(cactus, num_threads=1)
-    d = msdeform.Deformer(cactus.V, cactus.F, num_threads=1)
+    d = msdeform.Method(cactus.V, cactus.F, num_threads=1)
     d.set_handles(cactus.status)
     V, F, V2 = cactus.V, cactus.F, d.drag_along(cactus.path).copy()
     diagonal = msdeform.bounding_box_diagonal(V)
@@ -92,7 +92,7 @@ def test_metrics_on_arrays_give_the_runners_numbers(cactus):
 def test_leakage_is_the_watch_regions_mean_and_max_displacement(scenarios):
     ear = msdeform.load_scenario(scenarios / "armadillo_ear.json", frames=2)
     row = msdeform.run_deformer(ear, num_threads=1)
-    d = msdeform.Deformer(ear.V, ear.F, num_threads=1)
+    d = msdeform.Method(ear.V, ear.F, num_threads=1)
     d.set_handles(ear.status)
     V2 = d.drag_along(ear.path)
     leak = msdeform.leakage(ear.V, V2, ear.watch)

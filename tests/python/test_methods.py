@@ -35,7 +35,7 @@ def test_method_equals_the_command_line(cli, scenarios, tmp_path, method):
     V2 = e.drag(np.stack(scenario.path))
     assert np.array_equal(V2, V_cli)
     assert len(e.frame_stats) == 3
-    assert e.variables > 0
+    assert e.num_variables > 0
 
 
 @pytest.mark.parametrize("method", msdeform.METHODS)
@@ -58,7 +58,7 @@ def test_unknown_method_and_drag_before_handles_are_errors(meshes):
             "method: unknown method 'arap' (expected " + ", ".join(msdeform.METHODS) + ")") + "$"):
         msdeform.Method(V, F, "arap")
     e = msdeform.Method(V, F, "fastlsm")
-    with pytest.raises(RuntimeError, match="fastlsm: Drag before a successful SetHandles"):
+    with pytest.raises(RuntimeError, match="^fastlsm: no handle layout: call set_handles"):
         e.drag(np.eye(4))
 
 
@@ -165,11 +165,3 @@ def test_method_says_what_it_minimises(meshes, method):
     if e.graph:
         assert e.energy == "ed"
         assert msdeform.Method(V, F, method, energy="arap").energy == "arap"
-
-
-def test_unknown_keyword_offers_the_nearest(meshes):
-    V, F = msdeform.read_mesh(meshes / "cactus.off")
-    with pytest.raises(TypeError, match=r"unknown option 'w_cn' \(did you mean 'w_con'\?\)"):
-        msdeform.Method(V, F, "fastlsm", w_cn=1.0)
-    with pytest.raises(TypeError, match=r"unknown option 'w_cn' \(did you mean 'w_con'\?\)"):
-        msdeform.Deformer(V, F, w_cn=1.0)

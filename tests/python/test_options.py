@@ -11,7 +11,7 @@ def test_solver_and_backend_are_one_keyword(meshes):
     assert msdeform.DeformerOptions(solver="ceres").backend == "ceres"
     assert msdeform.DeformerOptions(backend="ceres") == msdeform.DeformerOptions(solver="ceres")
     V, F = msdeform.read_mesh(meshes / "cactus.off")
-    assert msdeform.Deformer(V, F, solver="ceres").options.backend == "ceres"
+    assert msdeform.Method(V, F, solver="ceres").options.backend == "ceres"
     assert msdeform.options_from_flags({"backend": "ceres"}).backend == "ceres"
     assert msdeform.options_from_flags({"solver": "ceres"}).backend == "ceres"
 

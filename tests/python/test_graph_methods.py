@@ -1,4 +1,5 @@
-"""The Deformer from Python: the command line's result, known answers, views, the GIL."""
+"""The deformation-graph methods through msdeform.Method: the command line's result, known
+answers, views, the intermediate results of the paper's method, the GIL."""
 
 import subprocess
 import threading
@@ -24,7 +25,7 @@ def test_drag_equals_the_command_lines_for_a_sel_def_pair(cli, meshes, tmp_path)
                     f"--sel={meshes / 'cactus.sel'}", f"--def={meshes / 'cactus.def'}",
                     "--frames=5")
     V, F = msdeform.read_mesh(meshes / "cactus.off")
-    d = msdeform.Deformer(V, F, method="multiscale")
+    d = msdeform.Method(V, F, "multiscale")
     d.set_handles(meshes / "cactus.sel")
     V2 = d.drag_along(msdeform.read_def(meshes / "cactus.def"), frames=5)
     assert np.abs(V2 - V_cli).max() <= 1e-12 * d.diagonal
@@ -37,39 +38,17 @@ def test_drag_equals_the_command_lines_for_a_scenario(cli, scenarios, tmp_path):
                     "--method=static", "--w_con=1000")
     scenario = msdeform.load_scenario(scenario_file, frames=4)
     options = msdeform.options_from_flags({"method": "static", "w_con": 1000})
-    d = msdeform.Deformer(scenario.V, scenario.F, options)
+    # No name: the one the options give (static).
+    d = msdeform.Method(scenario.V, scenario.F, options=options)
+    assert d.name == "static"
     d.set_handles(scenario.status)
     V2 = d.drag_along(scenario.path)
     assert np.abs(V2 - V_cli).max() <= 1e-12 * d.diagonal
 
 
-def whole_mesh_handle(num_vertices):
-    return np.full(num_vertices, 2, dtype=np.int32)
-
-
-def rigid_motion():
-    angle = 0.7
-    M = np.eye(4)
-    M[:3, :3] = [[np.cos(angle), -np.sin(angle), 0.0], [np.sin(angle), np.cos(angle), 0.0],
-                 [0.0, 0.0, 1.0]]
-    M[:3, 3] = [0.3, -0.2, 0.5]
-    return M
-
-
-@pytest.mark.parametrize("method", ["multiscale", "static", "static_dense"])
-def test_a_whole_mesh_handle_moves_rigidly(meshes, method):
-    V, F = msdeform.read_mesh(meshes / "cactus.off")
-    d = msdeform.Deformer(V, F, method=method)
-    d.set_handles(whole_mesh_handle(len(V)))
-    M = rigid_motion()
-    V2 = d.drag(M)
-    expected = V @ M[:3, :3].T + M[:3, 3]
-    assert np.abs(V2 - expected).max() <= 1e-6 * d.diagonal
-
-
 def test_identity_drag_leaves_the_mesh_at_rest(meshes):
     V, F = msdeform.read_mesh(meshes / "cactus.off")
-    d = msdeform.Deformer(V, F)
+    d = msdeform.Method(V, F)
     d.set_handles(meshes / "cactus.sel")
     V2 = d.drag(np.eye(4))
     assert np.abs(V2 - V).max() <= 1e-9 * d.diagonal
@@ -77,7 +56,7 @@ def test_identity_drag_leaves_the_mesh_at_rest(meshes):
 
 def test_drag_returns_a_read_only_view_updated_in_place(meshes):
     V, F = msdeform.read_mesh(meshes / "cactus.off")
-    d = msdeform.Deformer(V, F)
+    d = msdeform.Method(V, F)
     d.set_handles(meshes / "cactus.sel")
     M = msdeform.read_def(meshes / "cactus.def")
     first = d.drag(M)
@@ -91,12 +70,12 @@ def test_drag_returns_a_read_only_view_updated_in_place(meshes):
     assert np.array_equal(first, second)  # the same storage, now the second frame
     assert not np.array_equal(kept, second)
     del d
-    assert second.sum() == second.sum()  # the view keeps the Deformer alive
+    assert second.sum() == second.sum()  # the view keeps the Method alive
 
 
 def test_method_intermediates_follow_the_paper(meshes):
     V, F = msdeform.read_mesh(meshes / "cactus.off")
-    d = msdeform.Deformer(V, F)
+    d = msdeform.Method(V, F)
     d.set_handles(meshes / "cactus.sel")
     classes = d.node_classes
     assert set(np.unique(classes)) <= {0, 1, 2}
@@ -119,7 +98,7 @@ def test_method_intermediates_follow_the_paper(meshes):
 
 def test_static_baseline_has_one_scale_and_no_rigidity(meshes):
     V, F = msdeform.read_mesh(meshes / "cactus.off")
-    d = msdeform.Deformer(V, F, method="static", static_nodes=150)
+    d = msdeform.Method(V, F, method="static", static_nodes=150)
     d.set_handles(meshes / "cactus.sel")
     assert d.num_scales == 1
     assert d.relative_extent.size == 0
@@ -140,7 +119,7 @@ def test_keywords_are_the_options_fields_with_the_cpp_defaults():
 def test_the_one_thread_count_bounds_the_graph_building_too(meshes):
     assert msdeform.options_from_flags({"threads": 1}).graph.num_threads == 1
     assert dict(msdeform.describe_options({"num_threads": 3}))["graph.num_threads"] == "3"
-    d = msdeform.Deformer(*msdeform.read_mesh(meshes / "cactus.off"), num_threads=1)
+    d = msdeform.Method(*msdeform.read_mesh(meshes / "cactus.off"), num_threads=1)
     assert d.options.num_threads == 1 and d.options.graph.num_threads == 1
     # A graph of its own keeps its count; no keyword keeps the default (0: OpenMP's).
     own = {"num_threads": 1, "graph": {"num_threads": 2}}
@@ -159,7 +138,7 @@ def test_the_gil_is_released_while_dragging(meshes):
     about 80 ms: one scheduling delay away from the bound).
     """
     V, F = msdeform.read_mesh(meshes / "armadillo.off")
-    d = msdeform.Deformer(V, F, num_threads=1)
+    d = msdeform.Method(V, F, num_threads=1)
     status = np.ones(len(V), dtype=np.int32)
     status[V[:, 1] < np.quantile(V[:, 1], 0.2)] = 0
     status[V[:, 1] > np.quantile(V[:, 1], 0.9)] = 2
