@@ -12,10 +12,14 @@
 set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+# Each phase ends with its wall time, to see where a CI run spends it.
+phase() { echo "run_tests: [${SECONDS} s] $*"; }
 bash "${root}/scripts/build.sh"
+phase "built"
 
 echo "run_tests: ctest --test-dir build --output-on-failure -j2"
 ctest --test-dir "${root}/build" --output-on-failure -j2
+phase "plain tests passed"
 
 if [[ "${MSDEFORM_SKIP_ASAN:-0}" == 1 ]]; then
   echo "run_tests: MSDEFORM_SKIP_ASAN=1: skipping the sanitizer build"
@@ -28,6 +32,7 @@ cmake -S "${root}" -B "${asan}" -DMSDEFORM_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWit
   -DMSDEFORM_BUILD_PYTHON=OFF -DMSDEFORM_BUILD_BENCHMARKS=OFF -DMSDEFORM_INSTALL=OFF
 echo "run_tests: compiling the tests with sanitizers (-j2)"
 cmake --build "${asan}" -j2 --target msdeform_test_deps
+phase "sanitizer build done"
 # ASan's defaults (leaks reported too); UBSan findings stop the test
 # (-fno-sanitize-recover) with a stack trace.
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1}"
@@ -36,3 +41,4 @@ echo "run_tests: ctest --test-dir build-asan --output-on-failure -j2 (sanitizers
 # every-scenario, every-variant sweep (label scenarios, minutes in Release)
 # runs only in the plain pass.
 ctest --test-dir "${asan}" --output-on-failure -j2 --timeout 1200 --label-exclude 'package|editor|scenarios'
+phase "sanitizer tests passed"
