@@ -18,6 +18,7 @@
 #include "msdeform/solvers/ceres_solver.h"
 #include "msdeform/solvers/deformation_energy.h"
 #include "msdeform/solvers/frame_solver.h"
+#include "msdeform/solvers/frame_solver_factory.h"
 #include "msdeform/solvers/gauss_newton_solver.h"
 #include "msdeform/solvers/subspace_arap.h"
 
@@ -25,10 +26,8 @@ namespace msdeform {
 
 enum class Method { kMultiScale, kStatic, kStaticDense };
 
-// The backend that minimises Eq. 17 each frame (solvers/frame_solver.h): the
-// Gauss-Newton solver of solvers/gauss_newton_solver.h, or Ceres
-// (solvers/ceres_solver.h), the reference.
-enum class Solver { kCeres, kGaussNewton };
+// The backend (enum Solver) is declared with the frame solver factory
+// (solvers/frame_solver_factory.h).
 
 // What a frame minimises: Eq. 17, the paper's embedded-deformation energy
 // (ed), or the mesh's own cotangent ARAP energy over the selected graph's

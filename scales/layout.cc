@@ -10,6 +10,7 @@
 #include "msdeform/core/timing.h"
 #include "msdeform/scales/node_classes.h"
 #include "msdeform/scales/subspace_arap_build.h"
+#include "msdeform/solvers/subspace_arap_terms.h"
 
 namespace msdeform {
 namespace {
@@ -196,7 +197,8 @@ void Layout::BuildEnergy() {
     input.still_vertices = &still_vertices_;
     input.length_unit = options.length_unit > 0.0 ? options.length_unit : precompute_->diagonal();
     input.num_threads = options.num_threads;
-    energy_.arap = BuildSubspaceArap(input, options.arap);
+    energy_.families.push_back(
+        std::make_shared<SubspaceArapTerms>(BuildSubspaceArap(input, options.arap)));
     if (options.add_energy_terms) options.add_energy_terms(graph, &energy_);
     return;
   }

@@ -9,9 +9,7 @@
 #include "msdeform/core/parallel.h"
 #include "msdeform/core/skinning.h"
 #include "msdeform/core/timing.h"
-#include "msdeform/solvers/arap_solver.h"
-#include "msdeform/solvers/ceres_solver.h"
-#include "msdeform/solvers/gauss_newton_solver.h"
+#include "msdeform/solvers/frame_solver_factory.h"
 
 namespace msdeform {
 
@@ -25,17 +23,13 @@ std::unique_ptr<Session> Session::Create(std::shared_ptr<const Layout> layout,
   const DeformerOptions& options = pre.options();
   const auto start = std::chrono::steady_clock::now();
   session->transforms_ = NodeTransforms::Identity(session->layout_->graph().num_nodes());
-  if (session->layout_->energy().arap && options.backend == Solver::kGaussNewton) {
-    session->solver_ = MakeArapSolver(options.arap.solver, options.stopping, options.gauss_newton);
-  } else if (options.backend == Solver::kGaussNewton) {
-    GaussNewtonThreads threads;
-    threads.num_threads = options.num_threads;
-    session->solver_ =
-        std::make_unique<GaussNewtonSolver>(options.gauss_newton, options.stopping, threads);
-  } else {
-    session->solver_ =
-        std::make_unique<CeresSolver>(options.ceres, options.stopping, options.num_threads);
-  }
+  FrameSolverOptions solver_options;
+  solver_options.backend = options.backend;
+  solver_options.stopping = options.stopping;
+  solver_options.gauss_newton = options.gauss_newton;
+  solver_options.ceres = options.ceres;
+  solver_options.num_threads = options.num_threads;
+  session->solver_ = MakeFrameSolver(session->layout_->energy(), solver_options);
   if (!session->solver_->Setup(session->layout_->energy(), session->transforms_, error)) {
     *error = "setting up the " + std::string(SolverName(options.backend)) + " solve: " + *error;
     return nullptr;
@@ -109,12 +103,12 @@ bool Session::Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats,
   SkinPositionsAndNormals(pre.mesh().vertices, pre.rest_normals(), layout_->graph(), transforms_,
                           layout_->skin_all() ? nullptr : &layout_->skinned_vertices(),
                           &deformed_vertices_, /*deformed_normals=*/nullptr, skinning);
-  // The subspace ARAP energy's exact constraints: the handle and fixed
-  // vertices are constants outside the subspace.
-  if (const SubspaceArap* arap = layout_->energy().arap.get()) {
-    for (int v : arap->exact_moveable())
+  // The vertices a term family places exactly (the subspace ARAP energy's
+  // exact constraints: constants outside the subspace).
+  for (const std::shared_ptr<const TermFamily>& family : layout_->energy().families) {
+    for (int v : family->exact_moveable())
       deformed_vertices_.col(v) = deformed_from_rest * Eigen::Vector3d(pre.mesh().vertices.col(v));
-    for (int v : arap->exact_fixed()) deformed_vertices_.col(v) = pre.mesh().vertices.col(v);
+    for (int v : family->exact_fixed()) deformed_vertices_.col(v) = pre.mesh().vertices.col(v);
   }
   normals_stale_ = true;
   frame.skin_ms = MillisecondsSince(skin_start);
@@ -137,16 +131,16 @@ const Eigen::Matrix3Xd& Session::deformed_normals() const {
     // The exact constraints' vertices are not skinned positions: their
     // normals are the handle's transform of the rest normal (its inverse
     // transpose) and the rest normal.
-    if (const SubspaceArap* arap = layout_->energy().arap.get()) {
+    for (const std::shared_ptr<const TermFamily>& family : layout_->energy().families) {
       const Eigen::Matrix3d normal_transform = handle_.linear().inverse().transpose();
-      for (int v : arap->exact_moveable()) {
+      for (int v : family->exact_moveable()) {
         const Eigen::Vector3d n = normal_transform * Eigen::Vector3d(pre.rest_normals().col(v));
         const double length = n.norm();
         deformed_normals_.col(v) =
             length > 0.0 && std::isfinite(length) ? Eigen::Vector3d(n / length)
                                                   : Eigen::Vector3d::Zero();
       }
-      for (int v : arap->exact_fixed()) deformed_normals_.col(v) = pre.rest_normals().col(v);
+      for (int v : family->exact_fixed()) deformed_normals_.col(v) = pre.rest_normals().col(v);
     }
     normals_stale_ = false;
   }

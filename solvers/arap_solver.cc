@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "msdeform/core/timing.h"
+#include "msdeform/solvers/subspace_arap_terms.h"
 
 namespace msdeform {
 
@@ -18,26 +19,11 @@ double ArapDampingFloor(const Eigen::VectorXd& diagonal) {
   return mean > 0.0 ? 1e-12 * mean : 1.0;
 }
 
-bool IsArapEnergyAlone(const DeformationEnergy& energy, const std::string& solver,
-                       std::string* error) {
-  if (!energy.arap) {
-    *error = solver + " needs the subspace ARAP energy (--energy=arap)";
-    return false;
-  }
-  if (!energy.rot_nodes.empty() || !energy.coherence.empty() || !energy.positions.empty() ||
-      !energy.terms.empty()) {
-    *error = solver + " minimises the subspace ARAP energy alone; the layout also has Eq. 17 "
-             "or extra terms";
-    return false;
-  }
-  return true;
-}
-
 bool ArapLocalGlobalSolver::Setup(const DeformationEnergy& energy,
                                   const NodeTransforms& transforms, std::string* error) {
   (void)transforms;  // the constant slots are gathered from each frame's transforms
   if (!IsArapEnergyAlone(energy, "the local/global solver", error)) return false;
-  arap_ = energy.arap;
+  arap_ = FindSubspaceArap(energy);
   noise_floor_ = ArapEnergyNoiseFloor(*arap_);
   const Eigen::SparseMatrix<double>& q = arap_->system_matrix();
   const int n = q.rows();

@@ -82,18 +82,12 @@ double ArapEnergyNoiseFloor(const SubspaceArap& arap);
 // free nodes skin), where any positive floor does.
 double ArapDampingFloor(const Eigen::VectorXd& diagonal);
 
-// Whether `energy` is a subspace ARAP energy with no other term, which is
-// what the ARAP solvers run; false with a one-line message naming `solver`
-// ("the local/global solver") otherwise.
-bool IsArapEnergyAlone(const DeformationEnergy& energy, const std::string& solver,
-                       std::string* error);
-
 class ArapLocalGlobalSolver : public FrameSolver {
  public:
   explicit ArapLocalGlobalSolver(const StoppingRule& stopping) : stopping_(stopping) {}
 
-  // `energy` must hold a subspace ARAP energy (energy.arap) and no other
-  // terms.
+  // `energy` must hold a subspace ARAP energy (solvers/subspace_arap_terms.h)
+  // and no other terms.
   bool Setup(const DeformationEnergy& energy, const NodeTransforms& transforms,
              std::string* error) override;
   SolveSummary Solve(const Eigen::Affine3d& handle, NodeTransforms* transforms) override;

@@ -11,6 +11,7 @@
 #include <glog/logging.h>
 
 #include "msdeform/solvers/arap_solver.h"
+#include "msdeform/solvers/subspace_arap_terms.h"
 
 namespace msdeform {
 
@@ -37,7 +38,7 @@ bool ArapGaussNewtonSolver::Setup(const DeformationEnergy& energy,
   (void)transforms;  // the constant slots are gathered from each frame's transforms
   if (!options_.Check(error) || !stopping_.Check(error)) return false;
   if (!IsArapEnergyAlone(energy, "the subspace ARAP Gauss-Newton solver", error)) return false;
-  arap_ = energy.arap;
+  arap_ = FindSubspaceArap(energy);
   noise_floor_ = ArapEnergyNoiseFloor(*arap_);
   const SubspaceArap& arap = *arap_;
   const int nv = arap.num_slot_variables();

@@ -16,8 +16,7 @@
 #include "msdeform/energies/position_cost.h"
 #include "msdeform/energies/position_group_cost.h"
 #include "msdeform/energies/rot_cost.h"
-#include "msdeform/solvers/arap_solver.h"
-#include "msdeform/solvers/ceres_solver_arap.h"
+#include "msdeform/solvers/term_family.h"
 
 namespace msdeform {
 namespace {
@@ -154,7 +153,8 @@ struct CeresSolver::Impl {
   };
   std::vector<PositionTerm> position_costs;      // ungrouped
   std::vector<PositionGroupCost*> position_groups;  // grouped, owned by problem
-  std::unique_ptr<CeresArapProblem> arap;  // the subspace ARAP energy's blocks
+  // The blocks of the families with their own structure (solvers/term_family.h).
+  std::vector<std::unique_ptr<CeresFamilyBlocks>> families;
 };
 
 CeresSolver::CeresSolver(const CeresOptions& options, const StoppingRule& stopping,
@@ -196,13 +196,10 @@ bool CeresSolver::Setup(const DeformationEnergy& energy, const NodeTransforms& t
     if (node_class[j] == NodeClass::kFixed) problem.SetParameterBlockConstant(rotation(j));
   };
 
-  if (energy.arap) {
-    if (!IsArapEnergyAlone(energy, "the Ceres backend", error)) return false;
-    // Analytic Jacobians whatever ceres.jacobians says: the cluster blocks
-    // are linear in the nodes' blocks (energies/arap_cluster_cost.h).
-    impl.arap = std::make_unique<CeresArapProblem>(energy.arap, &impl.parameters, ensure_blocks,
-                                                   &problem);
-    return true;
+  for (const std::shared_ptr<const TermFamily>& family : energy.families) {
+    impl.families.push_back(
+        family->AddToCeresProblem(energy, &impl.parameters, ensure_blocks, &problem, error));
+    if (impl.families.back() == nullptr) return false;
   }
   const bool autodiff = options_.jacobians == CeresOptions::Jacobians::kAutodiff;
   for (int j : energy.rot_nodes) {
@@ -328,7 +325,7 @@ double CeresSolver::Cost(const Eigen::Affine3d& handle, const NodeTransforms& tr
   impl.parameters.rotations = transforms.rotations;
   impl.parameters.translations = transforms.translations;
   const double constant_cost = SetHandle(handle);
-  if (impl.arap) impl.arap->SetFrame(handle, impl.parameters);
+  for (auto& family : impl.families) family->SetFrame(handle, impl.parameters);
   double cost = 0.0;
   impl.problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
   return cost + constant_cost;
@@ -341,7 +338,7 @@ SolveSummary CeresSolver::Solve(const Eigen::Affine3d& handle, NodeTransforms* t
   impl.parameters.rotations = transforms->rotations;
   impl.parameters.translations = transforms->translations;
   const double constant_cost = SetHandle(handle);
-  if (impl.arap) impl.arap->SetFrame(handle, impl.parameters);
+  for (auto& family : impl.families) family->SetFrame(handle, impl.parameters);
   ceres::Solver::Summary ceres_summary;
   ceres::Solve(impl.solver, impl.problem.get(), &ceres_summary);
   VLOG(1) << ceres_summary.FullReport();  // msdeform --verbose --v=1

@@ -83,10 +83,8 @@ double EvaluateEnergy(const DeformationEnergy& energy, const NodeTransforms& tra
   }
   double extra = 0.0;
   for (const EnergyTerm& term : energy.terms) extra += EnergyTermCost(term, transforms);
-  if (energy.arap) {
-    SubspaceArap::Slots u;
-    energy.arap->Gather(transforms, handle, &u);
-    extra += energy.arap->Cost(u);
+  for (const std::shared_ptr<const TermFamily>& family : energy.families) {
+    extra += family->Cost(transforms, handle);
   }
   return 0.5 * sum + extra;
 }

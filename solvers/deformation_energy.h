@@ -1,7 +1,15 @@
-// The deformation energy of paper Eq. 17 over the active nodes of one handle
-// layout, as data: what both solver backends minimise (solvers/frame_solver.h).
+// The deformation energy over the active nodes of one handle layout, as a
+// list of term families: what every frame solver minimises
+// (solvers/frame_solver.h; solvers/frame_solver_factory.h picks one).
 //
-//   E = w_rot E_rot + w_coh E_coh + w_con E_con  (+ the gauge terms)
+//   E = w_rot E_rot + w_coh E_coh + w_con E_con  (+ the gauge terms)   Eq. 17
+//     + the user terms (energies/energy_term.h)
+//     + the families with their own structure (solvers/term_family.h:
+//       the subspace ARAP energy's rotation clusters)
+//
+// Eq. 17's families and the user terms are per-block cost functors that
+// every backend runs; node classes make blocks constant (Ceres's
+// SetParameterBlockConstant).
 //
 // The Deformer builds a DeformationEnergy once per handle layout
 // (Deformer::SetHandles); a backend turns it into its own problem.
@@ -21,7 +29,7 @@
 #include "msdeform/energies/energy_term.h"
 #include "msdeform/energies/position_cost.h"
 #include "msdeform/solvers/node_class.h"
-#include "msdeform/solvers/subspace_arap.h"
+#include "msdeform/solvers/term_family.h"
 
 namespace msdeform {
 
@@ -67,10 +75,10 @@ struct DeformationEnergy {
   // from this description alone (examples/energy_terms/ has one). They do
   // not enter GaugeTerms.
   std::vector<EnergyTerm> terms;
-  // The subspace ARAP energy (--energy=arap; solvers/subspace_arap.h): the
-  // mesh's cotangent ARAP energy over the free nodes, in place of the terms
-  // of Eq. 17 above (which are then empty). Null for Eq. 17.
-  std::shared_ptr<const SubspaceArap> arap;
+  // Families that bring their own structure (solvers/term_family.h), such
+  // as the subspace ARAP energy (--energy=arap, solvers/subspace_arap_terms.h),
+  // which stands in place of Eq. 17's terms (then empty). Empty for Eq. 17.
+  std::vector<std::shared_ptr<const TermFamily>> families;
 
   // 12 per Totally Free node, 9 per Half Free node.
   int num_variables() const;

@@ -324,9 +324,9 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
                               std::string* error) {
   if (!options_.Check(error) || !stopping_.Check(error)) return false;
   CHECK_EQ(static_cast<int>(energy.node_class.size()), transforms.num_nodes());
-  if (energy.arap) {
-    *error = "the subspace ARAP energy (--energy=arap) is minimised by ArapLocalGlobalSolver "
-             "(solvers/arap_solver.h)";
+  if (!energy.families.empty()) {
+    *error = energy.families.front()->name() +
+             " needs its own frame solver (MakeFrameSolver, solvers/frame_solver_factory.h)";
     return false;
   }
   impl_ = std::make_unique<Impl>();

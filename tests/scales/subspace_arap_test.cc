@@ -6,6 +6,7 @@
 // optimum lies inside the subspace (energy 0, every vertex at H * rest), the
 // solver's energy never rising, and the options' errors.
 
+#include "msdeform/solvers/subspace_arap_terms.h"
 #include "msdeform/solvers/subspace_arap.h"
 
 #include <cmath>
@@ -53,7 +54,7 @@ TEST(SubspaceArapTest, ReducedEnergyEqualsTheFullMeshEvaluation) {
             const std::vector<NodeClass>* classes;
             double unit;
           };
-          for (const Case& c : {Case{layout.energy().arap.get(), &layout.node_classes(), diagonal},
+          for (const Case& c : {Case{FindSubspaceArap(layout.energy()).get(), &layout.node_classes(), diagonal},
                                 Case{hand.get(), &mixed, 0.37 * diagonal}}) {
             ASSERT_NE(c.arap, nullptr);
             const FullMesh full = FullMeshOf(layout, c.unit, options.arap);
@@ -90,7 +91,7 @@ TEST(SubspaceArapTest, PerVertexClustersGiveTheMetricsArapEnergy) {
       const std::unique_ptr<Deformer> deformer =
           MakeDeformer(two_bars.mesh, options, two_bars.layout);
       const Layout& layout = *deformer->layout();
-      const SubspaceArap& arap = *layout.energy().arap;
+      const SubspaceArap& arap = *FindSubspaceArap(layout.energy());
       const double unit = deformer->diagonal();
       const FullMesh full = FullMeshOf(layout, unit, options.arap);
       const NodeTransforms transforms = RandomTransforms(layout.node_classes(), unit, &rng);
@@ -140,7 +141,7 @@ TEST(SubspaceArapTest, RigidOptimumIsAFixedPointOfTheSolver) {
           const Eigen::Matrix3Xd x = full.Positions(transforms, h);
           const std::string name = Name(method, clusters, constraints);
           EXPECT_FALSE(summary.failed) << name << ": " << summary.message;
-          EXPECT_LT(full.Energy(x, h, layout.energy().arap->cluster_of_vertex()), 1e-20) << name;
+          EXPECT_LT(full.Energy(x, h, FindSubspaceArap(layout.energy())->cluster_of_vertex()), 1e-20) << name;
           EXPECT_LE(DistanceFromRigid(layout, x, h), 1e-9) << name;
           // The reduced energy: 0 up to the rounding of its sums (measured:
           // 1e-16 of their size at most).
@@ -197,7 +198,7 @@ TEST(SubspaceArapTest, RigidEditReachesTheOptimumInOneDrag) {
             const std::string name = Name(method, clusters, constraints) +
                                      (solver == ArapSolver::kGaussNewton ? " turn" : " translation");
             const Eigen::Matrix3Xd& x = deformer->deformed_vertices();
-            EXPECT_LT(full.Energy(x, h, layout.energy().arap->cluster_of_vertex()), kRigidEnergy)
+            EXPECT_LT(full.Energy(x, h, FindSubspaceArap(layout.energy())->cluster_of_vertex()), kRigidEnergy)
                 << name;
             EXPECT_LE(DistanceFromRigid(layout, x, h), kRigidDistance) << name;
           }
@@ -251,7 +252,7 @@ TEST(SubspaceArapTest, EnergyNeverRisesAndConstraintsHold) {
           }
           // Equal up to the rounding of the reduced form's sums (measured:
           // 2.4e-16 of their size at most).
-          const double expected = full.Energy(x, h, layout.energy().arap->cluster_of_vertex());
+          const double expected = full.Energy(x, h, FindSubspaceArap(layout.energy())->cluster_of_vertex());
           EXPECT_NEAR(stats.final_cost, expected, 1e-14 * full.Magnitude(x, h)) << name;
         }
       }
@@ -272,7 +273,8 @@ TEST(SubspaceArapTest, SolverKeepsTheConstantBlocks) {
       const Layout& layout = *deformer->layout();
       const std::vector<NodeClass> mixed = MixedClasses(layout.graph().num_nodes());
       DeformationEnergy energy;
-      energy.arap = BuildWithClasses(layout, mixed, deformer->diagonal(), options.arap);
+      energy.families.push_back(std::make_shared<SubspaceArapTerms>(
+          BuildWithClasses(layout, mixed, deformer->diagonal(), options.arap)));
       NodeTransforms transforms = NodeTransforms::Identity(layout.graph().num_nodes());
       for (int j = 0; j < transforms.num_nodes(); ++j) {
         if (mixed[j] != NodeClass::kHalfFree) continue;
@@ -395,7 +397,7 @@ TEST(SubspaceArapTest, ACopyOfTheEnergyOutlivesTheDeformer) {
       ArapOptionsFor(Method::kStatic, RotationClusters::kWeights, ArapConstraints::kExact);
   std::unique_ptr<Deformer> deformer = MakeDeformer(bar.mesh, options, bar.layout);
   const DeformationEnergy energy = deformer->layout()->energy();
-  const NodeTransforms identity = NodeTransforms::Identity(energy.arap->num_nodes());
+  const NodeTransforms identity = NodeTransforms::Identity(FindSubspaceArap(energy)->num_nodes());
   Eigen::Affine3d h = Eigen::Affine3d::Identity();
   h.translation() << 1.0, 0.0, 0.0;
   const double before = EvaluateEnergy(energy, identity, h);

@@ -16,6 +16,7 @@
 #include "msdeform/scales/layout.h"
 #include "msdeform/scales/precompute.h"
 #include "msdeform/scales/session.h"
+#include "msdeform/solvers/subspace_arap_terms.h"
 #include "msdeform/solvers/arap_solver.h"
 #include "tests/scales/deformer_test_util.h"
 
@@ -125,7 +126,7 @@ TEST(ArapBackendsTest, GradientMatchesFiniteDifferences) {
   const std::shared_ptr<const Layout> layout =
       MakeLayout(bar.mesh, ArapOptionsFor(Backend::kGaussNewton), bar.layout);
   ASSERT_NE(layout, nullptr);
-  const SubspaceArap& arap = *layout->energy().arap;
+  const SubspaceArap& arap = *FindSubspaceArap(layout->energy());
   ASSERT_GT(arap.num_slot_variables(), 0);
   NodeTransforms transforms = RigidTransforms(layout->graph(), Bend(0.4));
   std::srand(7);
@@ -228,7 +229,7 @@ TEST_P(SameMinimumTest, AllBackendsReachIt) {
     if (GetParam() == ArapConstraints::kExact) {
       // The spokes alone: with soft constraints the energy has position terms too.
       energies.push_back(
-          SpokeEnergy(*layout->energy().arap, bar.mesh, session->deformed_vertices()));
+          SpokeEnergy(*FindSubspaceArap(layout->energy()), bar.mesh, session->deformed_vertices()));
       EXPECT_NEAR(stats.final_cost, energies.back(), 1e-9 * energies.back()) << Name(backend);
     } else {
       energies.push_back(stats.final_cost);
@@ -264,7 +265,7 @@ TEST(ArapBackendsTest, RigidMotionCostsNothing) {
     ASSERT_NE(session, nullptr) << Name(backend) << ": " << error;
     ASSERT_TRUE(session->Drag(motion, nullptr, &error)) << Name(backend) << ": " << error;
     Eigen::Matrix3Xd expected = motion * bar.mesh.vertices;
-    EXPECT_LT(SpokeEnergy(*layout->energy().arap, bar.mesh, session->deformed_vertices()), 1e-20)
+    EXPECT_LT(SpokeEnergy(*FindSubspaceArap(layout->energy()), bar.mesh, session->deformed_vertices()), 1e-20)
         << Name(backend);
     EXPECT_LT(MaxDistance(session->deformed_vertices(), expected), 1e-9 * diagonal)
         << Name(backend);
