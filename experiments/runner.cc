@@ -25,6 +25,11 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The band of vertices near the fixed region where arap_energy_joint is
 // measured: geodesic distance (along edges) up to this fraction of the diagonal.
 constexpr double kJointBand = 0.05;
+// An ARAP energy (normalised: a squared relative length change) below this is
+// a rigid motion to rounding (a relative stretch of 1e-6): no reference for a
+// ratio. A rigid edit's converged energy is 1e-30 or so, the tables' smallest
+// real one 3e-5.
+constexpr double kRigidEnergy = 1e-12;
 
 // Accuracy and distortion of the final frame, shared by every method.
 void MeasureQuality(const ExperimentScenario& scenario, const Eigen::Matrix3Xd& deformed,
@@ -54,7 +59,7 @@ void MeasureQuality(const ExperimentScenario& scenario, const Eigen::Matrix3Xd& 
 // The row's ARAP energy over the reference's and its vertices' mean and
 // largest distance to the reference's, over the diagonal (MeasureQuality
 // first); NaN without a reference, and the ratio NaN when the reference's
-// energy is 0 (a rigid edit: nothing to compare against). The reference's
+// energy is below kRigidEnergy (a rigid edit: a ratio of rounding residues). The reference's
 // energy is measured here as arap_energy is, so a row whose vertices equal
 // the reference's has ratio exactly 1 and distances 0.
 void MeasureAgainstReference(const ExperimentScenario& scenario, const Eigen::Matrix3Xd& deformed,
@@ -65,7 +70,8 @@ void MeasureAgainstReference(const ExperimentScenario& scenario, const Eigen::Ma
   }
   const double reference_energy =
       NormalisedArapEnergy(ArapEnergyPerVertex(scenario.mesh, *reference));
-  result->arap_energy_ratio = reference_energy > 0.0 ? result->arap_energy / reference_energy : kNaN;
+  result->arap_energy_ratio =
+      reference_energy >= kRigidEnergy ? result->arap_energy / reference_energy : kNaN;
   const Eigen::VectorXd distance = (deformed - *reference).colwise().norm().transpose();
   result->ref_distance_rel = distance.size() == 0 ? 0.0 : distance.mean() / result->diagonal;
   result->ref_distance_max_rel =
@@ -603,7 +609,7 @@ bool WriteExperimentTables(const RunnerOptions& options, const RunPlan& plan,
                 " row's of the same scenario (the reference, run once per scenario); "
                 "ref_distance_rel / ref_distance_max_rel = mean / largest vertex distance to "
                 "its final mesh over the diagonal (its own row: 1, 0, 0; the ratio is empty "
-                "where the reference's energy is 0).";
+                "where the reference's energy is below 1e-12, a rigid motion).";
   table1.notes.push_back(std::string("The run of table 2 with energy ") +
                          EnergyName(options.energies.front()) + ".");
   table1.notes.push_back("nodes_optimized = Totally + Half Free nodes of the selected scale; "

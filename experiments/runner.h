@@ -75,7 +75,7 @@ struct RunResult {
   // Against the reference method's final mesh on the same drag
   // (RunnerOptions::reference_method, the converged full_arap by default);
   // NaN when it was not run. arap_energy over the reference's arap_energy
-  // (NaN when that is 0: a rigid edit):
+  // (NaN when that is below 1e-12: a rigid edit, rounding residues):
   double arap_energy_ratio = 0.0;
   // Mean and largest vertex distance to the reference's final vertices, over
   // the diagonal.

@@ -65,6 +65,9 @@ def _load(task):
 # The method whose final mesh is every task's reference when the sweep has arap_reference: the
 # converged ARAP energy, as the experiment runner's (RunnerOptions::reference_method).
 REFERENCE_METHOD = "full_arap"
+# Below this ARAP energy the reference is a rigid motion to rounding and has no ratio (the
+# runner's kRigidEnergy, experiments/runner.cc).
+RIGID_ENERGY = 1e-12
 
 
 def _base_row(task):
@@ -104,7 +107,7 @@ def run_reference(scenario_path, params):
     """The converged ARAP energy (REFERENCE_METHOD, its default options) on a scenario: the
     reference of arap_energy_ratio, ref_distance_rel and ref_distance_max_rel for every task of
     that scenario, and the row of its full_arap task, measured against itself as the runner's
-    (ratio 1, or None where its energy is 0; distances 0). Returns {"result", "V2", "model",
+    (ratio 1, or None where its energy is below RIGID_ENERGY; distances 0). Returns {"result", "V2", "model",
     "name", "load_ms"} or {"error_type", "error"}."""
     try:
         start = time.perf_counter()
@@ -113,7 +116,7 @@ def run_reference(scenario_path, params):
         result, deformed = msdeform.run_method(scenario, REFERENCE_METHOD)
     except Exception as error:  # noqa: BLE001 -- recorded in the rows that need it
         return {"error_type": type(error).__name__, "error": str(error)}
-    result["arap_energy_ratio"] = 1.0 if result["arap_energy"] > 0 else math.nan
+    result["arap_energy_ratio"] = 1.0 if result["arap_energy"] >= RIGID_ENERGY else math.nan
     result["ref_distance_rel"] = result["ref_distance_max_rel"] = 0.0
     return {"result": result, "V2": deformed, "name": scenario.name,
             "model": os.path.splitext(os.path.basename(scenario.mesh_path))[0], "load_ms": load_ms}
