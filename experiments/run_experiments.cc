@@ -84,9 +84,10 @@ const char* EnergiesHelp() {
 
 DEFINE_string(methods, "", MethodsHelp());
 DEFINE_string(energies, "ed,arap", EnergiesHelp());
-DEFINE_string(reference_method, "cgal_arap",
-              "[method] The method whose final mesh is the reference of arap_distance_rel "
-              "(empty: none).");
+DEFINE_string(reference_method, "full_arap",
+              "[method] The method whose final mesh is the reference of arap_energy_ratio, "
+              "ref_distance_rel and ref_distance_max_rel, run once per scenario (default: the "
+              "converged ARAP energy; empty: none).");
 DEFINE_bool(time_other_backend, true,
             "[solver] Also time multiscale and static with the other backend (Ceres when "
             "--solver=gauss_newton, the default).");

@@ -52,6 +52,9 @@ METHOD_STYLE = {
     "cgal_arap": dict(color="#7f7f7f", marker="D", label="CGAL ARAP"),
     "cgal_sr_arap": dict(color="#8c564b", marker="d", label="CGAL SR-ARAP"),
     "fastlsm": dict(color="#17becf", marker="P", label="FastLSM, 20 steps"),
+    "rigid_cells": dict(color="#bcbd22", marker="*", label="rigid cells [15]"),
+    # The tables' reference: the mesh's ARAP energy minimised to convergence.
+    "full_arap": dict(color="#000000", marker="X", label="converged ARAP (reference)"),
     # The graph methods with --energy=arap (table 2's energy column): hollow markers.
     "multiscale-arap": dict(color="#d62728", marker="o", markerfacecolor="none",
                             label="multi-scale, subspace ARAP"),

@@ -307,7 +307,8 @@ void BindRunner(py::module_& m) {
         "the method interface, as the experiment runner does (experiments/runner.h, "
         "RunMethod). options and keyword arguments as for Method (the Deformer's, and the "
         "methods' own: cgal_iterations, fastlsm_steps, ...). reference, the reference "
-        "method's final vertices on the same drag, gives arap_distance_rel (NaN without). "
+        "method's final vertices on the same drag (the runner's: full_arap's), gives "
+        "arap_energy_ratio, ref_distance_rel and ref_distance_max_rel (NaN without). "
         "Returns (row, V2): run_deformer's dict and the final vertices (#V, 3). Raises "
         "ValueError for an unknown method or bad options, RuntimeError when a frame fails.");
   m.def("run_deformer", &RunDeformerOn, py::arg("scenario"), py::arg("options") = py::none(),
@@ -316,8 +317,9 @@ void BindRunner(py::module_& m) {
         "Runs the deformer over the scenario's drag path and measures it as the experiment "
         "runner does (experiments/runner.h, RunDeformer). options and keyword arguments as for "
         "Method (the runner uses num_threads=1); label names the row (default: the method). "
-        "arap_result, CGAL ARAP's final vertices on the same drag (run_cgal_arap), gives "
-        "arap_distance_rel (NaN without). Returns a dict keyed by the tables' column names: "
+        "arap_result, the reference's final vertices on the same drag (the runner's: "
+        "run_method(scenario, 'full_arap')), gives arap_energy_ratio, ref_distance_rel and "
+        "ref_distance_max_rel (NaN without). Returns a dict keyed by the tables' column names: "
         "scenario, method, energy (what it minimised: ed or arap for the graph methods, "
         "DeformerOptions.energy; arap, sr_arap or shape_matching for the others), vertices, "
         "faces, diagonal, cell_width, particles, d1, scales_n, "
@@ -326,15 +328,17 @@ void BindRunner(py::module_& m) {
         "(medians over frames), solve_total_ms, iterations (median), iterations_total, "
         "final_cost, unconverged_frames, handle_rms_rel, fixed_max_rel, leakage_rel, "
         "leakage_max_rel (NaN without a watch region), arap_energy, arap_energy_joint, strain, "
-        "orthogonality, arap_distance_rel, other_backend_frame_ms (NaN: not run here), "
+        "orthogonality, arap_energy_ratio, ref_distance_rel, ref_distance_max_rel, "
+        "other_backend_frame_ms (NaN: not run here), "
         "wall_ms. Raises ValueError for bad options and RuntimeError when a frame fails.");
   m.def("run_cgal_arap", &RunCgalArapOn, py::arg("scenario"),
         py::arg("iterations") = CgalArapOptions().iterations,
         py::arg("tolerance") = CgalArapOptions().tolerance,
         "Runs CGAL's ARAP (ROI: every non-fixed vertex) over the scenario's drag path with "
-        "`iterations` local/global iterations per frame, as the runner's reference. Returns "
-        "(row, V2): the dict of run_deformer (method 'cgal_arap') and the final vertices, a new "
-        "(#V, 3) array (run_deformer's arap_result).");
+        "`iterations` local/global iterations per frame, measured against its own result "
+        "(arap_energy_ratio 1, distances 0). Returns (row, V2): the dict of run_deformer "
+        "(method 'cgal_arap') and the final vertices, a new (#V, 3) array (usable as "
+        "run_deformer's arap_result).");
 }
 
 void BindMetrics(py::module_& m) {

@@ -5,8 +5,10 @@
 
 Rows are matched on their key columns (every column before the first numeric
 one that is not a time); time columns (names ending in `_ms`, or
-`ms_per_iteration`, `wall_s`, and the traces' `ms`) and `#` header lines are ignored. Prints the
-cells that differ and a count; exits 1 if any differ or a row is missing.
+`ms_per_iteration`, `wall_s`, and the traces' `ms`) and `#` header lines are ignored. When the
+runs' columns differ (a column added, renamed or removed), the columns both have are compared
+and the others are named. Rows only the second run has are counted as new. Prints the cells
+that differ and a count; exits 1 if any differ or a row of the first run is missing.
 """
 import csv
 import sys
@@ -31,8 +33,11 @@ def main(before_path, after_path):
     columns, before = read(before_path)
     after_columns, after = read(after_path)
     if columns != after_columns:
-        print(f"columns differ:\n  {columns}\n  {after_columns}")
-        return 1
+        only_before = [c for c in columns if c not in after_columns]
+        only_after = [c for c in after_columns if c not in columns]
+        print(f"columns only in {before_path}: {only_before}")
+        print(f"columns only in {after_path}: {only_after}")
+        columns = [c for c in columns if c in after_columns]
     keys = [c for c in columns if c in KEYS]
     index = {}
     for row in after:
@@ -52,7 +57,9 @@ def main(before_path, after_path):
             if row[column] != other[column]:
                 changed += 1
                 print(f"{key} {column}: {row[column]} -> {other[column]}")
-    print(f"{after_path}: {changed} of {compared} non-time cells changed, {missing} rows missing")
+    new = sum(len(rows) for rows in index.values())
+    print(f"{after_path}: {changed} of {compared} non-time cells changed, {missing} rows missing, "
+          f"{new} new rows")
     return 1 if changed or missing else 0
 
 

@@ -62,11 +62,12 @@ def _load(task):
     return scenario, (time.perf_counter() - start) * 1e3
 
 
-def _cgal(scenario, params):
-    """run_cgal_arap with the sweep's iterations (the C++ default when not set)."""
-    if params.get("cgal_iterations") is None:
-        return msdeform.run_cgal_arap(scenario)
-    return msdeform.run_cgal_arap(scenario, iterations=params["cgal_iterations"])
+# The method whose final mesh is every task's reference when the sweep has arap_reference: the
+# converged ARAP energy, as the experiment runner's (RunnerOptions::reference_method).
+REFERENCE_METHOD = "full_arap"
+# Below this ARAP energy the reference is a rigid motion to rounding and has no ratio (the
+# runner's kRigidEnergy, experiments/runner.cc).
+RIGID_ENERGY = 1e-12
 
 
 def _base_row(task):
@@ -85,7 +86,7 @@ def _base_row(task):
 
 
 def _fill(row, result, scenario):
-    """Copies run_deformer's (or run_cgal_arap's) numbers into the row."""
+    """Copies run_deformer's (or run_method's) numbers into the row."""
     row["scenario"] = scenario.name
     row["model"] = os.path.splitext(os.path.basename(scenario.mesh_path))[0]
     row["energy"] = result.get("energy")
@@ -103,42 +104,42 @@ def _failed(row, error):
 
 
 def run_reference(scenario_path, params):
-    """CGAL's ARAP on a scenario: the reference of arap_distance_rel for every task of that
-    scenario, and the row of its cgal_arap task. Returns {"result", "V2", "model", "name",
-    "load_ms"} or {"error_type", "error"}."""
+    """The converged ARAP energy (REFERENCE_METHOD, its default options) on a scenario: the
+    reference of arap_energy_ratio, ref_distance_rel and ref_distance_max_rel for every task of
+    that scenario, and the row of its full_arap task, measured against itself as the runner's
+    (ratio 1, or None where its energy is below RIGID_ENERGY; distances 0). Returns {"result", "V2", "model",
+    "name", "load_ms"} or {"error_type", "error"}."""
     try:
         start = time.perf_counter()
         scenario = msdeform.load_scenario(scenario_path, frames=params["frames"])
         load_ms = (time.perf_counter() - start) * 1e3
-        result, deformed = _cgal(scenario, params)
+        result, deformed = msdeform.run_method(scenario, REFERENCE_METHOD)
     except Exception as error:  # noqa: BLE001 -- recorded in the rows that need it
         return {"error_type": type(error).__name__, "error": str(error)}
+    result["arap_energy_ratio"] = 1.0 if result["arap_energy"] >= RIGID_ENERGY else math.nan
+    result["ref_distance_rel"] = result["ref_distance_max_rel"] = 0.0
     return {"result": result, "V2": deformed, "name": scenario.name,
             "model": os.path.splitext(os.path.basename(scenario.mesh_path))[0], "load_ms": load_ms}
 
 
 def _failed_reference(row, reference):
-    """Marks the row failed with the error of the CGAL reference it needed."""
+    """Marks the row failed with the error of the reference it needed."""
     row["status"] = FAILED
     row["error_type"], row["error"] = reference["error_type"], reference["error"]
     return row
 
 
-def _run_cgal_task(task, row, reference):
-    """A cgal_arap task: the reference's row when the sweep computes one, else its own run."""
-    if reference is not None:
-        if "error" in reference:
-            return _failed_reference(row, reference)
-        row["scenario"], row["model"] = reference["name"], reference["model"]
-        row["energy"] = reference["result"].get("energy")
-        for column in METRIC_COLUMNS + TIMING_COLUMNS:
-            if column in reference["result"]:
-                row[column] = _finite_or_none(reference["result"][column])
-        row["load_ms"] = reference["load_ms"]
-        return row
-    scenario, row["load_ms"] = _load(task)
-    result, _ = _cgal(scenario, task["params"])
-    _fill(row, result, scenario)
+def _reference_row(row, reference):
+    """A REFERENCE_METHOD task without options of its own: the reference's row."""
+    if "error" in reference:
+        return _failed_reference(row, reference)
+    row["scenario"], row["model"] = reference["name"], reference["model"]
+    row["energy"] = reference["result"].get("energy")
+    for column in METRIC_COLUMNS + TIMING_COLUMNS:
+        if column in reference["result"]:
+            row[column] = _finite_or_none(reference["result"][column])
+    row["load_ms"] = reference["load_ms"]
+    row["other_backend_frame_ms"] = None
     return row
 
 
@@ -166,7 +167,7 @@ def _run_deformer_task(task, row, reference):
 
 
 def _run_method_task(task, row, reference):
-    """A task of a method without Deformer options (cgal_sr_arap, fastlsm): run_method with
+    """A task of a method without Deformer options (cgal_arap, fastlsm, ...): run_method with
     the sweep's CGAL iterations and the task's own options, against the scenario's reference
     when there is one."""
     params = task["params"]
@@ -191,15 +192,16 @@ def run_task(task, reference=None):
     """Runs one task and returns its row (a dict of the result columns).
 
     `reference` is run_reference's result for the task's scenario when the sweep measures
-    arap_distance_rel, else None. Never raises for the task's own errors: they give a row with
+    against the converged reference (arap_reference), else None. Never raises for the task's own errors: they give a row with
     status "failed", error_type and error (the exception's message, the C++ message for the
     module's errors).
     """
     start, start_cpu = time.perf_counter(), time.thread_time()
     row = _base_row(task)
     try:
-        if task["method"] == "cgal_arap":
-            _run_cgal_task(task, row, reference)
+        if (task["method"] == REFERENCE_METHOD and reference is not None
+                and not task["params"].get("options")):
+            _reference_row(row, reference)
         elif task["method"] in DEFORMER_METHODS:
             _run_deformer_task(task, row, reference)
         else:

@@ -47,7 +47,7 @@ class Progress:
 
     def __init__(self, total, already, stream=sys.stderr, running=None):
         """total: tasks to run now; already: tasks with rows before (--resume); running: a
-        function giving (tasks running, CGAL references running)."""
+        function giving (tasks running, references running)."""
         self.total, self.already, self.stream, self.running = total, already, stream, running
         self.done = self.failed = 0
         self.start = time.monotonic()
@@ -80,7 +80,7 @@ class Progress:
         if running is not None:
             parts.append(f"{running} running, {left - running} waiting")
             if references:
-                parts.append(f"{references} CGAL reference(s) running")
+                parts.append(f"{references} reference(s) running")
         parts.append(f"{rate:.2f} tasks/s")
         if done and left and rate > 0:
             parts.append(f"~{_duration(left / rate)} left")
@@ -148,14 +148,14 @@ def _duration(seconds):
 
 
 def needed_reference(sweep, task):
-    """The parameters of the CGAL run a task depends on (its scenario's reference of
-    arap_distance_rel; a cgal_arap task takes that run as its row), or None when the sweep
-    has no arap_reference."""
+    """The parameters of the converged ARAP run a task depends on (its scenario's reference of
+    arap_energy_ratio, ref_distance_rel and ref_distance_max_rel; a full_arap task without
+    options of its own takes that run as its row), or None when the sweep has no
+    arap_reference."""
     if not sweep.settings["arap_reference"]:
         return None
     params = task["params"]
-    return {"scenario": params["scenario"], "frames": params["frames"],
-            "cgal_iterations": params["cgal_iterations"]}
+    return {"scenario": params["scenario"], "frames": params["frames"]}
 
 
 def lost_row(task, error, columns):
@@ -171,7 +171,7 @@ def lost_row(task, error, columns):
 
 def run_serial(sweep, todo, record):
     """Runs the tasks in this process, in task order (the reference of 'identical to a serial
-    run'), computing each CGAL reference once."""
+    run'), computing each reference once."""
     references = {}
     for task in todo:
         params = needed_reference(sweep, task)
@@ -185,7 +185,7 @@ def run_serial(sweep, todo, record):
 
 
 def run_dask(sweep, todo, record, client, columns, retries):
-    """Submits every task (and each CGAL reference once) to Dask and records the rows as they
+    """Submits every task (and each reference once) to Dask and records the rows as they
     arrive. A task whose worker dies is rescheduled by Dask's scheduler on another worker (up
     to its allowed-failures deaths); one that raises on a worker outside run_task's own
     handling (a worker that cannot unpickle it) is rerun `retries` times; one Dask gives up on
@@ -220,7 +220,7 @@ def run_dask(sweep, todo, record, client, columns, retries):
 
 
 def _running_on(client):
-    """A function counting this sweep's tasks and CGAL references processing on the workers."""
+    """A function counting this sweep's tasks and references processing on the workers."""
     threads = {}
 
     def running():

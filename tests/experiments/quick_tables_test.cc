@@ -202,8 +202,8 @@ TEST_F(QuickTablesTest, EveryRowSaysWhatItMinimised) {
 
 // The subspace ARAP energy's exact constraints (the default): the handle
 // vertices are the handle transform times rest and the fixed ones rest, so
-// both errors are exactly 0; arap_distance_rel is measured against CGAL's
-// result as for the ed rows.
+// both errors are exactly 0; ref_distance_rel is measured against the
+// converged reference (full_arap) as for the ed rows.
 TEST_F(QuickTablesTest, ArapRowsHoldHandleAndFixedVerticesExactly) {
   const CsvTable table = Read("table2");
   for (const std::string scenario : {"cactus", "hand_finger"}) {
@@ -211,10 +211,57 @@ TEST_F(QuickTablesTest, ArapRowsHoldHandleAndFixedVerticesExactly) {
       SCOPED_TRACE(scenario + " / " + method);
       EXPECT_EQ(Number(table, scenario, method, "handle_rms_rel", "arap"), 0.0);
       EXPECT_EQ(Number(table, scenario, method, "fixed_max_rel", "arap"), 0.0);
-      EXPECT_GT(Number(table, scenario, method, "arap_distance_rel", "arap"), 0.0);
+      EXPECT_GT(Number(table, scenario, method, "ref_distance_rel", "arap"), 0.0);
       // The ed rows do not hold the handle exactly (Eq. 17's soft w_con).
       EXPECT_GT(Number(table, scenario, method, "handle_rms_rel", "ed"), 0.0);
     }
+  }
+}
+
+// The converged reference (full_arap, RunnerOptions::reference_method) is
+// run once per scenario and its row measures itself: ratio exactly 1,
+// distances exactly 0. Every other row's ratio is its energy over that row's
+// (to the printed digits), and a row that holds the handle and the fixed
+// vertices exactly cannot go below the converged minimum under the same
+// constraints.
+TEST_F(QuickTablesTest, EveryRowIsMeasuredAgainstTheConvergedReference) {
+  EXPECT_EQ(RunnerOptions().reference_method, "full_arap");
+  const CsvTable table = Read("table2");
+  const int energy = table.Column("energy");
+  ASSERT_GE(energy, 0);
+  for (const std::string scenario : {"cactus", "hand_finger"}) {
+    SCOPED_TRACE(scenario);
+    EXPECT_EQ(Cell(table, scenario, "full_arap", "arap_energy_ratio"), "1");
+    EXPECT_EQ(Cell(table, scenario, "full_arap", "ref_distance_rel"), "0");
+    EXPECT_EQ(Cell(table, scenario, "full_arap", "ref_distance_max_rel"), "0");
+    const double reference = Number(table, scenario, "full_arap", "arap_energy");
+    ASSERT_GT(reference, 0.0);
+    for (const auto& row : table.rows) {
+      if (row[0] != scenario) continue;
+      SCOPED_TRACE(row[1] + " / " + row[energy]);
+      auto number = [&](const std::string& column) {
+        return Number(table, scenario, row[1], column, row[energy]);
+      };
+      const double ratio = number("arap_energy_ratio");
+      EXPECT_NEAR(ratio, number("arap_energy") / reference, 2e-3 * ratio);
+      EXPECT_LE(number("ref_distance_rel"), number("ref_distance_max_rel"));
+      if (number("handle_rms_rel") == 0.0 && number("fixed_max_rel") == 0.0) {
+        EXPECT_GE(ratio, 1.0 - 1e-3);
+      }
+    }
+  }
+  const CsvTable ablations = Read("ablations");
+  const int variant_energy = ablations.Column("energy");
+  ASSERT_GE(variant_energy, 0);
+  for (const auto& row : ablations.rows) {
+    auto number = [&](const std::string& column) {
+      return Number(ablations, row[0], row[1], column, row[variant_energy]);
+    };
+    const double ratio = number("arap_energy_ratio");
+    EXPECT_NEAR(ratio,
+                number("arap_energy") / Number(table, row[0], "full_arap", "arap_energy"),
+                2e-3 * ratio)
+        << row[1];
   }
 }
 
@@ -256,7 +303,7 @@ TEST_F(QuickTablesTest, OtherTablesAreComplete) {
   // The cactus x fifteen variants of energy ed and four of energy arap.
   ASSERT_EQ(ablations.rows.size(), 19u);
   ExpectFinite(ablations, {"scenario", "variant", "energy"},
-               {"leakage_rel", "leakage_max_rel", "arap_energy_joint", "arap_distance_rel"});
+               {"leakage_rel", "leakage_max_rel", "arap_energy_joint"});
   const int variant = ablations.Column("variant"), energy = ablations.Column("energy");
   ASSERT_GE(energy, 0);
   const std::set<std::string> arap_variants = {"energy_arap", "arap_clusters_nodes",
@@ -281,7 +328,7 @@ TEST_F(QuickTablesTest, EdRowsEqualARunOfEnergyEdAlone) {
   options.only = {"cactus"};
   options.frames = 5;  // as --quick
   options.ablation_scenarios = {};
-  options.methods = {"multiscale", "static", "static_dense", "cgal_arap"};
+  options.methods = {"multiscale", "static", "static_dense", "cgal_arap", "full_arap"};
   options.time_other_backend = false;
   options.energies = {Energy::kEd};
   std::string error;
@@ -291,14 +338,14 @@ TEST_F(QuickTablesTest, EdRowsEqualARunOfEnergyEdAlone) {
                            &error))
       << error;
   const CsvTable both = Read("table2");
-  ASSERT_EQ(ed_only.rows.size(), 4u);
+  ASSERT_EQ(ed_only.rows.size(), 5u);
   ASSERT_EQ(ed_only.columns, both.columns);
   const std::set<std::string> times = {"frame_ms",      "solve_ms",      "skin_ms",
                                        "setup_ms",      "precompute_ms", "rigidity_ms",
                                        "other_backend_frame_ms"};
   for (const auto& row : ed_only.rows) {
     const std::string energy = row[ed_only.Column("energy")];
-    EXPECT_EQ(energy, row[1] == "cgal_arap" ? "arap" : "ed");
+    EXPECT_EQ(energy, row[1] == "cgal_arap" || row[1] == "full_arap" ? "arap" : "ed");
     for (size_t c = 0; c < row.size(); ++c) {
       if (times.count(ed_only.columns[c])) continue;
       EXPECT_EQ(row[c], Cell(both, row[0], row[1], ed_only.columns[c], energy))
@@ -354,6 +401,10 @@ class KnownAnswerTablesTest : public ::testing::Test {
                           R"( "frames": 3)"},
         {"bar_rest", R"("fixed": [)" + first_voxel + R"(], "handle": )" + last_voxel +
                          R"(, "frames": 1)"},
+        // Not in the tables (options.only): a bend of positive ARAP energy
+        // for the reference columns' own tests.
+        {"bar_bend", R"("fixed": [)" + first_voxel + R"(], "handle": )" + last_voxel +
+                         R"(, "transform": {"translation": [0, 0, 2]}, "frames": 2)"},
     };
     for (const auto& [name, body] : scenarios) {
       std::ofstream(*dir_ + "/scenarios/" + name + ".json")
@@ -365,7 +416,9 @@ class KnownAnswerTablesTest : public ::testing::Test {
     options.ablation_scenarios = {};
     // FastLSM reaches a rigid motion only as its steps settle (its own test,
     // tests/methods/fastlsm_test.cc): the exact answers below are the others'.
-    options.methods = {"multiscale", "static", "static_dense", "cgal_arap", "cgal_sr_arap"};
+    // full_arap is the reference of every row (RunnerOptions::reference_method).
+    options.methods = {"multiscale", "static",       "static_dense",
+                       "cgal_arap",  "cgal_sr_arap", "full_arap"};
     // Both energies on every bar scenario. On bar_twist the whole bar is the
     // handle: no skinned vertex is left, and the subspace ARAP energy's global
     // matrix is 0 (its damping keeps every node where it is).
@@ -421,8 +474,8 @@ constexpr double kArapLength = 1e-4;
 TEST_F(KnownAnswerTablesTest, Table2HoldsTheKnownValuesOfRigidMotionsAndARestPose) {
   const std::vector<std::string> methods = {"multiscale", "static", "static_dense", "cgal_arap",
                                             "cgal_sr_arap"};
-  // The graph methods once per energy (ed, arap).
-  ASSERT_EQ(table2_.rows.size(), 3 * (methods.size() + GraphMethods().size()));
+  // The graph methods once per energy (ed, arap), and the reference full_arap.
+  ASSERT_EQ(table2_.rows.size(), 3 * (methods.size() + 1 + GraphMethods().size()));
   const double diag = std::sqrt(66.0);
   // Mean and max displacement of the first voxel, over the diagonal.
   const std::map<std::string, std::pair<double, double>> watch = {
@@ -441,7 +494,11 @@ TEST_F(KnownAnswerTablesTest, Table2HoldsTheKnownValuesOfRigidMotionsAndARestPos
       EXPECT_NEAR(number("fixed_max_rel"), 0.0, kLength);
       EXPECT_NEAR(number("arap_energy"), 0.0, kEnergy);
       EXPECT_NEAR(number("strain"), 0.0, kLength);
-      EXPECT_NEAR(number("arap_distance_rel"), 0.0, kLength);
+      // The reference (full_arap) reaches the same rigid motion: distances
+      // 0; its energy is a rounding residue (below 1e-12), so no ratio (empty).
+      EXPECT_NEAR(number("ref_distance_rel"), 0.0, kLength);
+      EXPECT_NEAR(number("ref_distance_max_rel"), 0.0, kLength);
+      EXPECT_EQ(Cell(table2_, scenario, method, "arap_energy_ratio", energy), "");
       EXPECT_NEAR(number("leakage_rel"), leakage.first, kPrinted * leakage.first + kLength);
       EXPECT_NEAR(number("leakage_max_rel"), leakage.second, kPrinted * leakage.second + kLength);
       EXPECT_EQ(number("unconverged_frames"), 0);
@@ -489,7 +546,8 @@ TEST_F(KnownAnswerTablesTest, ArapRowsHoldTheKnownValuesOfATranslationAndARestPo
       EXPECT_EQ(number("fixed_max_rel"), 0.0);
       EXPECT_NEAR(number("arap_energy"), 0.0, kEnergy);
       EXPECT_NEAR(number("strain"), 0.0, kArapLength);
-      EXPECT_NEAR(number("arap_distance_rel"), 0.0, kArapLength);
+      EXPECT_NEAR(number("ref_distance_rel"), 0.0, kArapLength);
+      EXPECT_NEAR(number("ref_distance_max_rel"), 0.0, kArapLength);
       EXPECT_NEAR(number("leakage_rel"), leakage.first, kPrinted * leakage.first + kArapLength);
       EXPECT_NEAR(number("leakage_max_rel"), leakage.second,
                   kPrinted * leakage.second + kArapLength);
@@ -497,6 +555,72 @@ TEST_F(KnownAnswerTablesTest, ArapRowsHoldTheKnownValuesOfATranslationAndARestPo
       EXPECT_EQ(Cell(table2_, scenario, method, "other_backend_frame_ms", "arap"), "");
     }
   }
+}
+
+// The reference columns of RunMethod: a run whose final mesh equals the
+// reference (the same deterministic method again) has ratio exactly 1 and
+// distances exactly 0, as has RunCgalArap against its own result; without a
+// reference all three are NaN.
+TEST_F(KnownAnswerTablesTest, ARowEqualToTheReferenceHasRatioOneAndDistanceZero) {
+  ExperimentScenario bend;
+  ASSERT_TRUE(LoadExperimentScenario(*dir_ + "/scenarios/bar_bend.json", 0, &bend, &error_))
+      << error_;
+  const MethodOptions options;
+  RunResult first, again, cgal;
+  Eigen::Matrix3Xd reference;
+  ASSERT_TRUE(RunMethod(bend, "full_arap", options, "full_arap", nullptr, &first, &reference,
+                        &error_))
+      << error_;
+  EXPECT_GT(first.arap_energy, 1e-4);  // a real bend
+  EXPECT_TRUE(std::isnan(first.arap_energy_ratio));
+  EXPECT_TRUE(std::isnan(first.ref_distance_rel));
+  EXPECT_TRUE(std::isnan(first.ref_distance_max_rel));
+  ASSERT_TRUE(RunMethod(bend, "full_arap", options, "full_arap", &reference, &again, nullptr,
+                        &error_))
+      << error_;
+  EXPECT_EQ(again.arap_energy, first.arap_energy);
+  EXPECT_EQ(again.arap_energy_ratio, 1.0);
+  EXPECT_EQ(again.ref_distance_rel, 0.0);
+  EXPECT_EQ(again.ref_distance_max_rel, 0.0);
+  Eigen::Matrix3Xd cgal_result;
+  ASSERT_TRUE(RunCgalArap(bend, options.cgal, &cgal, &cgal_result, &error_)) << error_;
+  EXPECT_EQ(cgal.arap_energy_ratio, 1.0);
+  EXPECT_EQ(cgal.ref_distance_rel, 0.0);
+  EXPECT_EQ(cgal.ref_distance_max_rel, 0.0);
+  // CGAL's ARAP minimises the same energy under the same constraints, with a
+  // fixed number of iterations a frame: not below the converged minimum.
+  RunResult cgal_measured;
+  ASSERT_TRUE(RunMethod(bend, "cgal_arap", options, "cgal_arap", &reference, &cgal_measured,
+                        nullptr, &error_))
+      << error_;
+  EXPECT_EQ(cgal_measured.arap_energy, cgal.arap_energy);
+  EXPECT_GE(cgal_measured.arap_energy_ratio, 1.0 - 1e-6);
+  EXPECT_DOUBLE_EQ(cgal_measured.arap_energy_ratio, cgal.arap_energy / first.arap_energy);
+  EXPECT_GT(cgal_measured.ref_distance_max_rel, cgal_measured.ref_distance_rel);
+}
+
+// Against a reference of known shape: the rest pose (bar_rest's result, every
+// method's) against the rest bar scaled by 1.1 about its centre. A uniform
+// scale by 1.1 has ARAP energy (1.1 - 1)^2 = 0.01 and the rest pose 0, so the
+// ratio is 0; each vertex is 0.1 |x - c| from the reference, so the largest
+// distance is that of the bar's corners, 0.1 sqrt(16.5) = 0.05 sqrt(66) (0.05
+// of the diagonal), and the mean is 0.1 times the mean distance to the centre.
+TEST_F(KnownAnswerTablesTest, DistancesToAScaledReferenceAreKnown) {
+  ExperimentScenario rest;
+  ASSERT_TRUE(LoadExperimentScenario(*dir_ + "/scenarios/bar_rest.json", 0, &rest, &error_))
+      << error_;
+  const Eigen::Vector3d centre(4.0, 0.5, 0.5);
+  const Eigen::Matrix3Xd& vertices = rest.mesh.vertices;
+  const Eigen::Matrix3Xd scaled = (1.1 * (vertices.colwise() - centre)).colwise() + centre;
+  RunResult r;
+  ASSERT_TRUE(RunMethod(rest, "full_arap", MethodOptions(), "full_arap", &scaled, &r, nullptr,
+                        &error_))
+      << error_;
+  const double diag = std::sqrt(66.0);
+  EXPECT_NEAR(r.arap_energy_ratio, 0.0, 1e-12);
+  EXPECT_NEAR(r.ref_distance_max_rel, 0.05, 1e-12);
+  EXPECT_NEAR(r.ref_distance_rel,
+              0.1 * (vertices.colwise() - centre).colwise().norm().mean() / diag, 1e-12);
 }
 
 TEST_F(KnownAnswerTablesTest, NodeAndVariableCountsFollowTheClasses) {

@@ -11,7 +11,8 @@ import msdeform
 # Columns of table2.csv and ablations.csv that do not depend on the clock.
 METRIC_COLUMNS = ["vertices", "nodes_optimized", "variables", "iterations", "unconverged_frames",
                   "handle_rms_rel", "fixed_max_rel", "arap_energy", "arap_energy_joint", "strain",
-                  "leakage_rel", "leakage_max_rel", "orthogonality", "arap_distance_rel",
+                  "leakage_rel", "leakage_max_rel", "orthogonality", "arap_energy_ratio",
+                  "ref_distance_rel", "ref_distance_max_rel",
                   "selected_scale"]
 
 
@@ -36,7 +37,8 @@ def cpp_tables(experiments_cli, tmp_path_factory):
     """The experiment runner's quick cactus tables (5 frames, energy ed), run here."""
     out = tmp_path_factory.mktemp("tables")
     subprocess.run([str(experiments_cli), "--quick", "--only=cactus", f"--out_dir={out}",
-                    "--methods=multiscale,static,cgal_arap", "--time_other_backend=false",
+                    "--methods=multiscale,static,cgal_arap,full_arap",
+                    "--time_other_backend=false",
                     "--energies=ed"],
                    check=True, capture_output=True)
     return read_table(out / "table2.csv"), read_table(out / "ablations.csv")
@@ -55,7 +57,14 @@ def check_row(row, table_row):
 
 def test_run_deformer_gives_the_tables_numbers(cpp_tables, cactus):
     table2, ablations = cpp_tables
-    cgal_row, arap_V2 = msdeform.run_cgal_arap(cactus)
+    # The runner's reference (full_arap) measured against itself, as its table row.
+    reference_row, arap_V2 = msdeform.run_method(cactus, "full_arap", reference=None)
+    again, _ = msdeform.run_method(cactus, "full_arap", reference=arap_V2)
+    check_row(again, table2[("cactus", "full_arap")])
+    assert table2[("cactus", "full_arap")]["arap_energy_ratio"] == "1"
+    assert as_table_text(reference_row["arap_energy"]) == \
+        table2[("cactus", "full_arap")]["arap_energy"]
+    cgal_row, _ = msdeform.run_method(cactus, "cgal_arap", reference=arap_V2)
     check_row(cgal_row, table2[("cactus", "cgal_arap")])
     for method in ("multiscale", "static"):
         row = msdeform.run_deformer(cactus, method=method, num_threads=1, arap_result=arap_V2)

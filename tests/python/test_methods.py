@@ -64,17 +64,28 @@ def test_unknown_method_and_drag_before_handles_are_errors(meshes):
 
 def test_run_method_gives_the_runner_rows(scenarios):
     cactus = msdeform.load_scenario(scenarios / "cactus.json", frames=3)
-    reference_row, reference = msdeform.run_method(cactus, "cgal_arap")
+    reference_row, reference = msdeform.run_method(cactus, "full_arap")
+    assert np.isnan(reference_row["arap_energy_ratio"])  # no reference given
+    cgal_method_row, _ = msdeform.run_method(cactus, "cgal_arap", reference=reference)
     cgal_row, _ = msdeform.run_cgal_arap(cactus)
     for column in ("handle_rms_rel", "arap_energy", "nodes_optimized", "variables"):
-        assert reference_row[column] == cgal_row[column]
+        assert cgal_method_row[column] == cgal_row[column]
+    # run_cgal_arap measures against its own result; the converged energy is below CGAL's.
+    assert cgal_row["arap_energy_ratio"] == 1.0 and cgal_row["ref_distance_max_rel"] == 0.0
+    assert cgal_method_row["arap_energy_ratio"] == pytest.approx(
+        cgal_row["arap_energy"] / reference_row["arap_energy"], rel=1e-15)
+    assert cgal_method_row["arap_energy_ratio"] > 1.0
+    again, _ = msdeform.run_method(cactus, "full_arap", reference=reference)
+    assert again["arap_energy_ratio"] == 1.0
+    assert again["ref_distance_rel"] == 0.0 and again["ref_distance_max_rel"] == 0.0
     row, _ = msdeform.run_method(cactus, "fastlsm", reference=reference)
     assert row["method"] == "fastlsm"
     assert row["handle_rms_rel"] == 0.0 and row["fixed_max_rel"] == 0.0
-    assert row["arap_distance_rel"] > 0.0
+    assert 0.0 < row["ref_distance_rel"] < row["ref_distance_max_rel"]
     deformer_row = msdeform.run_deformer(cactus, method="static", arap_result=reference)
     method_row, _ = msdeform.run_method(cactus, "static", reference=reference)
-    for column in ("handle_rms_rel", "arap_energy", "arap_distance_rel", "orthogonality"):
+    for column in ("handle_rms_rel", "arap_energy", "arap_energy_ratio", "ref_distance_rel",
+                   "ref_distance_max_rel", "orthogonality"):
         assert method_row[column] == deformer_row[column]
 
 

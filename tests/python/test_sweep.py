@@ -44,7 +44,8 @@ def scenario(source, name):
 @pytest.fixture(scope="module")
 def small_sweep(source, tmp_path_factory):
     """18 small tasks: cactus and hand with 5 frames, multiscale and static with two handle
-    weights and two seeds, and CGAL's ARAP (the reference of arap_distance_rel)."""
+    weights and two seeds, and CGAL's ARAP, measured against the converged reference
+    (full_arap, one run per scenario)."""
     folder = tmp_path_factory.mktemp("small")
     return helpers.write_json(folder / "small.json", {
         "scenarios": [scenario(source, "cactus"), scenario(source, "hand_finger")],
