@@ -245,6 +245,105 @@ void FindPieces(const Mesh& mesh, const Lattice& lattice, const VertexAdjacency&
   }
 }
 
+// L-list pairs (both directions) from the mesh edges that join two surface
+// particles: each thread gathers the pairs of a slice of the vertices (both
+// directions of an edge come from its two ends); the lists are sorted by
+// ListsFromPairs, so their order is free.
+std::vector<std::pair<int, int>> SurfaceParticlePairs(const std::vector<int>& particle_of_vertex,
+                                                      const VertexAdjacency& adjacency,
+                                                      int vertex_threads) {
+  const int num_vertices = static_cast<int>(particle_of_vertex.size());
+  std::vector<std::vector<std::pair<int, int>>> thread_pairs(vertex_threads);
+#pragma omp parallel num_threads(vertex_threads)
+  {
+    std::vector<std::pair<int, int>> own;  // not in thread_pairs: no shared cache line
+#pragma omp for schedule(static) nowait
+    for (int a = 0; a < num_vertices; ++a) {
+      const int pa = particle_of_vertex[a];
+      for (int i = adjacency.offsets[a]; i < adjacency.offsets[a + 1]; ++i) {
+        const int pb = particle_of_vertex[adjacency.neighbors[i]];
+        if (pa != pb) own.emplace_back(pa, pb);
+      }
+    }
+    thread_pairs[omp_get_thread_num()] = std::move(own);
+  }
+  return Concatenate(&thread_pairs);
+}
+
+// Whether a point lies behind a piece of surface: on the inner side of the
+// normal at the piece's vertex nearest to it. Normals point out of their
+// component's enclosed volume whatever the faces' orientation: outward[c]
+// is -1 where component c's faces wind inwards. A piece of many vertices (a
+// fine mesh: thousands in a cell) is searched at a stride that leaves at
+// most 64, which keeps the test's cost bounded per pair and its answer that
+// of a nearby vertex.
+struct BehindPiece {
+  const Mesh& mesh;
+  const CompressedLists& vertices;  // of each surface particle
+  const Eigen::Matrix3Xd* vertex_normals;
+  const Components* components;
+  const std::vector<double>& outward;
+
+  bool operator()(const Eigen::Vector3d& point, int piece) const {
+    int nearest = -1;
+    double best = std::numeric_limits<double>::infinity();
+    const int stride = (vertices.size(piece) + 63) / 64;
+    for (const int* v = vertices.begin(piece); v < vertices.end(piece); v += stride) {
+      const double d = (mesh.vertices.col(*v) - point).squaredNorm();
+      if (d < best) {
+        best = d;
+        nearest = *v;
+      }
+    }
+    const Eigen::Vector3d normal =
+        outward[components->component_of_vertex[nearest]] * vertex_normals->col(nearest);
+    return (point - mesh.vertices.col(nearest)).dot(normal) < 0.0;
+  }
+};
+
+// Particle adjacency pairs: `surface_pairs` (L, surface-surface) first, then
+// the 26 lattice neighbours of each interior particle (a surface particle
+// only when, with split cells, the interior cell lies behind it; both
+// directions for a surface one).
+std::vector<std::pair<int, int>> ParticlePairs(const Lattice& l, bool split_cells,
+                                               const BehindPiece& behind, int threads,
+                                               std::vector<std::pair<int, int>> surface_pairs) {
+  const int num_surface = l.num_surface_particles();
+  const int num_interior = l.num_particles() - num_surface;
+  const int interior_threads = ThreadsFor(threads, 64 * static_cast<int64_t>(num_interior));
+  std::vector<std::vector<std::pair<int, int>>> thread_pairs(interior_threads);
+  thread_pairs[0] = std::move(surface_pairs);
+#pragma omp parallel num_threads(interior_threads)
+  {
+    std::vector<std::pair<int, int>> own;
+#pragma omp for schedule(dynamic, 64) nowait
+    for (int p = num_surface; p < l.num_particles(); ++p) {
+      const Eigen::Vector3i& c = l.cell_coords(p);
+      for (int dz = -1; dz <= 1; ++dz) {
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            if (dx == 0 && dy == 0 && dz == 0) continue;
+            const Eigen::Vector3i neighbour = c + Eigen::Vector3i(dx, dy, dz);
+            const int first = l.ParticleAt(neighbour);
+            if (first < 0) continue;
+            const int count = l.NumParticlesAt(neighbour);
+            for (int q = first; q < first + count; ++q) {
+              if (split_cells && q < num_surface && !behind(l.rest_positions().col(p), q)) {
+                continue;  // in front of this piece: another part of the surface
+              }
+              own.emplace_back(p, q);
+              if (q < num_surface) own.emplace_back(q, p);
+            }
+          }
+        }
+      }
+    }
+    auto& slot = thread_pairs[omp_get_thread_num()];
+    slot.insert(slot.end(), own.begin(), own.end());  // thread 0's starts with the L pairs
+  }
+  return Concatenate(&thread_pairs);
+}
+
 }  // namespace
 
 bool LatticeOptions::Check(std::string* error) const {
@@ -309,60 +408,63 @@ bool Lattice::Build(const Mesh& mesh, const LatticeOptions& options,
   return BuildWith(mesh, options, &vertex_normals, &components, lattice, error);
 }
 
-bool Lattice::BuildWith(const Mesh& mesh, const LatticeOptions& options,
-                        const Eigen::Matrix3Xd* vertex_normals, const Components* components,
-                        Lattice* lattice, std::string* error) {
-  CHECK(lattice != nullptr);
-  if (!options.Check(error)) return false;
-  if (!ValidateMesh(mesh, error)) return false;
-  Lattice& l = *lattice;
-  l = Lattice();
+Eigen::Vector3i Lattice::GridCoords(long long cell) const {
+  const Eigen::Vector3i padded = dims_ + Eigen::Vector3i::Constant(2);
+  const long long layer = static_cast<long long>(padded.x()) * padded.y();
+  return Eigen::Vector3i(static_cast<int>(cell % padded.x()) - 1,
+                         static_cast<int>((cell / padded.x()) % padded.y()) - 1,
+                         static_cast<int>(cell / layer) - 1);
+}
 
-  const int threads = options.num_threads;
-  const Eigen::AlignedBox3d box = BoundingBox(mesh, threads);
+bool Lattice::SizeGrid(const Mesh& mesh, const LatticeOptions& options, long long* grid_size,
+                       std::string* error) {
+  const Eigen::AlignedBox3d box = BoundingBox(mesh, options.num_threads);
   const double diagonal = box.diagonal().norm();
-  l.cell_width_ = options.cell_width > 0.0 ? options.cell_width
-                                           : diagonal / options.cells_per_diagonal;
-  if (!(l.cell_width_ > 0.0)) {
+  cell_width_ = options.cell_width > 0.0 ? options.cell_width
+                                         : diagonal / options.cells_per_diagonal;
+  if (!(cell_width_ > 0.0)) {
     *error = "the mesh has a zero-size bounding box; cannot build a lattice";
     return false;
   }
-  l.origin_ = box.min();
+  origin_ = box.min();
   // Cells per axis as doubles first: a tiny width must not overflow an int.
-  const Eigen::Array3d cells_per_axis = (box.sizes().array() / l.cell_width_ + 0.5).floor() + 3.0;
+  const Eigen::Array3d cells_per_axis = (box.sizes().array() / cell_width_ + 0.5).floor() + 3.0;
   const double grid_cells = cells_per_axis.prod();
   if (!(grid_cells <= static_cast<double>(options.max_grid_cells))) {
     std::ostringstream message;
-    message << "cell width " << l.cell_width_ << " gives a lattice of about " << grid_cells
+    message << "cell width " << cell_width_ << " gives a lattice of about " << grid_cells
             << " cells, more than max_grid_cells " << options.max_grid_cells
             << "; use a larger cell width";
     *error = message.str();
     return false;
   }
-  l.dims_ = l.CellCoordsOf(box.max()) + Eigen::Vector3i::Ones();
-  const Eigen::Vector3i padded = l.dims_ + Eigen::Vector3i::Constant(2);
-  const long long grid_size = static_cast<long long>(padded.x()) * padded.y() * padded.z();
-  if (grid_size > options.max_grid_cells) {
+  dims_ = CellCoordsOf(box.max()) + Eigen::Vector3i::Ones();
+  const Eigen::Vector3i padded = dims_ + Eigen::Vector3i::Constant(2);
+  *grid_size = static_cast<long long>(padded.x()) * padded.y() * padded.z();
+  if (*grid_size > options.max_grid_cells) {
     std::ostringstream message;
-    message << "cell width " << l.cell_width_ << " gives a " << l.dims_.transpose()
-            << " lattice (" << grid_size << " cells), more than max_grid_cells "
+    message << "cell width " << cell_width_ << " gives a " << dims_.transpose()
+            << " lattice (" << *grid_size << " cells), more than max_grid_cells "
             << options.max_grid_cells << "; use a larger cell width";
     *error = message.str();
     return false;
   }
+  return true;
+}
 
-  // Mark surface cells, then flood-fill the outside through empty cells.
+std::vector<long long> Lattice::MarkSurfaceCells(const Mesh& mesh, long long grid_size,
+                                                 int threads) {
   // Threads mark cells concurrently with atomic writes; each cell's mark is
   // the same whichever thread writes it, or in what order.
   const int num_vertices = mesh.num_vertices(), num_faces = mesh.num_faces();
   const int vertex_threads = ThreadsFor(threads, num_vertices);
   const int face_threads = ThreadsFor(threads, num_faces);
-  std::vector<int>& grid = l.particle_of_grid_cell_;
+  std::vector<int>& grid = particle_of_grid_cell_;
   grid.assign(grid_size, kEmpty);
   std::vector<long long> grid_cell_of_vertex(num_vertices);
 #pragma omp parallel for num_threads(vertex_threads) schedule(static)
   for (int v = 0; v < num_vertices; ++v) {
-    grid_cell_of_vertex[v] = l.GridIndex(l.CellCoordsOf(mesh.vertices.col(v)));
+    grid_cell_of_vertex[v] = GridIndex(CellCoordsOf(mesh.vertices.col(v)));
 #pragma omp atomic write
     grid[grid_cell_of_vertex[v]] = kSurfaceMark;
   }
@@ -370,7 +472,7 @@ bool Lattice::BuildWith(const Mesh& mesh, const LatticeOptions& options,
   // which the flood fill would leak inside; the cells they cross close them.
   // Samples at most w/3 apart along both triangle directions hit every cell
   // the triangle crosses by more than a sliver.
-  const double spacing = l.cell_width_ / 3.0;
+  const double spacing = cell_width_ / 3.0;
 #pragma omp parallel for num_threads(face_threads) schedule(dynamic, 4096)
   for (int f = 0; f < num_faces; ++f) {
     const long long c0 = grid_cell_of_vertex[mesh.faces(0, f)];
@@ -387,10 +489,10 @@ bool Lattice::BuildWith(const Mesh& mesh, const LatticeOptions& options,
       for (int j = 0; i + j <= steps; ++j) {
         const Eigen::Vector3d point = a + (static_cast<double>(i) / steps) * (b - a) +
                                       (static_cast<double>(j) / steps) * (c - a);
-        const Eigen::Vector3i coords = l.CellCoordsOf(point)
+        const Eigen::Vector3i coords = CellCoordsOf(point)
                                            .cwiseMax(Eigen::Vector3i::Zero())
-                                           .cwiseMin(l.dims_ - Eigen::Vector3i::Ones());
-        int& cell = grid[l.GridIndex(coords)];
+                                           .cwiseMin(dims_ - Eigen::Vector3i::Ones());
+        int& cell = grid[GridIndex(coords)];
         int mark;
 #pragma omp atomic read
         mark = cell;
@@ -401,6 +503,12 @@ bool Lattice::BuildWith(const Mesh& mesh, const LatticeOptions& options,
       }
     }
   }
+  return grid_cell_of_vertex;
+}
+
+void Lattice::FloodFillOutside() {
+  std::vector<int>& grid = particle_of_grid_cell_;
+  const Eigen::Vector3i padded = dims_ + Eigen::Vector3i::Constant(2);
   const long long stride[3] = {1, padded.x(), static_cast<long long>(padded.x()) * padded.y()};
   std::vector<long long> queue = {0};  // The padded corner is always outside.
   grid[0] = kOutsideMark;
@@ -422,12 +530,59 @@ bool Lattice::BuildWith(const Mesh& mesh, const LatticeOptions& options,
       }
     }
   }
+}
 
-  auto coords_of = [&](long long cell) {
-    return Eigen::Vector3i(static_cast<int>(cell % padded.x()) - 1,
-                           static_cast<int>((cell / padded.x()) % padded.y()) - 1,
-                           static_cast<int>(cell / stride[2]) - 1);
-  };
+std::vector<int> Lattice::NumberParticles(const std::vector<long long>& surface_grid_cells,
+                                          const std::vector<int>& num_pieces) {
+  std::vector<int>& grid = particle_of_grid_cell_;
+  const long long grid_size = static_cast<long long>(grid.size());
+  const int num_cells = static_cast<int>(surface_grid_cells.size());
+  std::vector<int> first_particle(num_cells);
+  for (int c = 0; c < num_cells; ++c) {
+    const long long cell = surface_grid_cells[c];
+    first_particle[c] = static_cast<int>(cell_coords_.size());
+    grid[cell] = first_particle[c];
+    for (int piece = 0; piece < num_pieces[c]; ++piece) cell_coords_.push_back(GridCoords(cell));
+    num_split_cells_ += num_pieces[c] > 1;
+  }
+  num_surface_particles_ = static_cast<int>(cell_coords_.size());
+  for (long long cell = 0; cell < grid_size; ++cell) {
+    if (grid[cell] == kEmpty || grid[cell] == kWallMark) {
+      grid[cell] = static_cast<int>(cell_coords_.size());
+      cell_coords_.push_back(GridCoords(cell));
+    } else if (grid[cell] == kOutsideMark) {
+      grid[cell] = kEmpty;
+    }
+  }
+  rest_positions_.resize(3, num_particles());
+  for (int p = 0; p < num_particles(); ++p) {
+    rest_positions_.col(p) = origin_ + cell_width_ * cell_coords_[p].cast<double>();
+  }
+  return first_particle;
+}
+
+bool Lattice::BuildWith(const Mesh& mesh, const LatticeOptions& options,
+                        const Eigen::Matrix3Xd* vertex_normals, const Components* components,
+                        Lattice* lattice, std::string* error) {
+  CHECK(lattice != nullptr);
+  if (!options.Check(error)) return false;
+  if (!ValidateMesh(mesh, error)) return false;
+  Lattice& l = *lattice;
+  l = Lattice();
+
+  const int threads = options.num_threads;
+  long long grid_size = 0;
+  if (!l.SizeGrid(mesh, options, &grid_size, error)) return false;
+
+  // Mark surface cells (and the walls that the triangles crossing empty
+  // cells make), then flood-fill the outside through empty cells.
+  const int num_vertices = mesh.num_vertices();
+  const int vertex_threads = ThreadsFor(threads, num_vertices);
+  std::vector<long long> grid_cell_of_vertex = l.MarkSurfaceCells(mesh, grid_size, threads);
+  l.FloodFillOutside();
+  std::vector<int>& grid = l.particle_of_grid_cell_;
+
+  auto coords_of = [&l](long long cell) { return l.GridCoords(cell); };
   // Surface cells in grid order, their vertices and their pieces.
   std::vector<long long> surface_grid_cells;
   for (long long cell = 0; cell < grid_size; ++cell) {
@@ -465,27 +620,7 @@ bool Lattice::BuildWith(const Mesh& mesh, const LatticeOptions& options,
 
   // Number particles: surface pieces in grid order of their cells, then
   // interior cells.
-  std::vector<int> first_particle(num_cells);
-  for (int c = 0; c < num_cells; ++c) {
-    const long long cell = surface_grid_cells[c];
-    first_particle[c] = static_cast<int>(l.cell_coords_.size());
-    grid[cell] = first_particle[c];
-    for (int piece = 0; piece < num_pieces[c]; ++piece) l.cell_coords_.push_back(coords_of(cell));
-    l.num_split_cells_ += num_pieces[c] > 1;
-  }
-  l.num_surface_particles_ = static_cast<int>(l.cell_coords_.size());
-  for (long long cell = 0; cell < grid_size; ++cell) {
-    if (grid[cell] == kEmpty || grid[cell] == kWallMark) {
-      grid[cell] = static_cast<int>(l.cell_coords_.size());
-      l.cell_coords_.push_back(coords_of(cell));
-    } else if (grid[cell] == kOutsideMark) {
-      grid[cell] = kEmpty;
-    }
-  }
-  l.rest_positions_.resize(3, l.num_particles());
-  for (int p = 0; p < l.num_particles(); ++p) {
-    l.rest_positions_.col(p) = l.origin_ + l.cell_width_ * l.cell_coords_[p].cast<double>();
-  }
+  const std::vector<int> first_particle = l.NumberParticles(surface_grid_cells, num_pieces);
 
   // Vertex <-> particle maps.
   l.particle_of_vertex_.resize(num_vertices);
@@ -498,30 +633,14 @@ bool Lattice::BuildWith(const Mesh& mesh, const LatticeOptions& options,
   l.vertices_of_particle_ = ListsFromPairs(l.num_surface_particles_, particle_vertex, threads);
   std::vector<std::pair<int, int>>().swap(particle_vertex);
 
-  // L lists from mesh edges that join two surface particles: each thread
-  // gathers the pairs of a slice of the vertices (both directions of an edge
-  // come from its two ends); the lists are sorted, so their order is free.
-  std::vector<std::vector<std::pair<int, int>>> thread_pairs(vertex_threads);
-#pragma omp parallel num_threads(vertex_threads)
-  {
-    std::vector<std::pair<int, int>> own;  // not in thread_pairs: no shared cache line
-#pragma omp for schedule(static) nowait
-    for (int a = 0; a < num_vertices; ++a) {
-      const int pa = l.particle_of_vertex_[a];
-      for (int i = adjacency.offsets[a]; i < adjacency.offsets[a + 1]; ++i) {
-        const int pb = l.particle_of_vertex_[adjacency.neighbors[i]];
-        if (pa != pb) own.emplace_back(pa, pb);
-      }
-    }
-    thread_pairs[omp_get_thread_num()] = std::move(own);
-  }
-  std::vector<std::pair<int, int>> surface_pairs = Concatenate(&thread_pairs);
+  // L lists from mesh edges that join two surface particles.
+  std::vector<std::pair<int, int>> surface_pairs =
+      SurfaceParticlePairs(l.particle_of_vertex_, adjacency, vertex_threads);
   l.neighborhood_ = ListsFromPairs(l.num_surface_particles_, surface_pairs, threads);
 
-  // Whether a point lies behind a piece of surface: on the inner side of
-  // the normal at the piece's vertex nearest to it. Normals point out of
-  // their component's enclosed volume whatever the faces' orientation.
-  // outward[c] is -1 where component c's faces wind inwards.
+  // What tells which side of a piece of surface an interior cell is on (with
+  // split cells): the vertex normals, the components and which way each
+  // component's faces wind.
   Eigen::Matrix3Xd own_normals;
   Components own_components;
   std::vector<double> outward;
@@ -538,63 +657,12 @@ bool Lattice::BuildWith(const Mesh& mesh, const LatticeOptions& options,
     outward.resize(components->count);
     for (int c = 0; c < components->count; ++c) outward[c] = volume[c] < 0.0 ? -1.0 : 1.0;
   }
-  // A piece of many vertices (a fine mesh: thousands in a cell) is searched
-  // at a stride that leaves at most 64, which keeps the test's cost bounded
-  // per pair and its answer that of a nearby vertex.
-  auto behind = [&](const Eigen::Vector3d& point, int piece) {
-    int nearest = -1;
-    double best = std::numeric_limits<double>::infinity();
-    const CompressedLists& vertices = l.vertices_of_particle_;
-    const int stride = (vertices.size(piece) + 63) / 64;
-    for (const int* v = vertices.begin(piece); v < vertices.end(piece); v += stride) {
-      const double d = (mesh.vertices.col(*v) - point).squaredNorm();
-      if (d < best) {
-        best = d;
-        nearest = *v;
-      }
-    }
-    const Eigen::Vector3d normal =
-        outward[components->component_of_vertex[nearest]] * vertex_normals->col(nearest);
-    return (point - mesh.vertices.col(nearest)).dot(normal) < 0.0;
-  };
+  const BehindPiece behind{mesh, l.vertices_of_particle_, vertex_normals, components, outward};
 
   // Particle adjacency: L for surface-surface, 26 lattice neighbours when an
-  // interior particle is involved (a surface particle only when the interior
-  // cell lies behind it).
-  const int num_interior = l.num_particles() - l.num_surface_particles_;
-  const int interior_threads = ThreadsFor(threads, 64 * static_cast<int64_t>(num_interior));
-  thread_pairs.assign(interior_threads, {});
-  thread_pairs[0] = std::move(surface_pairs);
-#pragma omp parallel num_threads(interior_threads)
-  {
-    std::vector<std::pair<int, int>> own;
-#pragma omp for schedule(dynamic, 64) nowait
-    for (int p = l.num_surface_particles_; p < l.num_particles(); ++p) {
-      const Eigen::Vector3i& c = l.cell_coords_[p];
-      for (int dz = -1; dz <= 1; ++dz) {
-        for (int dy = -1; dy <= 1; ++dy) {
-          for (int dx = -1; dx <= 1; ++dx) {
-            if (dx == 0 && dy == 0 && dz == 0) continue;
-            const Eigen::Vector3i neighbour = c + Eigen::Vector3i(dx, dy, dz);
-            const int first = l.ParticleAt(neighbour);
-            if (first < 0) continue;
-            const int count = l.NumParticlesAt(neighbour);
-            for (int q = first; q < first + count; ++q) {
-              if (options.split_cells && q < l.num_surface_particles_ &&
-                  !behind(l.rest_positions_.col(p), q)) {
-                continue;  // in front of this piece: another part of the surface
-              }
-              own.emplace_back(p, q);
-              if (q < l.num_surface_particles_) own.emplace_back(q, p);
-            }
-          }
-        }
-      }
-    }
-    auto& slot = thread_pairs[omp_get_thread_num()];
-    slot.insert(slot.end(), own.begin(), own.end());  // thread 0's starts with the L pairs
-  }
-  const std::vector<std::pair<int, int>> particle_pairs = Concatenate(&thread_pairs);
+  // interior particle is involved.
+  const std::vector<std::pair<int, int>> particle_pairs =
+      ParticlePairs(l, options.split_cells, behind, threads, std::move(surface_pairs));
   l.particle_adjacency_ = ListsFromPairs(l.num_particles(), particle_pairs, threads);
   return true;
 }

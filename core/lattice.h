@@ -149,6 +149,20 @@ class Lattice {
                         const Eigen::Matrix3Xd* vertex_normals, const Components* components,
                         Lattice* lattice, std::string* error);
   long long GridIndex(const Eigen::Vector3i& coords) const;  // padded grid
+  Eigen::Vector3i GridCoords(long long grid_index) const;     // its inverse
+  // BuildWith's steps, in order. The cell width, origin and dims, and the
+  // padded grid's size; false with a message when the grid is too big.
+  bool SizeGrid(const Mesh& mesh, const LatticeOptions& options, long long* grid_size,
+                std::string* error);
+  // Marks the vertices' cells and, as walls, the empty cells that the
+  // triangles cross; returns each vertex's grid index.
+  std::vector<long long> MarkSurfaceCells(const Mesh& mesh, long long grid_size, int threads);
+  // Marks outside the empty cells reachable from the padded corner.
+  void FloodFillOutside();
+  // Numbers the particles: the pieces of each surface cell (in grid order),
+  // then the interior cells; returns each surface cell's first particle.
+  std::vector<int> NumberParticles(const std::vector<long long>& surface_grid_cells,
+                                   const std::vector<int>& num_pieces);
 
   double cell_width_ = 0.0;
   Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();

@@ -150,6 +150,64 @@ bool SplitIntoTriangles(const PolygonSoup& soup, const MeshReadOptions& options,
   return true;
 }
 
+namespace {
+
+// A triangle with its key: its ids rotated to start at the lowest.
+struct KeyedFace {
+  std::array<int, 3> key;
+  int face;
+};
+
+// Marks in `drop` the duplicates among one block's triangles, in_block[0 ..
+// count) (file order), whose lowest ids are first_vertex ..
+// first_vertex + block_vertices - 1, and returns how many. Triangles are
+// grouped by their lowest id (a counting sort, file order within a group);
+// duplicates are within a group. A group is scanned pairwise when small and
+// sorted by the other two ids (stable: the earliest first) when large, so a
+// vertex in a huge fan costs n log n, not n^2.
+int MarkDuplicatesInBlock(const KeyedFace* in_block, int count, int first_vertex,
+                          int block_vertices, UninitializedVector<char>* drop_out) {
+  UninitializedVector<char>& drop = *drop_out;
+  std::vector<int> start(block_vertices + 1, 0);
+  for (int i = 0; i < count; ++i) ++start[in_block[i].key[0] - first_vertex + 1];
+  for (int v = 0; v < block_vertices; ++v) start[v + 1] += start[v];
+  std::vector<KeyedFace> grouped(count);
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int i = 0; i < count; ++i) {
+      grouped[fill[in_block[i].key[0] - first_vertex]++] = in_block[i];
+    }
+  }
+  constexpr int kScanLimit = 16;
+  int found = 0;
+  for (int v = 0; v < block_vertices; ++v) {
+    const auto first = grouped.begin() + start[v], last = grouped.begin() + start[v + 1];
+    if (last - first > kScanLimit) {
+      std::stable_sort(first, last,
+                       [](const KeyedFace& f, const KeyedFace& g) { return f.key < g.key; });
+      for (auto it = first + 1; it < last; ++it) {
+        if (it->key == (it - 1)->key) {
+          drop[it->face] = 1;
+          ++found;
+        }
+      }
+      continue;
+    }
+    for (auto it = first + 1; it < last; ++it) {
+      for (auto earlier = first; earlier < it; ++earlier) {
+        if (!drop[earlier->face] && it->key == earlier->key) {
+          drop[it->face] = 1;
+          ++found;
+          break;
+        }
+      }
+    }
+  }
+  return found;
+}
+
+}  // namespace
+
 // Duplicates are found among the triangles with the same lowest id. They are
 // grouped in two steps: by block of lowest ids (a stable scatter in face
 // chunks, each with its own row of block counts), then within each block by
@@ -221,10 +279,6 @@ void DropDegenerateAndDuplicateFaces(const MeshReadOptions& options, Mesh* mesh,
     }
   }
   block_start[blocks] = running;
-  struct KeyedFace {
-    std::array<int, 3> key;
-    int face;
-  };
   UninitializedVector<KeyedFace> by_block(running);
   ForEachTask(face_chunks, threads, [&](int c) {
     int begin, end;
@@ -239,55 +293,16 @@ void DropDegenerateAndDuplicateFaces(const MeshReadOptions& options, Mesh* mesh,
     }
   });
 
-  // Within a block, triangles grouped by their lowest id (a counting sort,
-  // file order within a group); duplicates are within a group. A group is
-  // scanned pairwise when small and sorted by the other two ids (stable: the
-  // earliest first) when large, so a vertex in a huge fan costs n log n, not
-  // n^2.
+  // The duplicates, block by block.
   std::vector<int> duplicates(blocks, 0);
   ForEachTask(blocks, threads, [&](int b) {
     const int first_vertex = static_cast<int>(b * block_per);
     const int block_vertices =
         static_cast<int>(std::min<long long>(num_vertices, first_vertex + block_per)) -
         first_vertex;
-    const KeyedFace* in_block = by_block.data() + block_start[b];
-    const int count = block_start[b + 1] - block_start[b];
-    std::vector<int> start(block_vertices + 1, 0);
-    for (int i = 0; i < count; ++i) ++start[in_block[i].key[0] - first_vertex + 1];
-    for (int v = 0; v < block_vertices; ++v) start[v + 1] += start[v];
-    std::vector<KeyedFace> grouped(count);
-    {
-      std::vector<int> fill(start.begin(), start.end() - 1);
-      for (int i = 0; i < count; ++i) {
-        grouped[fill[in_block[i].key[0] - first_vertex]++] = in_block[i];
-      }
-    }
-    constexpr int kScanLimit = 16;
-    int found = 0;
-    for (int v = 0; v < block_vertices; ++v) {
-      const auto first = grouped.begin() + start[v], last = grouped.begin() + start[v + 1];
-      if (last - first > kScanLimit) {
-        std::stable_sort(first, last,
-                         [](const KeyedFace& f, const KeyedFace& g) { return f.key < g.key; });
-        for (auto it = first + 1; it < last; ++it) {
-          if (it->key == (it - 1)->key) {
-            drop[it->face] = 1;
-            ++found;
-          }
-        }
-        continue;
-      }
-      for (auto it = first + 1; it < last; ++it) {
-        for (auto earlier = first; earlier < it; ++earlier) {
-          if (!drop[earlier->face] && it->key == earlier->key) {
-            drop[it->face] = 1;
-            ++found;
-            break;
-          }
-        }
-      }
-    }
-    duplicates[b] = found;
+    duplicates[b] = MarkDuplicatesInBlock(by_block.data() + block_start[b],
+                                          block_start[b + 1] - block_start[b], first_vertex,
+                                          block_vertices, &drop);
   });
   UninitializedVector<KeyedFace>().swap(by_block);
   int dropped = 0;

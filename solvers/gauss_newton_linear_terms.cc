@@ -12,68 +12,128 @@
 #include "msdeform/energies/gauge_cost.h"
 
 namespace msdeform {
+namespace {
 
-void AssembleLinearTerms(const DeformationEnergy& energy, const NodeTransforms& transforms,
-                         const std::vector<int>& offset, const GaussNewtonTerms& terms, int n,
-                         LinearTerms* out, int num_threads, int min_parallel_rows) {
-  using SparseMatrix = LinearTerms::SparseMatrix;
-  const int num_nodes = transforms.num_nodes();
-  auto rotation_variable = [&](int j) { return offset[j]; };
-  auto translation_variable = [&](int j) {
+using SparseMatrix = LinearTerms::SparseMatrix;
+using Triplet = Eigen::Triplet<double, int>;
+
+// Node j's columns among the variables: offset[j] for R_j (-1 for a Fixed
+// node), then t_j for a Totally Free node (-1 otherwise).
+struct VariableColumns {
+  const DeformationEnergy& energy;
+  const std::vector<int>& offset;
+
+  int rotation(int j) const { return offset[j]; }
+  int translation(int j) const {
     return energy.node_class[j] == NodeClass::kTotallyFree ? offset[j] + 9 : -1;
-  };
+  }
+  // The column of node j's pattern entry c (0..2 rotation, 3 translation)
+  // for coordinate a, -1 when that part of j is not a variable.
+  int of(int j, int c, int a) const {
+    return c < 3 ? rotation(j) + c * 3 + a : translation(j) < 0 ? -1 : translation(j) + a;
+  }
+};
 
-  // Linear residuals r = A x + c - P tau, row by row.
-  std::vector<Eigen::Triplet<double, int>> a_entries, p_entries;
+// The handle's parameter column of pattern entry d for coordinate a.
+int HandleColumn(int d, int a) { return d < 3 ? d * 3 + a : 9 + a; }
+
+// Linear residuals r = A x + c - P tau, row by row: A's entries, c, and the
+// next row.
+struct LinearRows {
+  std::vector<Triplet> a_entries;
   std::vector<double> constant;
   int row = 0;
-  auto add_rotation = [&](int j, const Eigen::Vector3d& vector, double scale) {
-    // scale * R_j * vector into rows row..row+2.
-    if (rotation_variable(j) >= 0) {
-      for (int a = 0; a < 3; ++a)
-        for (int c = 0; c < 3; ++c)
-          a_entries.emplace_back(row + a, rotation_variable(j) + c * 3 + a, scale * vector[c]);
-    } else {
-      const Eigen::Vector3d value = scale * (transforms.rotation(j) * vector);
-      for (int a = 0; a < 3; ++a) constant[row + a] += value[a];
-    }
-  };
-  auto add_translation = [&](int j, double scale) {
-    if (translation_variable(j) >= 0) {
-      for (int a = 0; a < 3; ++a) a_entries.emplace_back(row + a, translation_variable(j) + a, scale);
-    } else {
-      for (int a = 0; a < 3; ++a) constant[row + a] += scale * transforms.translations(a, j);
-    }
-  };
-  for (const DeformationEnergy::Coherence& term : energy.coherence) {
-    constant.resize(row + 3, 0.0);
-    add_rotation(term.j, term.edge, term.sqrt_weight);
-    for (int a = 0; a < 3; ++a) constant[row + a] -= term.sqrt_weight * term.edge[a];
-    add_translation(term.j, term.sqrt_weight);
-    add_translation(term.k, -term.sqrt_weight);
-    row += 3;
+};
+
+// scale * R_j * vector into rows row..row+2: A's where R_j is a variable,
+// c's (at R_j's value) where it is not.
+void AddRotation(const VariableColumns& columns, const NodeTransforms& transforms, int j,
+                 const Eigen::Vector3d& vector, double scale, LinearRows* rows) {
+  const int row = rows->row;
+  if (columns.rotation(j) >= 0) {
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 3; ++c)
+        rows->a_entries.emplace_back(row + a, columns.rotation(j) + c * 3 + a, scale * vector[c]);
+  } else {
+    const Eigen::Vector3d value = scale * (transforms.rotation(j) * vector);
+    for (int a = 0; a < 3; ++a) rows->constant[row + a] += value[a];
   }
-  // Position terms (one per handle vertex, and per held fixed vertex: a
-  // hundred thousand on a 1.7M-vertex mesh) are not rows of A: their three
-  // rows share one pattern, u_i = s w_i [o_i; 1] per node i (rotation column
-  // c * 3 + a and translation a for coordinate a), so their products are
-  // accumulated as 4x4 moments per node pair and expanded once below (I_3
-  // Kronecker each moment). p = s [rest; 1] is the handle row's pattern.
-  const int num_position_nodes = num_nodes;
-  std::unordered_map<int64_t, Eigen::Matrix4d> pair_moment;        // sum u_j u_k^T
-  std::vector<Eigen::Matrix4d> handle_moment;                      // sum u_j p^T
-  std::vector<Eigen::Matrix<double, 4, 3>> constant_moment;        // sum u_j c^T
-  // The terms' rows for the compressed residuals (Impl::root), grouped by
-  // their variable nodes (sorted) and whether they follow the handle. A row
-  // [u_1 .. u_k, p, c] (4 k + 7 numbers; u_i with 0 for a translation that
-  // is not a variable) gives coordinate a's residual as
-  //   row . [X_1a .. X_ka, -theta_a, e_a],
-  // X_ia = (R_i(a, 0..2), t_i(a)), theta_a = (handle(a, 0..2), its translation(a)).
-  struct PositionGroup {
-    std::vector<int> nodes;
-    std::vector<double> rows;  // row-major, 4 k + 7 wide
-  };
+}
+
+// scale * t_j into rows row..row+2, likewise.
+void AddTranslation(const VariableColumns& columns, const NodeTransforms& transforms, int j,
+                    double scale, LinearRows* rows) {
+  const int row = rows->row;
+  if (columns.translation(j) >= 0) {
+    for (int a = 0; a < 3; ++a)
+      rows->a_entries.emplace_back(row + a, columns.translation(j) + a, scale);
+  } else {
+    for (int a = 0; a < 3; ++a) rows->constant[row + a] += scale * transforms.translations(a, j);
+  }
+}
+
+// Coherence (Eq. 14): s (R_j e + t_j - t_k - e), three rows a term.
+void AppendCoherenceRows(const DeformationEnergy& energy, const NodeTransforms& transforms,
+                         const VariableColumns& columns, LinearRows* rows) {
+  for (const DeformationEnergy::Coherence& term : energy.coherence) {
+    rows->constant.resize(rows->row + 3, 0.0);
+    AddRotation(columns, transforms, term.j, term.edge, term.sqrt_weight, rows);
+    for (int a = 0; a < 3; ++a) rows->constant[rows->row + a] -= term.sqrt_weight * term.edge[a];
+    AddTranslation(columns, transforms, term.j, term.sqrt_weight, rows);
+    AddTranslation(columns, transforms, term.k, -term.sqrt_weight, rows);
+    rows->row += 3;
+  }
+}
+
+// Gauge terms: linear in R with no constant, one row of A each.
+void AppendGaugeRows(const DeformationEnergy& energy, const VariableColumns& columns,
+                     LinearRows* rows) {
+  for (const DeformationEnergy::Gauge& term : energy.gauge) {
+    CHECK_GE(columns.rotation(term.node), 0) << "gauge term on a Fixed node";
+    rows->constant.resize(rows->row + 1, 0.0);
+    const Eigen::Matrix<double, 1, 9> jacobian =
+        GaugeCostAnalytic::Jacobian(term.axis, term.sqrt_weight);
+    for (int i = 0; i < 9; ++i) {
+      if (jacobian[i] != 0.0)
+        rows->a_entries.emplace_back(rows->row, columns.rotation(term.node) + i, jacobian[i]);
+    }
+    rows->row += 1;
+  }
+}
+
+// The terms' rows for the compressed residuals (LinearTerms::root), grouped
+// by their variable nodes (sorted) and whether they follow the handle. A row
+// [u_1 .. u_k, p, c] (4 k + 7 numbers; u_i with 0 for a translation that
+// is not a variable) gives coordinate a's residual as
+//   row . [X_1a .. X_ka, -theta_a, e_a],
+// X_ia = (R_i(a, 0..2), t_i(a)), theta_a = (handle(a, 0..2), its translation(a)).
+struct PositionGroup {
+  std::vector<int> nodes;
+  std::vector<double> rows;  // row-major, 4 k + 7 wide
+};
+
+// Position terms (Eq. 16; one per handle vertex, and per held fixed vertex:
+// a hundred thousand on a 1.7M-vertex mesh) are not rows of A: their three
+// rows share one pattern, u_i = s w_i [o_i; 1] per node i (rotation column
+// c * 3 + a and translation a for coordinate a), so their products are
+// accumulated as 4x4 moments per node pair and expanded once
+// (ExpandPositionMoments: I_3 Kronecker each moment). p = s [rest; 1] is
+// the handle row's pattern.
+struct PositionMoments {
+  int num_nodes = 0;
+  std::unordered_map<int64_t, Eigen::Matrix4d> pair_moment;  // sum u_j u_k^T
+  std::vector<Eigen::Matrix4d> handle_moment;                // sum u_j p^T
+  std::vector<Eigen::Matrix<double, 4, 3>> constant_moment;  // sum u_j c^T
   std::vector<PositionGroup> groups;
+};
+
+void AccumulatePositionTerms(const DeformationEnergy& energy, const NodeTransforms& transforms,
+                             const VariableColumns& columns, PositionMoments* moments) {
+  const int num_position_nodes = moments->num_nodes;
+  auto& pair_moment = moments->pair_moment;
+  auto& handle_moment = moments->handle_moment;
+  auto& constant_moment = moments->constant_moment;
+  std::vector<PositionGroup>& groups = moments->groups;
   std::map<std::vector<int>, int> group_of_key;
   std::vector<int> key, order;
   if (!energy.positions.empty()) {
@@ -91,10 +151,10 @@ void AssembleLinearTerms(const DeformationEnergy& energy, const NodeTransforms& 
       const SkinningTerm& skin = term.terms[i];
       const int j = term.nodes[i];
       const double sw = s * skin.weight;
-      if (rotation_variable(j) < 0) c += sw * (transforms.rotation(j) * skin.offset);
-      if (translation_variable(j) < 0) c += sw * transforms.translations.col(j);
+      if (columns.rotation(j) < 0) c += sw * (transforms.rotation(j) * skin.offset);
+      if (columns.translation(j) < 0) c += sw * transforms.translations.col(j);
       c += sw * skin.position;
-      if (rotation_variable(j) >= 0) {
+      if (columns.rotation(j) >= 0) {
         variable_nodes.push_back(j);
         patterns.push_back(sw * Eigen::Vector4d(skin.offset[0], skin.offset[1], skin.offset[2], 1.0));
       }
@@ -116,7 +176,7 @@ void AssembleLinearTerms(const DeformationEnergy& energy, const NodeTransforms& 
     std::vector<double>& rows = groups[group->second].rows;
     for (int i : order) {
       for (int e = 0; e < 4; ++e) {
-        const bool variable = e < 3 || translation_variable(variable_nodes[i]) >= 0;
+        const bool variable = e < 3 || columns.translation(variable_nodes[i]) >= 0;
         rows.push_back(variable ? patterns[i][e] : 0.0);
       }
     }
@@ -133,45 +193,26 @@ void AssembleLinearTerms(const DeformationEnergy& energy, const NodeTransforms& 
       }
     }
   }
-  for (const DeformationEnergy::Gauge& term : energy.gauge) {
-    // Linear in R with no constant: one row of A.
-    CHECK_GE(rotation_variable(term.node), 0) << "gauge term on a Fixed node";
-    constant.resize(row + 1, 0.0);
-    const Eigen::Matrix<double, 1, 9> jacobian =
-        GaugeCostAnalytic::Jacobian(term.axis, term.sqrt_weight);
-    for (int i = 0; i < 9; ++i) {
-      if (jacobian[i] != 0.0)
-        a_entries.emplace_back(row, rotation_variable(term.node) + i, jacobian[i]);
-    }
-    row += 1;
-  }
-  terms.AppendLinearRows(&a_entries, &constant, &row);
-  SparseMatrix a_matrix(row, n), p_matrix(row, 13);
-  a_matrix.setFromTriplets(a_entries.begin(), a_entries.end());
-  for (int r = 0; r < row; ++r) {
-    if (constant[r] != 0.0) p_entries.emplace_back(r, 12, -constant[r]);
-  }
-  // p_matrix = [P, -c]: the residual is A x - p_matrix [tau; 1].
-  p_matrix.setFromTriplets(p_entries.begin(), p_entries.end());
-  const SparseMatrix a_transposed = a_matrix.transpose();
-  // The position terms' moments as variables: the column of node j's
-  // pattern entry c (0..2 rotation, 3 translation) for coordinate a, -1 when
-  // that part of j is not a variable; the handle's parameter column likewise.
-  auto variable_of = [&](int j, int c, int a) {
-    return c < 3 ? rotation_variable(j) + c * 3 + a : translation_variable(j) < 0 ? -1 : translation_variable(j) + a;
-  };
-  auto handle_column = [](int d, int a) { return d < 3 ? d * 3 + a : 9 + a; };
-  std::vector<Eigen::Triplet<double, int>> position_hessian, position_atp;
-  position_hessian.reserve(48 * pair_moment.size());
-  for (const auto& [key, moment] : pair_moment) {
+}
+
+// The position terms' moments as entries of H (n by n) and of A^T P (n by
+// 13; column 12 is -c, p_matrix's last column).
+void ExpandPositionMoments(const PositionMoments& moments, const VariableColumns& columns,
+                           SparseMatrix* hessian_positions, SparseMatrix* atp_positions) {
+  const int num_position_nodes = moments.num_nodes;
+  const auto& handle_moment = moments.handle_moment;
+  const auto& constant_moment = moments.constant_moment;
+  std::vector<Triplet> position_hessian, position_atp;
+  position_hessian.reserve(48 * moments.pair_moment.size());
+  for (const auto& [key, moment] : moments.pair_moment) {
     const int j = static_cast<int>(key / num_position_nodes);
     const int k = static_cast<int>(key % num_position_nodes);
     for (int a = 0; a < 3; ++a) {
       for (int c = 0; c < 4; ++c) {
-        const int row_variable = variable_of(j, c, a);
+        const int row_variable = columns.of(j, c, a);
         if (row_variable < 0) continue;
         for (int d = 0; d < 4; ++d) {
-          const int column_variable = variable_of(k, d, a);
+          const int column_variable = columns.of(k, d, a);
           if (column_variable >= 0 && moment(c, d) != 0.0) {
             position_hessian.emplace_back(row_variable, column_variable, moment(c, d));
           }
@@ -180,14 +221,14 @@ void AssembleLinearTerms(const DeformationEnergy& energy, const NodeTransforms& 
     }
   }
   for (int j = 0; j < static_cast<int>(handle_moment.size()); ++j) {
-    if (rotation_variable(j) < 0) continue;
+    if (columns.rotation(j) < 0) continue;
     for (int a = 0; a < 3; ++a) {
       for (int c = 0; c < 4; ++c) {
-        const int row_variable = variable_of(j, c, a);
+        const int row_variable = columns.of(j, c, a);
         if (row_variable < 0) continue;
         for (int d = 0; d < 4; ++d) {
           if (handle_moment[j](c, d) != 0.0) {
-            position_atp.emplace_back(row_variable, handle_column(d, a), handle_moment[j](c, d));
+            position_atp.emplace_back(row_variable, HandleColumn(d, a), handle_moment[j](c, d));
           }
         }
         // Column 12 is -c (p_matrix's last column).
@@ -197,23 +238,15 @@ void AssembleLinearTerms(const DeformationEnergy& energy, const NodeTransforms& 
       }
     }
   }
-  SparseMatrix hessian_positions(n, n), atp_positions(n, 13);
-  hessian_positions.setFromTriplets(position_hessian.begin(), position_hessian.end());
-  atp_positions.setFromTriplets(position_atp.begin(), position_atp.end());
-  out->hessian = (SparseMatrix(a_transposed * a_matrix) + hessian_positions).pruned();
-  const SparseMatrix atp = a_transposed * p_matrix + atp_positions;  // n by 13
-  out->handle_gradient = atp.leftCols(12);
-  out->linear_gradient = -Eigen::VectorXd(atp.col(12));
+  hessian_positions->setFromTriplets(position_hessian.begin(), position_hessian.end());
+  atp_positions->setFromTriplets(position_atp.begin(), position_atp.end());
+}
 
-  // The compressed residuals: A's rows (Coherence, gauge), then per position
-  // group R of a QR of its rows (R^T R = M^T M, so the same sum of squares for
-  // every x and tau; Householder QR is backward stable, so the rounding is
-  // about 1e-16 |M| |z| |M z|, not 1e-16 |M z|^2's expanded terms), or the
-  // rows themselves when there are no more of them than columns.
-  std::vector<Eigen::Triplet<double, int>> root_entries = a_entries, root_handle_entries;
-  for (const Eigen::Triplet<double, int>& entry : p_entries)
-    root_handle_entries.emplace_back(entry.row(), entry.col(), -entry.value());
-  int root_rows = row;
+// Each position group's rows, or the R of a Householder QR of them when
+// there are more rows than columns; on num_threads threads, one group per
+// thread at a time, once the groups have min_parallel_rows rows in all.
+std::vector<Eigen::MatrixXd> GroupFactors(const std::vector<PositionGroup>& groups,
+                                          int num_threads, int min_parallel_rows) {
   const int num_groups = static_cast<int>(groups.size());
   std::vector<Eigen::MatrixXd> factors(num_groups);
   int64_t total_rows = 0;
@@ -233,6 +266,24 @@ void AssembleLinearTerms(const DeformationEnergy& energy, const NodeTransforms& 
       factor = qr.matrixQR().topRows(width).triangularView<Eigen::Upper>();
     }
   }
+  return factors;
+}
+
+// The compressed residuals: A's rows (Coherence, gauge), then per position
+// group R of a QR of its rows (R^T R = M^T M, so the same sum of squares for
+// every x and tau; Householder QR is backward stable, so the rounding is
+// about 1e-16 |M| |z| |M z|, not 1e-16 |M z|^2's expanded terms), or the
+// rows themselves when there are no more of them than columns.
+void CompressResiduals(const LinearRows& rows, const std::vector<Triplet>& p_entries,
+                       const std::vector<PositionGroup>& groups, const VariableColumns& columns,
+                       int n, int num_threads, int min_parallel_rows, LinearTerms* out) {
+  std::vector<Triplet> root_entries = rows.a_entries, root_handle_entries;
+  for (const Triplet& entry : p_entries)
+    root_handle_entries.emplace_back(entry.row(), entry.col(), -entry.value());
+  int root_rows = rows.row;
+  const int num_groups = static_cast<int>(groups.size());
+  const std::vector<Eigen::MatrixXd> factors =
+      GroupFactors(groups, num_threads, min_parallel_rows);
   for (int g = 0; g < num_groups; ++g) {
     const PositionGroup& group = groups[g];
     const int k = static_cast<int>(group.nodes.size());
@@ -242,13 +293,13 @@ void AssembleLinearTerms(const DeformationEnergy& energy, const NodeTransforms& 
         for (int node = 0; node < k; ++node) {
           for (int e = 0; e < 4; ++e) {
             const double value = factor(i, 4 * node + e);
-            const int variable = variable_of(group.nodes[node], e, a);
+            const int variable = columns.of(group.nodes[node], e, a);
             if (value != 0.0 && variable >= 0) root_entries.emplace_back(root_rows, variable, value);
           }
         }
         for (int d = 0; d < 4; ++d) {
           const double value = factor(i, 4 * k + d);
-          if (value != 0.0) root_handle_entries.emplace_back(root_rows, handle_column(d, a), -value);
+          if (value != 0.0) root_handle_entries.emplace_back(root_rows, HandleColumn(d, a), -value);
         }
         const double value = factor(i, 4 * k + 4 + a);
         if (value != 0.0) root_handle_entries.emplace_back(root_rows, 12, value);
@@ -261,6 +312,41 @@ void AssembleLinearTerms(const DeformationEnergy& energy, const NodeTransforms& 
   out->root.makeCompressed();
   out->root_handle.resize(root_rows, 13);
   out->root_handle.setFromTriplets(root_handle_entries.begin(), root_handle_entries.end());
+}
+
+}  // namespace
+
+void AssembleLinearTerms(const DeformationEnergy& energy, const NodeTransforms& transforms,
+                         const std::vector<int>& offset, const GaussNewtonTerms& terms, int n,
+                         LinearTerms* out, int num_threads, int min_parallel_rows) {
+  const VariableColumns columns{energy, offset};
+  LinearRows rows;
+  AppendCoherenceRows(energy, transforms, columns, &rows);
+  PositionMoments moments;
+  moments.num_nodes = transforms.num_nodes();
+  AccumulatePositionTerms(energy, transforms, columns, &moments);
+  AppendGaugeRows(energy, columns, &rows);
+  terms.AppendLinearRows(&rows.a_entries, &rows.constant, &rows.row);
+
+  const int row = rows.row;
+  SparseMatrix a_matrix(row, n), p_matrix(row, 13);
+  a_matrix.setFromTriplets(rows.a_entries.begin(), rows.a_entries.end());
+  std::vector<Triplet> p_entries;
+  for (int r = 0; r < row; ++r) {
+    if (rows.constant[r] != 0.0) p_entries.emplace_back(r, 12, -rows.constant[r]);
+  }
+  // p_matrix = [P, -c]: the residual is A x - p_matrix [tau; 1].
+  p_matrix.setFromTriplets(p_entries.begin(), p_entries.end());
+  const SparseMatrix a_transposed = a_matrix.transpose();
+  SparseMatrix hessian_positions(n, n), atp_positions(n, 13);
+  ExpandPositionMoments(moments, columns, &hessian_positions, &atp_positions);
+  out->hessian = (SparseMatrix(a_transposed * a_matrix) + hessian_positions).pruned();
+  const SparseMatrix atp = a_transposed * p_matrix + atp_positions;  // n by 13
+  out->handle_gradient = atp.leftCols(12);
+  out->linear_gradient = -Eigen::VectorXd(atp.col(12));
+
+  CompressResiduals(rows, p_entries, moments.groups, columns, n, num_threads, min_parallel_rows,
+                    out);
 }
 
 }  // namespace msdeform

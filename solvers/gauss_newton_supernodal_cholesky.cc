@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <iterator>
+#include <utility>
 
 #include <Eigen/Cholesky>
 #include <Eigen/OrderingMethods>
@@ -36,6 +37,93 @@ void DotColumns(const double* const* column, const double* local, int begin, int
   for (int i = 0; i < W; ++i) sum[i] = s[i];
 }
 
+// L's column structures (each column's rows below the diagonal, ascending)
+// and the elimination tree (parent[j], -1 at a root) of `matrix` permuted
+// by `position`: the permuted lower triangle by column, then along the
+// elimination tree a column's structure is its own rows and its
+// children's, less the children.
+void ColumnStructures(const Eigen::SparseMatrix<double, Eigen::ColMajor, int>& matrix,
+                      const std::vector<int>& position,
+                      std::vector<std::vector<int>>* structure_out,
+                      std::vector<int>* parent_out) {
+  const int n = static_cast<int>(position.size());
+  std::vector<std::vector<int>> lower(n), children(n);
+  std::vector<std::vector<int>>& structure = *structure_out;
+  std::vector<int>& parent = *parent_out;
+  structure.assign(n, {});
+  parent.assign(n, -1);
+  const int* outer = matrix.outerIndexPtr();
+  const int* inner = matrix.innerIndexPtr();
+  for (int c = 0; c < n; ++c) {
+    for (int k = outer[c]; k < outer[c + 1]; ++k) {
+      const int i = position[inner[k]], j = position[c];
+      if (i > j) lower[j].push_back(i);
+    }
+  }
+  std::vector<int> merged;
+  for (int j = 0; j < n; ++j) {
+    std::vector<int>& rows = structure[j];
+    rows = std::move(lower[j]);
+    std::sort(rows.begin(), rows.end());
+    for (int child : children[j]) {
+      const std::vector<int>& from = structure[child];
+      merged.clear();
+      std::set_union(rows.begin(), rows.end(), from.begin() + 1, from.end(),
+                     std::back_inserter(merged));  // from[0] == j
+      rows.swap(merged);
+    }
+    if (!rows.empty()) {
+      parent[j] = rows.front();
+      children[rows.front()].push_back(j);
+    }
+  }
+}
+
+// Supernodes from the column structures: extend the current run by column
+// j when j is the parent of the run's last column and the explicit zeros
+// stay within relax_fraction of its entries. Supernode s: columns
+// first[s] .. first[s + 1] - 1, its rows rows[row_begin[s] ..
+// row_begin[s + 1]) (its own columns, then the rows below).
+void FindSupernodes(const std::vector<std::vector<int>>& structure,
+                    const std::vector<int>& parent, double relax_fraction,
+                    std::vector<int>* first, std::vector<int>* row_begin,
+                    std::vector<int>* rows) {
+  const int n = static_cast<int>(structure.size());
+  first->assign(1, 0);
+  row_begin->assign(1, 0);
+  rows->clear();
+  std::vector<int> merged;
+  std::vector<int> below;  // the current run's rows below its last column
+  auto close = [&](int end) {
+    for (int col = first->back(); col < end; ++col) rows->push_back(col);
+    rows->insert(rows->end(), below.begin(), below.end());
+    first->push_back(end);
+    row_begin->push_back(static_cast<int>(rows->size()));
+  };
+  int64_t zeros = 0;
+  for (int j = 0; j < n; ++j) {
+    const int width = j - first->back();
+    if (width > 0 && parent[j - 1] == j) {
+      merged.clear();
+      std::set_union(below.begin() + 1, below.end(), structure[j].begin(), structure[j].end(),
+                     std::back_inserter(merged));  // below[0] == j
+      const int64_t size = static_cast<int64_t>(merged.size());
+      const int64_t added = width * (size - static_cast<int64_t>(below.size() - 1)) +
+                            (size - static_cast<int64_t>(structure[j].size()));
+      const int64_t entries = (width + 1) * (width + 2) / 2 + (width + 1) * size;
+      if (added == 0 || zeros + added <= relax_fraction * static_cast<double>(entries)) {
+        zeros += added;
+        below.swap(merged);
+        continue;
+      }
+    }
+    if (width > 0) close(j);
+    below = structure[j];
+    zeros = 0;
+  }
+  if (n > 0) close(n);
+}
+
 }  // namespace
 
 void SupernodalCholesky::Analyze(const SparseMatrix& matrix) {
@@ -55,72 +143,12 @@ void SupernodalCholesky::Analyze(const SparseMatrix& matrix) {
     column_of_position[k] = ordering.indices()[k];
   }
 
-  // The permuted lower triangle by column, then L's column structures
-  // (rows below the diagonal) along the elimination tree: a column's
-  // structure is its own rows and its children's, less the children.
-  std::vector<std::vector<int>> lower(n_), structure(n_), children(n_);
-  std::vector<int> parent(n_, -1);
-  const int* outer = matrix.outerIndexPtr();
-  const int* inner = matrix.innerIndexPtr();
-  for (int c = 0; c < n_; ++c) {
-    for (int k = outer[c]; k < outer[c + 1]; ++k) {
-      const int i = position_[inner[k]], j = position_[c];
-      if (i > j) lower[j].push_back(i);
-    }
-  }
-  std::vector<int> merged;
-  for (int j = 0; j < n_; ++j) {
-    std::vector<int>& rows = structure[j];
-    rows = std::move(lower[j]);
-    std::sort(rows.begin(), rows.end());
-    for (int child : children[j]) {
-      const std::vector<int>& from = structure[child];
-      merged.clear();
-      std::set_union(rows.begin(), rows.end(), from.begin() + 1, from.end(),
-                     std::back_inserter(merged));  // from[0] == j
-      rows.swap(merged);
-    }
-    if (!rows.empty()) {
-      parent[j] = rows.front();
-      children[rows.front()].push_back(j);
-    }
-  }
+  std::vector<std::vector<int>> structure;
+  std::vector<int> parent;
+  ColumnStructures(matrix, position_, &structure, &parent);
+  FindSupernodes(structure, parent, relax_fraction_, &first_, &row_begin_, &rows_);
 
-  // Supernodes: extend the current run by column j when j is the parent of
-  // the run's last column and the explicit zeros stay within relax_fraction_.
-  first_.assign(1, 0);
-  row_begin_.assign(1, 0);
-  rows_.clear();
-  std::vector<int> below;  // the current run's rows below its last column
-  auto close = [&](int end) {
-    for (int col = first_.back(); col < end; ++col) rows_.push_back(col);
-    rows_.insert(rows_.end(), below.begin(), below.end());
-    first_.push_back(end);
-    row_begin_.push_back(static_cast<int>(rows_.size()));
-  };
-  int64_t zeros = 0;
-  for (int j = 0; j < n_; ++j) {
-    const int width = j - first_.back();
-    if (width > 0 && parent[j - 1] == j) {
-      merged.clear();
-      std::set_union(below.begin() + 1, below.end(), structure[j].begin(), structure[j].end(),
-                     std::back_inserter(merged));  // below[0] == j
-      const int64_t size = static_cast<int64_t>(merged.size());
-      const int64_t added = width * (size - static_cast<int64_t>(below.size() - 1)) +
-                            (size - static_cast<int64_t>(structure[j].size()));
-      const int64_t entries = (width + 1) * (width + 2) / 2 + (width + 1) * size;
-      if (added == 0 || zeros + added <= relax_fraction_ * static_cast<double>(entries)) {
-        zeros += added;
-        below.swap(merged);
-        continue;
-      }
-    }
-    if (width > 0) close(j);
-    below = structure[j];
-    zeros = 0;
-  }
-  if (n_ > 0) close(n_);
-
+  // Each supernode's panel: its rows by its columns, column-major.
   const int num = num_supernodes();
   std::vector<int> supernode_of(n_);
   value_begin_.assign(1, 0);
@@ -131,9 +159,14 @@ void SupernodalCholesky::Analyze(const SparseMatrix& matrix) {
   }
   values_.assign(value_begin_.back(), 0.0);
 
-  // Each supernode's update, grouped by the supernode of the column it
-  // lands in; then, target by target, the rows' positions there (through
-  // `where`, a row's position in the target's rows, filled once per target).
+  const std::vector<std::vector<int>> updates_of = ScheduleUpdates(supernode_of);
+  PlaceUpdatesAndEntries(matrix, column_of_position, updates_of);
+  permuted_.resize(n_);
+}
+
+std::vector<std::vector<int>> SupernodalCholesky::ScheduleUpdates(
+    const std::vector<int>& supernode_of) {
+  const int num = num_supernodes();
   update_begin_.assign(1, 0);
   updates_.clear();
   size_t largest = 0;
@@ -159,6 +192,16 @@ void SupernodalCholesky::Analyze(const SparseMatrix& matrix) {
   }
   scratch_.assign(largest, 0.0);
   relative_.assign(relative_size, 0);
+  buffer_.resize(largest_rows);
+  return updates_of;
+}
+
+void SupernodalCholesky::PlaceUpdatesAndEntries(
+    const SparseMatrix& matrix, const std::vector<int>& column_of_position,
+    const std::vector<std::vector<int>>& updates_of) {
+  const int num = num_supernodes();
+  const int* outer = matrix.outerIndexPtr();
+  const int* inner = matrix.innerIndexPtr();
   std::vector<int> update_source(updates_.size());
   for (int s = 0; s < num; ++s)
     for (int u = update_begin_[s]; u < update_begin_[s + 1]; ++u) update_source[u] = s;
@@ -191,8 +234,6 @@ void SupernodalCholesky::Analyze(const SparseMatrix& matrix) {
     }
     for (int r = row_begin_[t]; r < row_begin_[t + 1]; ++r) where[rows_[r]] = -1;
   }
-  permuted_.resize(n_);
-  buffer_.resize(largest_rows);
 }
 
 bool SupernodalCholesky::Factorize(const SparseMatrix& matrix) {

@@ -68,6 +68,17 @@ class SupernodalCholesky {
     int relative;      // start in relative_: rows column_begin.. as positions in target
   };
 
+  // Analyze's last steps. Each supernode's updates, grouped by the
+  // supernode of the column they land in (update_begin_, updates_; the
+  // sizes of scratch_, relative_ and buffer_); returned: per target
+  // supernode, the indices of its updates in updates_.
+  std::vector<std::vector<int>> ScheduleUpdates(const std::vector<int>& supernode_of);
+  // Then, target by target, the positions there of each update's rows
+  // (relative_) and of each stored entry of `matrix` (destination_).
+  void PlaceUpdatesAndEntries(const SparseMatrix& matrix,
+                              const std::vector<int>& column_of_position,
+                              const std::vector<std::vector<int>>& updates_of);
+
   double relax_fraction_;
   int n_ = 0;
   std::vector<int> position_;  // position_[i]: row i's place in the permuted order
