@@ -231,6 +231,17 @@ class OptionTable {
   // sub-row's aliases and topic are kept (they name the flag, not the field).
   template <typename S>
   void Embed(const std::string& prefix, S T::*member, const OptionTable<S>& sub) {
+    Embed<S>(
+        prefix, [member](const T& t) -> const S& { return t.*member; },
+        [member](T* t) { return &(t->*member); }, sub);
+  }
+
+  // The same for an S that T holds other than as a member (a method's options
+  // kept by name, methods/method_options.h): `get` reads it, `get_mutable`
+  // gives it to write.
+  template <typename S>
+  void Embed(const std::string& prefix, std::function<const S&(const T&)> get_sub,
+             std::function<S*(T*)> get_mutable_sub, const OptionTable<S>& sub) {
     for (const OptionRow<S>& s : sub.rows()) {
       Row row;
       row.name = prefix.empty() ? s.name : prefix + "." + s.name;
@@ -239,9 +250,9 @@ class OptionTable {
       row.lo_open = s.lo_open, row.hi_open = s.hi_open, row.expected = s.expected;
       auto get = s.get;
       auto parse = s.parse;
-      row.get = [member, get](const T& t) { return get(t.*member); };
-      row.parse = [member, parse](const std::string& text, T* t, std::string* what) {
-        return parse(text, &(t->*member), what);
+      row.get = [get_sub, get](const T& t) { return get(get_sub(t)); };
+      row.parse = [get_mutable_sub, parse](const std::string& text, T* t, std::string* what) {
+        return parse(text, get_mutable_sub(t), what);
       };
       rows_.push_back(std::move(row));
     }

@@ -11,6 +11,7 @@
 #include "msdeform/core/timing.h"
 #include "msdeform/methods/method_option_table.h"
 #include "msdeform/methods/method_options.h"
+#include "msdeform/methods/registry.h"
 
 namespace msdeform {
 namespace {
@@ -190,6 +191,29 @@ bool CgalArapMethod::DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodSta
   stats->converged = true;
   stats->frame_ms = MillisecondsSince(frame_start);
   return true;
+}
+
+namespace {
+
+MethodDescriptor CgalDescriptor(const std::string& name, ArapVariant variant,
+                                const std::string& energy) {
+  MethodDescriptor d;
+  d.name = name;
+  d.energy = energy;
+  d.options = "cgal";
+  d.add_option_rows = [](OptionTable<MethodOptions>* t) {
+    t->Embed("cgal", &MethodOptions::cgal, CgalArapOptionTable());
+  };
+  d.create = [name, variant] { return std::make_unique<CgalArapMethod>(name, variant); };
+  return d;
+}
+
+}  // namespace
+
+MSDEFORM_REGISTER_METHODS(cgal_arap, registry) {
+  registry->push_back(CgalDescriptor("cgal_arap", ArapVariant::kOriginal, "arap"));
+  registry->push_back(
+      CgalDescriptor("cgal_sr_arap", ArapVariant::kSmoothRotationEnhanced, "sr_arap"));
 }
 
 }  // namespace msdeform

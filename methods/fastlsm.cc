@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <chrono>
 #include <limits>
+#include <memory>
+#include <utility>
 
 #include "msdeform/core/timing.h"
 #include "msdeform/methods/method_option_table.h"
 #include "msdeform/methods/method_options.h"
+#include "msdeform/methods/registry.h"
 #include "msdeform/scales/polar_decomposition.h"
 
 namespace msdeform {
@@ -175,6 +178,18 @@ void FastLsm::Skin(const Eigen::Affine3d& deformed_from_rest) {
     }
     deformed_vertices_.col(v) = sum / total;
   }
+}
+
+MSDEFORM_REGISTER_METHODS(fastlsm, registry) {
+  MethodDescriptor fastlsm;
+  fastlsm.name = "fastlsm";
+  fastlsm.energy = "shape_matching";
+  fastlsm.options = "fastlsm";
+  fastlsm.add_option_rows = [](OptionTable<MethodOptions>* t) {
+    t->Embed("fastlsm", &MethodOptions::fastlsm, FastLsmOptionTable());
+  };
+  fastlsm.create = [] { return std::make_unique<FastLsm>(); };
+  registry->push_back(std::move(fastlsm));
 }
 
 }  // namespace msdeform

@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
+#include <utility>
 
 #include "msdeform/core/timing.h"
 #include "msdeform/methods/method_options.h"
+#include "msdeform/methods/registry.h"
 
 namespace msdeform {
 
@@ -37,17 +40,14 @@ const OptionTable<LocalGlobalArapOptions>& FullArapOptionTable() {
 bool FullArapMethod::DoPrecompute(const Mesh& mesh, const MethodOptions& options,
                                   std::string* error) {
   const auto start = std::chrono::steady_clock::now();
-  if (!FullArapOptionTable().CheckRanges(options.full_arap, error)) {
-    *error = "full_arap." + *error;
-    return false;
-  }
-  if (!options.full_arap.Check(error)) {
+  const LocalGlobalArapOptions& own = options.own.Get<LocalGlobalArapOptions>("full_arap");
+  if (!FullArapOptionTable().CheckRanges(own, error) || !own.Check(error)) {
     *error = "full_arap." + *error;
     return false;
   }
   if (!ValidateMesh(mesh, error)) return false;
   mesh_ = mesh;
-  options_ = options.full_arap;
+  options_ = own;
   options_.num_threads = options.deformer.num_threads;
   deformed_ = mesh_.vertices;
   precompute_ms_ = MillisecondsSince(start);
@@ -94,6 +94,18 @@ bool FullArapMethod::DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodSta
   stats->converged = summary_.converged;
   stats->frame_ms = MillisecondsSince(frame_start);
   return true;
+}
+
+MSDEFORM_REGISTER_METHODS(full_arap, registry) {
+  MethodDescriptor full_arap;
+  full_arap.name = "full_arap";
+  full_arap.energy = "arap";
+  full_arap.options = "full_arap";
+  full_arap.add_option_rows = [](OptionTable<MethodOptions>* t) {
+    EmbedOwnOptions("full_arap", FullArapOptionTable(), t);
+  };
+  full_arap.create = [] { return std::make_unique<FullArapMethod>(); };
+  registry->push_back(std::move(full_arap));
 }
 
 }  // namespace msdeform

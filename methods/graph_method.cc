@@ -1,6 +1,9 @@
 #include "msdeform/methods/graph_method.h"
 
+#include <memory>
+
 #include "msdeform/methods/method_options.h"
+#include "msdeform/methods/registry.h"
 
 namespace msdeform {
 
@@ -15,6 +18,24 @@ int GraphMethod::nodes_optimized() const {
   int count = 0;
   for (NodeClass c : deformer_.node_classes()) count += c != NodeClass::kFixed;
   return count;
+}
+
+namespace {
+
+MethodDescriptor GraphDescriptor(Method method) {
+  MethodDescriptor d;
+  d.name = MethodName(method);
+  d.graph = true;
+  d.create = [method] { return std::make_unique<GraphMethod>(method); };
+  return d;
+}
+
+}  // namespace
+
+MSDEFORM_REGISTER_METHODS(graph_method, registry) {
+  registry->push_back(GraphDescriptor(Method::kMultiScale));
+  registry->push_back(GraphDescriptor(Method::kStatic));
+  registry->push_back(GraphDescriptor(Method::kStaticDense));
 }
 
 }  // namespace msdeform

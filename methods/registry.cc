@@ -2,75 +2,22 @@
 
 #include <utility>
 
-#include "msdeform/methods/fastlsm.h"
-#include "msdeform/methods/full_arap.h"
-#include "msdeform/methods/rigid_cells.h"
-#include "msdeform/methods/graph_method.h"
-#include "msdeform/methods/method_option_table.h"
-#ifdef MSDEFORM_HAVE_CGAL
-#include "msdeform/methods/cgal_arap.h"
-#endif
-
 namespace msdeform {
+
+// The registration function of each file of methods/CMakeLists.txt's
+// method_files, declared, then called in the list's order.
+#define MSDEFORM_METHOD_FILE(file) \
+  MSDEFORM_REGISTER_METHODS(file, registry);
+#include "registered_methods.inc"
+#undef MSDEFORM_METHOD_FILE
+
 namespace {
 
-MethodDescriptor GraphDescriptor(Method method) {
-  MethodDescriptor d;
-  d.name = MethodName(method);
-  d.graph = true;
-  d.create = [method] { return std::make_unique<GraphMethod>(method); };
-  return d;
-}
-
-#ifdef MSDEFORM_HAVE_CGAL
-MethodDescriptor CgalDescriptor(const std::string& name, ArapVariant variant,
-                                const std::string& energy) {
-  MethodDescriptor d;
-  d.name = name;
-  d.energy = energy;
-  d.options = "cgal";
-  d.add_option_rows = [](OptionTable<MethodOptions>* t) {
-    t->Embed("cgal", &MethodOptions::cgal, CgalArapOptionTable());
-  };
-  d.create = [name, variant] { return std::make_unique<CgalArapMethod>(name, variant); };
-  return d;
-}
-#endif
-
-// The registered methods, one descriptor each, in the order MethodNames lists them.
 std::vector<MethodDescriptor> BuildRegistry() {
   std::vector<MethodDescriptor> registry;
-  registry.push_back(GraphDescriptor(Method::kMultiScale));
-  registry.push_back(GraphDescriptor(Method::kStatic));
-  registry.push_back(GraphDescriptor(Method::kStaticDense));
-#ifdef MSDEFORM_HAVE_CGAL
-  registry.push_back(CgalDescriptor("cgal_arap", ArapVariant::kOriginal, "arap"));
-  registry.push_back(
-      CgalDescriptor("cgal_sr_arap", ArapVariant::kSmoothRotationEnhanced, "sr_arap"));
-#endif
-  MethodDescriptor fastlsm;
-  fastlsm.name = "fastlsm";
-  fastlsm.energy = "shape_matching";
-  fastlsm.options = "fastlsm";
-  fastlsm.add_option_rows = [](OptionTable<MethodOptions>* t) {
-    t->Embed("fastlsm", &MethodOptions::fastlsm, FastLsmOptionTable());
-  };
-  fastlsm.create = [] { return std::make_unique<FastLsm>(); };
-  registry.push_back(std::move(fastlsm));
-  MethodDescriptor rigid_cells;
-  rigid_cells.name = "rigid_cells";
-  rigid_cells.energy = "rigid_cells";
-  rigid_cells.create = [] { return std::make_unique<RigidCells>(); };
-  registry.push_back(std::move(rigid_cells));
-  MethodDescriptor full_arap;
-  full_arap.name = "full_arap";
-  full_arap.energy = "arap";
-  full_arap.options = "full_arap";
-  full_arap.add_option_rows = [](OptionTable<MethodOptions>* t) {
-    t->Embed("full_arap", &MethodOptions::full_arap, FullArapOptionTable());
-  };
-  full_arap.create = [] { return std::make_unique<FullArapMethod>(); };
-  registry.push_back(std::move(full_arap));
+#define MSDEFORM_METHOD_FILE(file) RegisterMethodsOf_##file(&registry);
+#include "registered_methods.inc"
+#undef MSDEFORM_METHOD_FILE
   return registry;
 }
 

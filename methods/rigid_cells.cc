@@ -4,11 +4,14 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <utility>
 
 #include "msdeform/core/parallel.h"
 #include "msdeform/core/timing.h"
 #include "msdeform/energies/rigid_cell_coupling_cost.h"
 #include "msdeform/methods/method_options.h"
+#include "msdeform/methods/registry.h"
 #include "msdeform/scales/rigidity.h"
 
 namespace msdeform {
@@ -273,6 +276,14 @@ void RigidCells::Interpolate(const Eigen::Affine3d& deformed_from_rest) {
                });
   constraint_gap_ = 0.0;
   for (double gap : chunk_gap) constraint_gap_ = std::max(constraint_gap_, gap);
+}
+
+MSDEFORM_REGISTER_METHODS(rigid_cells, registry) {
+  MethodDescriptor rigid_cells;
+  rigid_cells.name = "rigid_cells";
+  rigid_cells.energy = "rigid_cells";
+  rigid_cells.create = [] { return std::make_unique<RigidCells>(); };
+  registry->push_back(std::move(rigid_cells));
 }
 
 }  // namespace msdeform

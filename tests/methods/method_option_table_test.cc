@@ -6,8 +6,11 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
+
+#include "msdeform/solvers/local_global_arap.h"
 
 namespace msdeform {
 namespace {
@@ -74,13 +77,46 @@ TEST(MethodOptionTableTest, DefaultsAreTheStructs) {
   std::string error;
   EXPECT_TRUE(MethodOptionTable().CheckRanges(defaults, &error)) << error;
   const auto fields = MethodOptionTable().Describe(defaults);
-  // The Deformer's rows, then each method's own (three each for cgal.*,
-  // fastlsm.* and full_arap.*).
-  EXPECT_EQ(fields.size(), DeformerOptionTable().rows().size() + 9);
+  // The Deformer's rows, then each method's own in registration order: the
+  // project's are these; a method registered later adds its rows after them.
+  const std::vector<std::string> kProjectMethodRows = {
+      "cgal.iterations",         "cgal.tolerance",
+      "cgal.sre_alpha",          "fastlsm.steps_per_frame",
+      "fastlsm.region_half_width", "fastlsm.damping",
+      "full_arap.relative_tolerance", "full_arap.max_iterations",
+      "full_arap.anderson_window"};
+  const size_t deformer_rows = DeformerOptionTable().rows().size();
+  ASSERT_GE(fields.size(), deformer_rows + kProjectMethodRows.size());
+  for (size_t i = 0; i < kProjectMethodRows.size(); ++i) {
+    EXPECT_EQ(fields[deformer_rows + i].first, kProjectMethodRows[i]);
+  }
   std::map<std::string, std::string> values(fields.begin(), fields.end());
   EXPECT_EQ(values["fastlsm.damping"], "0.10000000000000001");
   EXPECT_EQ(values["full_arap.anderson_window"], "5");
   EXPECT_EQ(values["full_arap.relative_tolerance"], "1.0000000000000001e-09");
+}
+
+// A method whose options struct is in its own files (full_arap's
+// LocalGlobalArapOptions): its rows set options.own under their prefix, a copy
+// of the options is deep, and a struct never set reads as its defaults.
+TEST(MethodOptionTableTest, OwnRowsSetTheStructKeptByPrefix) {
+  const OptionTable<MethodOptions>& table = MethodOptionTable();
+  MethodOptions options;
+  EXPECT_EQ(options.own.Get<LocalGlobalArapOptions>("full_arap").max_iterations,
+            LocalGlobalArapOptions().max_iterations);
+  std::string error;
+  ASSERT_TRUE(table.Set("full_arap_max_iterations", "12", &options, &error)) << error;
+  ASSERT_TRUE(table.Set("full_arap.anderson_window", "0", &options, &error)) << error;
+  const MethodOptions copy = options;
+  options.own.Mutable<LocalGlobalArapOptions>("full_arap")->max_iterations = 13;
+  EXPECT_EQ(copy.own.Get<LocalGlobalArapOptions>("full_arap").max_iterations, 12);
+  EXPECT_EQ(copy.own.Get<LocalGlobalArapOptions>("full_arap").anderson_window, 0);
+  EXPECT_EQ(options.own.Get<LocalGlobalArapOptions>("full_arap").max_iterations, 13);
+  EXPECT_FALSE(table.Set("full_arap.max_iterations", "0", &options, &error));
+  EXPECT_EQ(error, "full_arap.max_iterations=0: expected an integer in 1..10000000");
+  options.own.Mutable<LocalGlobalArapOptions>("full_arap")->relative_tolerance = 2.0;
+  EXPECT_FALSE(options.Check(&error));
+  EXPECT_EQ(error, "full_arap.relative_tolerance=2: expected a number in [0, 1]");
 }
 
 // MethodOptions::Check reads every row's range: a C++ caller gets the

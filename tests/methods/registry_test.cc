@@ -13,8 +13,10 @@ namespace {
 
 // The project's methods, registered in this order; a method added later
 // comes after them and needs no change here.
-const std::vector<std::string> kProjectMethods = {"multiscale", "static",       "static_dense",
-                                                  "cgal_arap",  "cgal_sr_arap", "fastlsm"};
+// The order is methods/CMakeLists.txt's method_files list.
+const std::vector<std::string> kProjectMethods = {
+    "multiscale", "static",  "static_dense", "cgal_arap",
+    "cgal_sr_arap", "fastlsm", "rigid_cells",  "full_arap"};
 
 TEST(RegistryTest, ListsEveryMethodOnceInRegistrationOrder) {
   const std::vector<std::string> names = MethodNames();
@@ -26,7 +28,9 @@ TEST(RegistryTest, ListsEveryMethodOnceInRegistrationOrder) {
   for (const std::string& name : names) list += (list.empty() ? "" : ", ") + name;
   EXPECT_EQ(MethodNameList(), list);
   EXPECT_EQ(MethodNameList().rfind(
-                "multiscale, static, static_dense, cgal_arap, cgal_sr_arap, fastlsm", 0),
+                "multiscale, static, static_dense, cgal_arap, cgal_sr_arap, fastlsm, "
+                "rigid_cells, full_arap",
+                0),
             0u);
 }
 
@@ -50,7 +54,9 @@ TEST(RegistryTest, DescriptorsSayGraphEnergyAndOwnRows) {
     const char* options;
   } kOthers[] = {{"cgal_arap", "arap", "cgal"},
                  {"cgal_sr_arap", "sr_arap", "cgal"},
-                 {"fastlsm", "shape_matching", "fastlsm"}};
+                 {"fastlsm", "shape_matching", "fastlsm"},
+                 {"rigid_cells", "rigid_cells", ""},
+                 {"full_arap", "arap", "full_arap"}};
   for (const auto& other : kOthers) {
     const MethodDescriptor* d = FindMethod(other.name);
     ASSERT_NE(d, nullptr) << other.name;
@@ -65,6 +71,7 @@ TEST(RegistryTest, DescriptorsSayGraphEnergyAndOwnRows) {
   // The methods' own rows come from the descriptors' prefixes.
   EXPECT_EQ(MethodsOfRow("cgal.iterations"), (std::vector<std::string>{"cgal_arap", "cgal_sr_arap"}));
   EXPECT_EQ(MethodsOfRow("fastlsm.damping"), (std::vector<std::string>{"fastlsm"}));
+  EXPECT_EQ(MethodsOfRow("full_arap.max_iterations"), (std::vector<std::string>{"full_arap"}));
   EXPECT_TRUE(MethodsOfRow("w_con").empty());
   for (const MethodDescriptor& d : RegisteredMethods()) {
     if (d.options.empty()) continue;
