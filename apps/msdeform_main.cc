@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -37,6 +38,7 @@
 #include "msdeform/core/timing.h"
 #include "msdeform/methods/method_option_table.h"
 #include "msdeform/methods/method_options.h"
+#include "msdeform/methods/polish.h"
 #include "msdeform/methods/registry.h"
 #include "msdeform/scales/deformer.h"
 
@@ -62,6 +64,20 @@ DEFINE_string(out_frames, "",
               "[output] Folder for every frame's mesh, <name>_0001.<ext> ... (ext of --out).");
 // The non-graph methods' options (methods/method_options.h); --method itself
 // is apps/flags/deformer_flags.cc's and takes any registered name here.
+// Polish on release (methods/polish.h): the defaults are PolishOptions's.
+DEFINE_bool(polish, false,
+            "[method] After the last frame, polish the result with a few accelerated full_arap "
+            "iterations (handle and fixed vertices exact): --out is the polished mesh, the "
+            "report's \"polish\" has the ARAP energy before and after, and a line is printed.");
+DEFINE_int32(polish_iterations, 30, "[method] --polish: iterations at most, 0..1000000.");
+DEFINE_double(polish_time_ms, 0.0,
+              "[method] --polish: milliseconds of iterating at most, 0 for no limit (a limit "
+              "makes the result depend on the machine's speed).");
+DEFINE_double(polish_tolerance, 1e-7,
+              "[method] --polish: stop when a plain step lowers the energy by at most this "
+              "fraction of it, in [0, 1].");
+DEFINE_int32(polish_anderson_window, 5,
+             "[method] --polish: Anderson acceleration's window, 0..50 (0: plain local/global).");
 DEFINE_bool(overwrite, false, "[output] Replace outputs that exist (otherwise an error).");
 DEFINE_bool(quiet, false, "[diagnostics] Print nothing but errors.");
 DEFINE_bool(verbose, false,
@@ -252,6 +268,9 @@ bool Provenance(const Job& job, const std::vector<std::string>& command_line, Js
   Json flags = Json::object();
   for (const auto& [name, value] : ProgramFlagValues()) {
     if (kOutputFlags.count(name)) continue;
+    // The polish flags only when polishing, so a run without it records what
+    // it did before they existed.
+    if (!FLAGS_polish && name.rfind("polish", 0) == 0) continue;
     flags[name] = value;
   }
   flags["mesh"] = FLAGS_mesh.empty() ? "" : Absolute(job.mesh_path);
@@ -353,6 +372,47 @@ bool ApplyRerun(const std::string& report_path, std::string* error) {
   return true;
 }
 
+// --polish's options from its flags (checked even without --polish, so a
+// typo is not silently ignored); false with one line naming the flag.
+bool PolishOptionsFromFlags(int num_threads, PolishOptions* options, std::string* error) {
+  for (const char* flag : {"polish_iterations", "polish_time_ms", "polish_tolerance",
+                           "polish_anderson_window"}) {
+    gflags::CommandLineFlagInfo info;
+    gflags::GetCommandLineFlagInfo(flag, &info);
+    if (!info.is_default && !FLAGS_polish) {
+      *error = std::string("--") + flag + "=" + info.current_value + " needs --polish";
+      return false;
+    }
+  }
+  if (FLAGS_polish_iterations < 0 || FLAGS_polish_iterations > 1000000) {
+    *error = "--polish_iterations=" + std::to_string(FLAGS_polish_iterations) +
+             ": expected an integer in 0..1000000";
+    return false;
+  }
+  if (!(FLAGS_polish_time_ms >= 0.0) || !std::isfinite(FLAGS_polish_time_ms)) {
+    *error = "--polish_time_ms=" + gflags::GetCommandLineFlagInfoOrDie("polish_time_ms").current_value +
+             ": expected a number >= 0 (0: no limit)";
+    return false;
+  }
+  if (!(FLAGS_polish_tolerance >= 0.0 && FLAGS_polish_tolerance <= 1.0)) {
+    *error = "--polish_tolerance=" +
+             gflags::GetCommandLineFlagInfoOrDie("polish_tolerance").current_value +
+             ": expected a number in [0, 1]";
+    return false;
+  }
+  if (FLAGS_polish_anderson_window < 0 || FLAGS_polish_anderson_window > 50) {
+    *error = "--polish_anderson_window=" + std::to_string(FLAGS_polish_anderson_window) +
+             ": expected an integer in 0..50";
+    return false;
+  }
+  options->max_iterations = FLAGS_polish_iterations;
+  options->time_budget_ms = FLAGS_polish_time_ms;
+  options->relative_tolerance = FLAGS_polish_tolerance;
+  options->anderson_window = FLAGS_polish_anderson_window;
+  options->num_threads = std::max(1, num_threads);
+  return options->Check(error);
+}
+
 int Fail(const std::string& message) {
   std::cerr << "msdeform: " << message << "\n";
   return 1;
@@ -438,7 +498,8 @@ struct DragSummary {
   Displacement leakage;  // of the watch region
 };
 
-DragSummary Summarise(const Job& job, const EditingMethod& method, const DragLog& log) {
+DragSummary Summarise(const Job& job, const EditingMethod& method, const DragLog& log,
+                      const Eigen::Matrix3Xd& result) {
   DragSummary summary;
   for (const DragStats& stats : log.frames) {
     summary.frame_ms.push_back(stats.frame_ms);
@@ -453,16 +514,16 @@ DragSummary Summarise(const Job& job, const EditingMethod& method, const DragLog
   summary.diagonal = deformer != nullptr ? deformer->diagonal() : BoundingBoxDiagonal(job.mesh);
   // The quality measures of core/metrics.h, as the experiments compute them.
   summary.handle_rms =
-      HandleRmsError(job.mesh, method.deformed_vertices(), job.layout.moveable, job.path.back());
-  summary.leakage = VertexDisplacement(job.mesh, method.deformed_vertices(), job.watch);
+      HandleRmsError(job.mesh, result, job.layout.moveable, job.path.back());
+  summary.leakage = VertexDisplacement(job.mesh, result, job.watch);
   return summary;
 }
 
-// The deformed mesh and --nodes, staged; false with the line Fail prints.
-bool StageMeshes(const Job& job, const EditingMethod& method, StagedOutputs* staged,
-                 std::string* error) {
+// The deformed mesh (`result`) and --nodes, staged; false with the line Fail prints.
+bool StageMeshes(const Job& job, const EditingMethod& method, const Eigen::Matrix3Xd& result,
+                 StagedOutputs* staged, std::string* error) {
   Mesh deformed = job.mesh;
-  deformed.vertices = method.deformed_vertices();
+  deformed.vertices = result;
   if (!deformed.vertices.allFinite()) {
     *error = job.mesh_path + ": the deformed mesh has non-finite coordinates; no output written";
     return false;
@@ -482,9 +543,10 @@ bool StageMeshes(const Job& job, const EditingMethod& method, StagedOutputs* sta
 }
 
 // The report (--report): the run's inputs, provenance, sizes, scales,
-// classes, timings and quality.
+// classes, timings and quality, and the polish when there was one.
 bool BuildReport(const Job& job, const EditingMethod* method, const DragLog& log,
-                 const DragSummary& summary, const std::vector<std::string>& command_line,
+                 const DragSummary& summary, const PolishReport* polish,
+                 const std::vector<std::string>& command_line,
                  Clock::time_point total_start, Json* report_out, std::string* error) {
   Json& report = *report_out;
   const Deformer* deformer = method->deformer();
@@ -578,13 +640,22 @@ bool BuildReport(const Job& job, const EditingMethod* method, const DragLog& log
                      {"factorizations_total", factorizations_total},
                      {"final_cost", final_cost}};
   report["failed_frames"] = log.failed_frames;
+  if (polish != nullptr) {
+    report["polish"] = {{"energy_before", polish->energy_before},
+                        {"energy_start", polish->energy_start},
+                        {"energy_after", polish->energy_after},
+                        {"iterations", polish->iterations},
+                        {"converged", polish->converged},
+                        {"ms", polish->ms},
+                        {"setup_ms", polish->setup_ms}};
+  }
   report["output"] = job.out_path;
   return true;
 }
 
 // The lines msdeform prints on success (none with --quiet).
 void PrintSummary(const Job& job, const EditingMethod& method, const DragLog& log,
-                  const DragSummary& summary) {
+                  const DragSummary& summary, const PolishReport* polish) {
   if (FLAGS_quiet) return;
   const Deformer* deformer = method.deformer();
   const double diagonal = summary.diagonal;
@@ -613,6 +684,14 @@ void PrintSummary(const Job& job, const EditingMethod& method, const DragLog& lo
                 "most\n",
                 job.watch.size(), summary.leakage.mean / diagonal, summary.leakage.max / diagonal);
   }
+  if (polish != nullptr) {
+    std::printf("  polish: ARAP energy %.6g -> %.6g (%.4fx) in %d iterations, %.1f ms (setup "
+                "%.1f ms)%s\n",
+                polish->energy_before, polish->energy_after,
+                polish->energy_before > 0.0 ? polish->energy_after / polish->energy_before : 1.0,
+                polish->iterations, polish->ms, polish->setup_ms,
+                polish->converged ? ", converged" : "");
+  }
   std::printf("  wrote %s and %s%s\n", job.out_path.c_str(), job.report_path.c_str(),
               job.frames_dir.empty() ? "" : (" and the frames in " + job.frames_dir).c_str());
   if (!log.failed_frames.empty()) {
@@ -629,16 +708,30 @@ int Run(const std::vector<std::string>& command_line) {
   std::string error;
   Job job;
   if (!PrepareJob(&job, &error)) return Fail(error);
+  PolishOptions polish_options;
+  if (!PolishOptionsFromFlags(job.options.num_threads, &polish_options, &error)) {
+    return Fail(error);
+  }
   std::unique_ptr<EditingMethod> method;
   if (!StartMethod(job, &method, &error)) return Fail(error);
   // Every output (frames, mesh, nodes, report) is staged and committed together.
   StagedOutputs staged;
   DragLog log;
   if (!DragJob(job, method.get(), &staged, &log, &error)) return Fail(error);
-  const DragSummary summary = Summarise(job, *method, log);
-  if (!StageMeshes(job, *method, &staged, &error)) return Fail(error);
+  Eigen::Matrix3Xd result = method->deformed_vertices();
+  PolishReport polish;
+  if (FLAGS_polish) {
+    if (!PolishOnce(job.mesh, job.layout, job.path.back(), polish_options, &result, &polish,
+                    &error)) {
+      return Fail("--polish: " + error);
+    }
+  }
+  const PolishReport* polished = FLAGS_polish ? &polish : nullptr;
+  const DragSummary summary = Summarise(job, *method, log, result);
+  if (!StageMeshes(job, *method, result, &staged, &error)) return Fail(error);
   Json report;
-  if (!BuildReport(job, method.get(), log, summary, command_line, total_start, &report, &error)) {
+  if (!BuildReport(job, method.get(), log, summary, polished, command_line, total_start, &report,
+                   &error)) {
     return Fail(error);
   }
   std::string staged_path;
@@ -647,7 +740,7 @@ int Run(const std::vector<std::string>& command_line) {
     return Fail(staged.Translate(error));
   }
   if (!staged.Commit(&error)) return Fail(error);
-  PrintSummary(job, *method, log, summary);
+  PrintSummary(job, *method, log, summary, polished);
   return 0;
 }
 

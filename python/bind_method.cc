@@ -4,6 +4,7 @@
 
 #include <Python.h>
 
+#include <algorithm>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -13,6 +14,7 @@
 #include <pybind11/stl.h>
 
 #include "msdeform/core/drag_path.h"
+#include "msdeform/core/option_table.h"
 #include "msdeform/core/scenario.h"
 #include "msdeform/methods/method_option_table.h"
 #include "msdeform/methods/method_options.h"
@@ -111,6 +113,9 @@ void SetHandles(PyMethod& self, const py::object& status) {
     std::lock_guard<std::mutex> lock(self.mutex);
     self.frames.clear();
     self.failed_frames.clear();
+    self.is_polished = false;
+    self.polisher_layout_set = false;
+    self.last_transform = Eigen::Affine3d::Identity();
     ok = self.method->SetHandles(layout, &error);
     if (ok) self.layout = std::move(layout);
   }
@@ -186,11 +191,24 @@ py::array_t<double> DragThrough(const py::object& self_object, PyMethod& self,
     py::gil_scoped_release release;
     std::lock_guard<std::mutex> lock(self.mutex);
     ok = DragAlong(self.method.get(), path, options, &log, &error);
+    // The last successful frame's transform: the frames are tried in order,
+    // the failed ones (1-based) listed, and a failure without
+    // continue_after_failure ends the drag.
+    size_t successes = 0;
+    for (size_t f = 0; f < path.size() && successes < log.frames.size(); ++f) {
+      if (std::find(log.failed_frames.begin(), log.failed_frames.end(),
+                    static_cast<int>(f) + 1) != log.failed_frames.end()) {
+        continue;
+      }
+      self.last_transform = path[f];
+      ++successes;
+    }
+    if (!log.frames.empty()) self.is_polished = false;
     for (MethodStats& stats : log.frames) self.frames.push_back(std::move(stats));
     self.failed_frames = log.failed_frames;
   }
   if (!ok) ThrowRuntimeError(error);
-  return ReadOnlyView(self.method->deformed_vertices(), self_object);
+  return ReadOnlyView(self.shown(), self_object);
 }
 
 py::array_t<double> Drag(const py::object& self_object, const py::object& matrix) {
@@ -214,6 +232,97 @@ py::array_t<double> DragAlongPath(const py::object& self_object, const py::objec
     path = DragAlongPathOf(self, matrix, frames);
   }
   return DragThrough(self_object, self, path, continue_after_failure);
+}
+
+// polish(**budget): PolishOptions from the keywords (the defaults where not
+// given; the Method's threads), the polisher set up on the first call for a
+// layout, then the polish of the shown frame with the GIL released.
+py::dict Polish(const py::object& self_object, const py::kwargs& kwargs) {
+  PyMethod& self = self_object.cast<PyMethod&>();
+  PolishOptions options;
+  options.num_threads = std::max(1, self.options.num_threads);
+  const std::vector<std::string> keywords = {"max_iterations", "time_budget_ms",
+                                             "relative_tolerance", "anderson_window"};
+  for (const auto& [key, value] : kwargs) {
+    const std::string name = py::str(key);
+    const bool is_bool = py::isinstance<py::bool_>(value);
+    auto integer = [&](int* field) {
+      if (is_bool || !py::isinstance<py::int_>(value)) {
+        ThrowTypeError("polish: " + name + ": expected an integer, got " +
+                       std::string(py::repr(value)));
+      }
+      const py::int_ v = value.cast<py::int_>();
+      if (v < py::int_(0) || v > py::int_(1000000)) {
+        ThrowValueError("polish: " + name + ": expected 0..1000000, got " +
+                        std::string(py::repr(value)));
+      }
+      *field = v.cast<int>();
+    };
+    auto number = [&](double* field) {
+      if (is_bool || !(py::isinstance<py::int_>(value) || py::isinstance<py::float_>(value))) {
+        ThrowTypeError("polish: " + name + ": expected a number, got " +
+                       std::string(py::repr(value)));
+      }
+      *field = value.cast<double>();
+    };
+    if (name == "max_iterations") {
+      integer(&options.max_iterations);
+    } else if (name == "anderson_window") {
+      integer(&options.anderson_window);
+    } else if (name == "time_budget_ms") {
+      number(&options.time_budget_ms);
+    } else if (name == "relative_tolerance") {
+      number(&options.relative_tolerance);
+    } else {
+      const std::string nearest = NearestName(name, keywords);
+      ThrowTypeError("polish: unknown keyword '" + name + "'" +
+                     (nearest.empty() ? "" : " (did you mean '" + nearest + "'?)") +
+                     "; the keywords are max_iterations, time_budget_ms, relative_tolerance, "
+                     "anderson_window");
+    }
+  }
+  std::string error;
+  if (!options.Check(&error)) ThrowValueError("polish: " + error);
+  {
+    std::lock_guard<std::mutex> lock(self.mutex);
+    self.RequireHandles();
+  }
+  PolishReport report;
+  bool ok = true;
+  {
+    py::gil_scoped_release release;
+    std::lock_guard<std::mutex> lock(self.mutex);
+    double setup_ms = 0.0;
+    if (!self.polisher_layout_set) {
+      ok = self.polisher.Setup(self.rest, self.layout, options, &error);
+      setup_ms = self.polisher.setup_ms();
+      self.polisher_layout_set = ok;
+    } else {
+      const PolishOptions& current = self.polisher.options();
+      const bool refactor = options.relative_tolerance != current.relative_tolerance ||
+                            options.anderson_window != current.anderson_window ||
+                            options.num_threads != current.num_threads;
+      ok = self.polisher.SetOptions(options, &error);
+      if (refactor) setup_ms = self.polisher.setup_ms();
+    }
+    if (ok) {
+      Eigen::Matrix3Xd vertices = self.shown();
+      report = self.polisher.Polish(self.last_transform, &vertices);
+      report.setup_ms = setup_ms;
+      self.polished = std::move(vertices);
+      self.is_polished = true;
+    }
+  }
+  if (!ok) ThrowValueError("polish: " + error);
+  py::dict dict;
+  dict["energy_before"] = report.energy_before;
+  dict["energy_start"] = report.energy_start;
+  dict["energy_after"] = report.energy_after;
+  dict["iterations"] = report.iterations;
+  dict["converged"] = report.converged;
+  dict["ms"] = report.ms;
+  dict["setup_ms"] = report.setup_ms;
+  return dict;
 }
 
 // The constructor's doc: the methods' own keywords from their rows.
@@ -273,6 +382,22 @@ void BindDragging(py::class_<PyMethod>& c) {
         "Returns the same view as drag(); frame_stats gains every frame's statistics and "
         "failed_frames lists the failed ones. Raises RuntimeError with 'frame F of N: ...' on "
         "failure.");
+  c.def("polish", &Polish,
+        "polish(max_iterations=30, time_budget_ms=0, relative_tolerance=1e-7, "
+        "anderson_window=5) -> dict\n\n"
+        "Polishes the current frame with a few accelerated full_arap iterations (the mesh's "
+        "own ARAP energy, cotangent weights), the handle at the last frame's transform and "
+        "the fixed vertices at rest, exactly. The polished mesh then replaces the frame as "
+        "deformed_vertices (and what drag returned) until the next drag or set_handles; the "
+        "next drag continues from the method's own frame. time_budget_ms=0: no limit. The "
+        "first call for a layout factorises (setup_ms); a new tolerance or window "
+        "factorises again. Returns {energy_before, energy_after (core/metrics.h's normalised "
+        "ARAP energy of the frame as given and of the polished one), energy_start (with the "
+        "handle and fixed vertices moved onto their targets, where the iterations start: "
+        "higher than energy_before for a method with soft handles), iterations, converged, ms, "
+        "setup_ms}. Raises RuntimeError before "
+        "set_handles, TypeError for an unknown keyword (naming the nearest) or a wrong type, "
+        "ValueError for a value out of range (naming the keyword).");
   c.def(
       "drag_path",
       [](PyMethod& self, const py::object& matrix, const py::object& frames) {
@@ -357,7 +482,7 @@ void BindMeshAndLattice(py::class_<PyMethod>& c) {
   c.def_property_readonly(
       "deformed_vertices",
       Locked([](const py::object& o, PyMethod& s) {
-        return ReadOnlyView(s.method->deformed_vertices(), o);
+        return ReadOnlyView(s.shown(), o);
       }, false),
       "The current deformed vertices, the read-only (#V, 3) view drag() returns (the rest "
       "vertices before the first drag after set_handles).");

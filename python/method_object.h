@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "msdeform/methods/method.h"
+#include "msdeform/methods/polish.h"
 #include "python/bindings.h"
 
 namespace msdeform {
@@ -33,8 +34,22 @@ struct PyMethod {
   std::vector<MethodStats> frames;  // every successful frame since set_handles
   std::vector<int> failed_frames;   // of the last drag or drag_along, 1-based
   Eigen::Matrix3Xd normals;  // deformed_normals of a method that is not a graph
+  // The last successful frame's handle transform (identity after set_handles).
+  Eigen::Affine3d last_transform = Eigen::Affine3d::Identity();
+  // polish(): set up on the first call for a layout (polisher_layout_set);
+  // `polished` replaces the method's frame as the deformed vertices until the
+  // next drag or set_handles (`is_polished`).
+  Polisher polisher;
+  bool polisher_layout_set = false;
+  Eigen::Matrix3Xd polished;
+  bool is_polished = false;
 
   const std::string& name() const { return method->name(); }
+  // What deformed_vertices, drag and drag_along show: the polished mesh
+  // after polish(), else the method's own frame.
+  const Eigen::Matrix3Xd& shown() const {
+    return is_polished ? polished : method->deformed_vertices();
+  }
   // RuntimeError "<name>: no handle layout: call set_handles ..." unless a
   // layout is set.
   void RequireHandles() const;

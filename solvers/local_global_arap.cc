@@ -262,8 +262,9 @@ bool LocalGlobalArap::Setup(const Mesh& rest, const std::vector<int>& constraine
   return true;
 }
 
-LocalGlobalArapSummary LocalGlobalArap::Solve(const Eigen::Matrix3Xd& targets,
-                                              Eigen::Matrix3Xd* deformed) {
+LocalGlobalArapSummary LocalGlobalArap::Solve(
+    const Eigen::Matrix3Xd& targets, Eigen::Matrix3Xd* deformed,
+    const std::function<bool(int iterations, double ms)>& stop) {
   CHECK(impl_ != nullptr) << "Solve before a successful Setup";
   Impl& impl = *impl_;
   CHECK_EQ(targets.cols(), static_cast<int64_t>(impl.constrained.size()));
@@ -315,6 +316,10 @@ LocalGlobalArapSummary LocalGlobalArap::Solve(const Eigen::Matrix3Xd& targets,
   std::vector<Eigen::Matrix3d> trial_rotation = impl.rotation;
   Eigen::Matrix3Xd trial = x;
   while (summary.iterations < impl.options.max_iterations) {
+    if (stop && stop(summary.iterations, MillisecondsSince(start))) {
+      summary.stopped = true;
+      break;
+    }
     const Eigen::MatrixXd solution = impl.Global(x, impl.rotation);
     plain = Eigen::Map<const Eigen::VectorXd>(solution.data(), solution.size());
     anderson.Compute(current, plain, &next);

@@ -31,6 +31,7 @@
 #ifndef MSDEFORM_SOLVERS_LOCAL_GLOBAL_ARAP_H_
 #define MSDEFORM_SOLVERS_LOCAL_GLOBAL_ARAP_H_
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -68,6 +69,7 @@ struct LocalGlobalArapSummary {
   double final_energy = 0.0;
   bool converged = false;       // a plain step's decrease met the tolerance (not max_iterations,
                                 // not a non-finite start)
+  bool stopped = false;         // Solve's `stop` ended it before convergence
   // The energy after each iteration (entry 0: the initial energy) and the
   // milliseconds since Solve began.
   std::vector<double> energy_trace;
@@ -90,8 +92,13 @@ class LocalGlobalArap {
   // Holds constrained[j] at targets.col(j) (3 by #constrained) and minimises
   // the energy over the free vertices from *deformed (3 by #V; the warm
   // start, the result on return; columns of vertices no constraint reaches
-  // are left as they are).
-  LocalGlobalArapSummary Solve(const Eigen::Matrix3Xd& targets, Eigen::Matrix3Xd* deformed);
+  // are left as they are). `stop`, when given, is asked before each
+  // iteration with the iterations taken and the milliseconds since Solve
+  // began; true ends the solve there with the last accepted iterate (a budget
+  // or a cancellation: methods/polish.h). Without it the result is the same.
+  LocalGlobalArapSummary Solve(
+      const Eigen::Matrix3Xd& targets, Eigen::Matrix3Xd* deformed,
+      const std::function<bool(int iterations, double ms)>& stop = nullptr);
 
   // E(deformed) as above (per-vertex best rotations by the same local step,
   // without changing the solver's warm-start rotations).

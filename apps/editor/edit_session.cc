@@ -87,10 +87,120 @@ std::unique_ptr<Job> RunJob(std::unique_ptr<Job> job) {
 
 }  // namespace
 
+// One polish on the worker: the polisher set up when it is not yet, then
+// the polish of a copy of the pose.
+struct EditSession::PolishJob {
+  std::shared_ptr<Polisher> polisher;
+  std::shared_ptr<std::atomic<bool>> cancel;
+  const Mesh* mesh = nullptr;  // the session's: Open waits for the polish first
+  HandleLayout layout;
+  PolishOptions options;
+  Eigen::Affine3d transform = Eigen::Affine3d::Identity();
+  Eigen::Matrix3Xd vertices;   // the pose in, the polished mesh out
+  int geometry_version = 0;    // of the pose polished
+  PolishReport report;
+  std::string error;
+  std::function<void()> on_done;
+};
+
+namespace {
+
+// (A template, as RunJob, so the private PolishJob needs no friend.)
+template <typename PolishJob>
+std::unique_ptr<PolishJob> RunPolish(std::unique_ptr<PolishJob> job) {
+  double setup_ms = 0.0;
+  if (!job->polisher->ready()) {
+    if (!job->polisher->Setup(*job->mesh, job->layout, job->options, &job->error)) {
+      if (job->on_done) job->on_done();
+      return job;
+    }
+    setup_ms = job->polisher->setup_ms();
+  } else if (!job->polisher->SetOptions(job->options, &job->error)) {
+    if (job->on_done) job->on_done();
+    return job;
+  }
+  job->report = job->polisher->Polish(job->transform, &job->vertices, job->cancel.get());
+  job->report.setup_ms = setup_ms;
+  if (job->on_done) job->on_done();
+  return job;
+}
+
+}  // namespace
+
 EditSession::EditSession() = default;
 
 EditSession::~EditSession() {
+  if (polish_cancel_) *polish_cancel_ = true;
+  if (polish_job_.valid()) polish_job_.wait();
   if (job_.valid()) job_.wait();
+}
+
+bool EditSession::StartPolish(const PolishOptions& options) {
+  if (!ready()) return false;
+  polish_options_ = options;
+  polish_requested_ = true;
+  if (polish_job_.valid()) {
+    CancelPolish();  // the older pose's; Poll starts this one when it ends
+    polish_requested_ = true;
+    return true;
+  }
+  LaunchPolish();
+  return true;
+}
+
+void EditSession::LaunchPolish() {
+  polish_requested_ = false;
+  if (!ready()) return;
+  if (polisher_ == nullptr) polisher_ = std::make_shared<Polisher>();
+  auto job = std::make_unique<PolishJob>();
+  job->polisher = polisher_;
+  polish_cancel_ = std::make_shared<std::atomic<bool>>(false);
+  job->cancel = polish_cancel_;
+  job->mesh = &mesh_;
+  job->layout = committed_layout_;
+  job->options = polish_options_;
+  job->transform = transform_;
+  job->vertices = method_->deformed_vertices();
+  job->geometry_version = geometry_version_;
+  job->on_done = on_job_done_;
+  polish_job_ = std::async(std::launch::async, RunPolish<PolishJob>, std::move(job));
+}
+
+void EditSession::CancelPolish() {
+  polish_requested_ = false;
+  if (polish_cancel_) *polish_cancel_ = true;
+}
+
+void EditSession::DropPolisher() {
+  CancelPolish();
+  // A running polish keeps its own reference; the next release sets up anew.
+  polisher_.reset();
+  if (show_polished_) ++geometry_version_;
+  show_polished_ = false;
+  has_polish_ = false;
+}
+
+bool EditSession::TakePolish() {
+  std::unique_ptr<PolishJob> job = polish_job_.get();
+  bool changed = false;
+  if (!job->error.empty()) {
+    error_ = "polish: " + job->error;
+    error_in_path_ = false;
+  } else if (!job->report.cancelled && job->polisher == polisher_ &&
+             job->geometry_version == geometry_version_ && ready()) {
+    polished_ = std::move(job->vertices);
+    show_polished_ = true;
+    last_polish_ = job->report;
+    has_polish_ = true;
+    ++geometry_version_;
+    changed = true;
+  }
+  if (polish_requested_) LaunchPolish();
+  return changed;
+}
+
+void EditSession::WaitForPolish() {
+  while (polish_job_.valid()) TakePolish();
 }
 
 void EditSession::Open(EditInputs inputs, const DeformerOptions& options) {
@@ -101,6 +211,9 @@ void EditSession::Open(EditInputs inputs, const DeformerOptions& options) {
   inputs_.mesh = Mesh();
   rest_normals_ = VertexNormals(mesh_);
   options_ = options;
+  DropPolisher();
+  if (polish_job_.valid()) polish_job_.wait();
+  polish_job_ = {};
   method_.reset();
   configured_ = false;
   error_.clear();
@@ -193,6 +306,7 @@ void EditSession::StartJob(bool init, bool set_handles, std::vector<Eigen::Affin
   job->path = std::move(path);
   job->on_done = on_job_done_;
   if (!init) job->method = std::move(method_);
+  DropPolisher();
   method_.reset();
   configured_ = false;
   ++geometry_version_;  // the rest pose is shown while the job runs
@@ -222,8 +336,13 @@ void EditSession::TakeJob() {
 }
 
 bool EditSession::Poll() {
+  bool changed = false;
+  if (polish_job_.valid() &&
+      polish_job_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+    changed = TakePolish();
+  }
   if (!job_.valid() || job_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
-    return false;
+    return changed;
   }
   TakeJob();
   return true;
@@ -244,6 +363,9 @@ bool EditSession::Drag(const Eigen::Affine3d& deformed_from_rest, std::string* e
     *error = busy() ? "the deformer is being set up" : "no moveable handle set up";
     return false;
   }
+  CancelPolish();
+  if (show_polished_) ++geometry_version_;
+  show_polished_ = false;
   DragStats stats;
   if (!method_->Drag(deformed_from_rest, &stats, error)) {
     error_ = *error;
@@ -259,17 +381,20 @@ bool EditSession::Drag(const Eigen::Affine3d& deformed_from_rest, std::string* e
 }
 
 const Eigen::Matrix3Xd& EditSession::positions() const {
-  return ready() ? method_->deformed_vertices() : mesh_.vertices;
+  if (!ready()) return mesh_.vertices;
+  return show_polished_ ? polished_ : method_->deformed_vertices();
 }
 
 const Eigen::Matrix3Xd& EditSession::normals() const {
   if (!ready()) return rest_normals_;
-  if (const Deformer* graph = method_->deformer()) return graph->deformed_normals();
-  // A method without skinned normals: the deformed mesh's vertex normals,
-  // computed once per pose.
+  if (const Deformer* graph = method_->deformer(); graph != nullptr && !show_polished_) {
+    return graph->deformed_normals();
+  }
+  // A method without skinned normals, or the polished mesh: the deformed
+  // mesh's vertex normals, computed once per pose.
   if (method_normals_version_ != geometry_version_) {
     Mesh deformed = mesh_;
-    deformed.vertices = method_->deformed_vertices();
+    deformed.vertices = positions();
     method_normals_ = VertexNormals(deformed);
     method_normals_version_ = geometry_version_;
   }

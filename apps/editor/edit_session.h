@@ -17,6 +17,12 @@
 // merged into one follow-up job with the latest labels and options. A Drag
 // runs on the caller's thread (a few milliseconds) and only when no job runs.
 //
+// Polish on release (methods/polish.h): StartPolish polishes the pose on a
+// second worker thread (the polisher is set up there on the first release for
+// a layout, then reused); Poll swaps the polished mesh in when it is ready
+// and no Drag came in between; a Drag cancels it. The next Drag continues
+// from the method's own frame, not the polished one.
+//
 // Messages of failed jobs are the msdeform CLI's: "<mesh>: <Init error>",
 // "handles: <SetHandles error>", "<mesh>: frame F of N (the result): ...".
 
@@ -25,6 +31,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <atomic>
 #include <chrono>
 #include <functional>
 #include <future>
@@ -36,6 +43,7 @@
 #include "apps/editor/selection.h"
 #include "msdeform/methods/method.h"
 #include "msdeform/methods/method_options.h"
+#include "msdeform/methods/polish.h"
 #include "msdeform/scales/deformer.h"
 
 namespace msdeform {
@@ -160,10 +168,33 @@ class EditSession {
   // zero after a layout change.
   const DragStats& last_drag() const { return last_drag_; }
 
+  // Polishes the current pose on a worker thread (the release of a drag);
+  // a polish still running (cancelled) is waited for by Poll, which then
+  // starts this one. False (nothing started) when not ready.
+  bool StartPolish(const PolishOptions& options);
+  // Sets the running polish's cancel flag; its result will not be shown.
+  void CancelPolish();
+  // A polish runs or waits to start.
+  bool polishing() const { return polish_job_.valid() || polish_requested_; }
+  // Blocks until no polish runs, then takes the result as Poll does.
+  void WaitForPolish();
+  // The polished mesh is what positions() shows.
+  bool showing_polished() const { return show_polished_; }
+  // The last polish that finished uncancelled (shown or not), and whether
+  // there was one since the layout was set.
+  const PolishReport& last_polish() const { return last_polish_; }
+  bool has_polish() const { return has_polish_; }
+
  private:
   struct Job;
+  struct PolishJob;
   void StartJob(bool init, bool set_handles, std::vector<Eigen::Affine3d> path);
   void TakeJob();
+  // Takes a finished polish; true when positions() changed.
+  bool TakePolish();
+  void LaunchPolish();
+  // Cancels and forgets the polisher (a new mesh, layout or options).
+  void DropPolisher();
 
   EditInputs inputs_;
   Mesh mesh_;  // the rest mesh (inputs_.mesh moved here)
@@ -193,6 +224,17 @@ class EditSession {
   std::vector<LayoutTiming> layout_timings_;
   std::vector<MoveTiming> move_timings_;
   DragStats last_drag_;
+  // Polish on release: the polisher of the committed layout (shared with a
+  // running polish), the running one, and a request waiting for it to end.
+  std::shared_ptr<Polisher> polisher_;
+  std::future<std::unique_ptr<PolishJob>> polish_job_;
+  std::shared_ptr<std::atomic<bool>> polish_cancel_;
+  bool polish_requested_ = false;
+  PolishOptions polish_options_;
+  Eigen::Matrix3Xd polished_;
+  bool show_polished_ = false;
+  PolishReport last_polish_;
+  bool has_polish_ = false;
 };
 
 }  // namespace editor

@@ -278,6 +278,11 @@ void EditorApp::Run() {
 void EditorApp::MouseButton(int button, bool press, int mods) {
   if (!press) {
     if (gesture_ == Gesture::kPaint || gesture_ == Gesture::kLasso) EndStroke();
+    if (gesture_ == Gesture::kDrag && polish_on_release_) {
+      PolishOptions options = polish_options_;
+      options.num_threads = std::max(1, session_->options().num_threads);
+      session_->StartPolish(options);
+    }
     gesture_ = Gesture::kNone;
     return;
   }

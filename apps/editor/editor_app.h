@@ -148,6 +148,14 @@ class EditorApp {
   double brush_radius_ = 16.0;
   enum class Gesture { kNone, kOrbit, kPan, kPaint, kLasso, kDrag } gesture_ = Gesture::kNone;
   DragMode drag_mode_ = DragMode::kTranslate;
+  // Polish on release (methods/polish.h): off until ticked in the timings
+  // panel; a budget of 300 ms keeps the wait short on a large mesh.
+  bool polish_on_release_ = false;
+  PolishOptions polish_options_ = [] {
+    PolishOptions options;
+    options.time_budget_ms = 300.0;
+    return options;
+  }();
   Eigen::Vector2d mouse_ = Eigen::Vector2d::Zero();  // window pixels
   ScreenVertices stroke_screen_;
   std::vector<Eigen::Vector2d> lasso_points_;  // viewport pixels

@@ -407,6 +407,18 @@ void EditorApp::DrawTimingPanel() {
   Help(
       "One Deformer::Drag: the Gauss-Newton (or Ceres) solve of Eq. 17 on the free nodes, then "
       "skinning the mesh. Each mouse move of the drag tool is one.");
+  ImGui::Checkbox("polish on release", &polish_on_release_);
+  Help(
+      "After a drag, a few accelerated full_arap iterations (handle and fixed vertices exact) "
+      "on a worker thread, within 300 ms; the polished mesh replaces the frame when it is "
+      "ready, and dragging again cancels it. The first release for a layout also factorises.");
+  if (session_->polishing()) {
+    ImGui::Text("polishing...");
+  } else if (session_->has_polish()) {
+    const PolishReport& polish = session_->last_polish();
+    ImGui::Text("polish: ARAP %.4g -> %.4g, %d it, %.1f (setup %.1f)", polish.energy_before,
+                polish.energy_after, polish.iterations, polish.ms, polish.setup_ms);
+  }
   ImGui::Text("draw %.2f per frame", last_draw_ms_);
   const TimingSummary summary =
       SummarizeTimings(session_->layout_timings(), session_->move_timings(), draw_ms_);

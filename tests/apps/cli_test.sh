@@ -8,7 +8,10 @@
 #     replaced only with --overwrite, --out_frames writes every frame (the
 #     last one equal to --out);
 #   - a scenario's watch region gives leakage in the report; a scenario may
-#     name a .sel/.def pair (the same mesh as --sel/--def on the command line).
+#     name a .sel/.def pair (the same mesh as --sel/--def on the command line);
+#   - --polish writes the polished mesh, its energies in the report and one
+#     line, repeats by --rerun, and its flags' bad values are one line naming
+#     the flag (no output written); without it the report has no polish.
 #
 #   bash tests/apps/cli_test.sh <msdeform binary> <corpus folder> <data folder>
 set -euo pipefail
@@ -78,4 +81,34 @@ JSON
 "${msdeform}" --quiet --mesh="${data}/meshes/cactus.off" --sel="${data}/meshes/cactus.sel" \
   --def="${data}/meshes/cactus.def" --frames=2 --out=flags.off
 cmp -s pair.off flags.off || fail "scenario sel/def and --sel/--def differ"
+# Polish on release (methods/polish.h).
+"${msdeform}" --scenario=watch.json --polish --out=p.off > polish.txt
+grep -q '^  polish: ARAP energy .* -> .* in [0-9]* iterations' polish.txt \
+  || fail "--polish printed no polish line: $(cat polish.txt)"
+python3 - p.json a.json <<'PY' || fail "--polish report"
+import json, sys
+report = json.load(open(sys.argv[1]))
+polish = report["polish"]
+assert polish["energy_after"] <= polish["energy_start"], polish
+assert 0 < polish["iterations"] <= 30 and polish["setup_ms"] >= 0, polish
+assert report["flags"]["polish"] == "true" and report["flags"]["polish_iterations"] == "30"
+plain = json.load(open(sys.argv[2]))
+assert "polish" not in plain and not any(k.startswith("polish") for k in plain["flags"]), plain
+PY
+"${msdeform}" --quiet --rerun=p.json --out=p2.off
+cmp -s p.off p2.off || fail "--rerun of a polished run gave a different mesh"
+while IFS='|' read -r flags message; do
+  # shellcheck disable=SC2086
+  if "${msdeform}" --quiet --scenario=watch.json ${flags} --out=bad.off 2> err.txt; then
+    fail "${flags} was accepted"
+  fi
+  [[ "$(cat err.txt)" == "msdeform: ${message}" ]] || fail "${flags}: got '$(cat err.txt)'"
+  [[ ! -e bad.off ]] || fail "${flags} wrote an output"
+done <<'CASES'
+--polish --polish_iterations=-1|--polish_iterations=-1: expected an integer in 0..1000000
+--polish --polish_time_ms=-5|--polish_time_ms=-5: expected a number >= 0 (0: no limit)
+--polish --polish_tolerance=2|--polish_tolerance=2: expected a number in [0, 1]
+--polish --polish_anderson_window=51|--polish_anderson_window=51: expected an integer in 0..50
+--polish_iterations=5|--polish_iterations=5 needs --polish
+CASES
 echo "cli_test: all checks passed"

@@ -13,6 +13,7 @@
 #include "apps/editor/edit_inputs.h"
 #include "apps/editor/inline_scenario.h"
 #include "apps/editor/saved_edit.h"
+#include "msdeform/core/metrics.h"
 #include "msdeform/core/scenario.h"
 #include "msdeform/methods/registry.h"
 
@@ -145,6 +146,52 @@ TEST(EditSessionTest, LabelsBecomeALayoutAtCommit) {
   session.Wait();
   EXPECT_EQ(session.positions(), session.mesh().vertices);
   EXPECT_TRUE(session.transform().matrix().isIdentity(0.0));
+}
+
+// Polish on release (methods/polish.h): the polished mesh replaces the frame
+// when ready (lower ARAP energy, handle and fixed vertices exact), and a drag
+// cancels it (the method's own frame is shown).
+TEST(EditSessionTest, PolishReplacesTheFrameAndADragCancelsIt) {
+  EditInputs inputs;
+  std::string error;
+  ASSERT_TRUE(LoadEditInputs(CactusSelDef(), &inputs, &error)) << error;
+  EditSession session;
+  session.Open(inputs, DeformerOptions());
+  session.Wait();
+  ASSERT_TRUE(session.ready()) << session.error();
+  const Eigen::Matrix3Xd frame = session.positions();
+  const double frame_energy = NormalisedArapEnergy(ArapEnergyPerVertex(session.mesh(), frame));
+
+  PolishOptions options;
+  ASSERT_TRUE(session.StartPolish(options));
+  session.WaitForPolish();
+  ASSERT_TRUE(session.error().empty()) << session.error();
+  ASSERT_TRUE(session.showing_polished());
+  ASSERT_TRUE(session.has_polish());
+  const PolishReport& report = session.last_polish();
+  EXPECT_NEAR(report.energy_before, frame_energy, 1e-9 * frame_energy);
+  EXPECT_LT(report.energy_after, report.energy_before);
+  EXPECT_NEAR(NormalisedArapEnergy(ArapEnergyPerVertex(session.mesh(), session.positions())),
+              report.energy_after, 1e-9 * frame_energy);
+  EXPECT_GT(report.setup_ms, 0.0);  // the first release for the layout factorises
+  for (int v : session.committed_layout().moveable) {
+    EXPECT_EQ(session.positions().col(v),
+              Eigen::Vector3d(session.transform() * session.mesh().vertices.col(v)));
+  }
+  for (int v : session.committed_layout().fixed) {
+    EXPECT_EQ(session.positions().col(v), session.mesh().vertices.col(v));
+  }
+
+  // A polish, then a drag at once: the polish is cancelled (or its result
+  // dropped), the method's frame of the drag is shown.
+  ASSERT_TRUE(session.StartPolish(options));
+  ASSERT_TRUE(session.Drag(session.transform(), &error)) << error;
+  EXPECT_FALSE(session.showing_polished());
+  const Eigen::Matrix3Xd dragged = session.positions();
+  session.WaitForPolish();
+  EXPECT_FALSE(session.showing_polished());
+  EXPECT_EQ(session.positions(), dragged);
+  EXPECT_EQ(session.positions(), session.method()->deformed_vertices());
 }
 
 TEST(EditSessionTest, SavedScenarioReadsBackAsTheSameEdit) {
