@@ -457,23 +457,23 @@ bool MeasureSubspaceArap(const Mesh& mesh, const HandleLayout& layout,
   return true;
 }
 
-bool RunArapLab(const ArapLabOptions& options, std::string* error) {
-  if (!options.Check(error)) return false;
-  auto progress = [&](const std::string& line) {
-    if (options.progress) options.progress(line);
-  };
-  const auto start = Clock::now();
+namespace {
+
+// The scenario files of options.scenario_dir that options.only names (all
+// when empty), and the output folder made; false with a message naming the
+// folder otherwise.
+bool SelectScenarios(const ArapLabOptions& options, std::vector<std::string>* selected,
+                     std::string* error) {
   std::vector<std::string> files;
   if (!ListScenarioFiles(options.scenario_dir, &files, error)) return false;
-  std::vector<std::string> selected;
   for (const std::string& file : files) {
     const std::string stem = fs::path(file).stem().string();
     if (options.only.empty() ||
         std::find(options.only.begin(), options.only.end(), stem) != options.only.end()) {
-      selected.push_back(file);
+      selected->push_back(file);
     }
   }
-  if (selected.empty()) {
+  if (selected->empty()) {
     *error = options.scenario_dir + ": no scenario selected";
     return false;
   }
@@ -483,6 +483,53 @@ bool RunArapLab(const ArapLabOptions& options, std::string* error) {
     *error = options.out_dir + ": " + ec.message();
     return false;
   }
+  return true;
+}
+
+// The tables' header: provenance, then what was run and how it is read.
+std::vector<std::string> LabHeader(const ArapLabOptions& options) {
+  std::vector<std::string> header = ProvenanceLines();
+  header.push_back(
+      "settings: measured frames " + Join(options.measured_frames) + " of each drag (" +
+      (options.frames == 0 ? std::string("each scenario's frame count") :
+                             Int(options.frames) + " frames") +
+      "); full_arap: plain and Anderson " + Join(options.anderson_windows) +
+      ", tolerance 0, at most " + Int(options.max_iterations) +
+      " iterations a frame, each frame from the reference's converged previous frame; "
+      "reference Anderson " + Int(options.reference_window) + ", relative tolerance " +
+      FormatNumber(options.reference_tolerance) + ", at most " +
+      Int(options.reference_max_iterations) + " iterations, through every frame");
+  if (options.subspace) {
+    header.push_back(
+        "subspace (--energy=arap, default settings): local/global at most " +
+        Int(options.subspace_local_global_iterations) + " and Gauss-Newton at most " +
+        Int(options.subspace_gauss_newton_iterations) +
+        " iterations a frame (reference at most " + Int(options.subspace_reference_iterations) +
+        "), function and parameter tolerance " +
+        FormatNumber(kSubspaceTolerance) +
+        ", each from its own previous frame; E*: the solver lab's reference (Gauss-Newton, "
+        "tolerances 1e-14)");
+  }
+  header.push_back(
+      "iterations and ms to a relative gap (E - E*) / E* of 1e-3 and 1e-6, medians over the "
+      "measured frames ('not reached': the median frame did not reach it within the cap); "
+      "ratio_1e-6_vs_baseline: median over frames of the variant's iterations to 1e-6 over the "
+      "baseline's (plain / local_global; a baseline that does not reach it counts as the cap); "
+      "final_vs_baseline_max: largest (E_final - E_final,baseline) / E* over the frames; threads " +
+      Int(options.threads) + " a scenario, " + Int(options.jobs) + " scenario(s) at a time");
+  return header;
+}
+
+}  // namespace
+
+bool RunArapLab(const ArapLabOptions& options, std::string* error) {
+  if (!options.Check(error)) return false;
+  auto progress = [&](const std::string& line) {
+    if (options.progress) options.progress(line);
+  };
+  const auto start = Clock::now();
+  std::vector<std::string> selected;
+  if (!SelectScenarios(options, &selected, error)) return false;
 
   // One scenario's rows (full_arap's, then the subspace energy's), filled by
   // whichever job takes it.
@@ -590,35 +637,7 @@ bool RunArapLab(const ArapLabOptions& options, std::string* error) {
     rows.insert(rows.end(), scenario_rows[i].begin(), scenario_rows[i].end());
   }
 
-  std::vector<std::string> header = ProvenanceLines();
-  header.push_back(
-      "settings: measured frames " + Join(options.measured_frames) + " of each drag (" +
-      (options.frames == 0 ? std::string("each scenario's frame count") :
-                             Int(options.frames) + " frames") +
-      "); full_arap: plain and Anderson " + Join(options.anderson_windows) +
-      ", tolerance 0, at most " + Int(options.max_iterations) +
-      " iterations a frame, each frame from the reference's converged previous frame; "
-      "reference Anderson " + Int(options.reference_window) + ", relative tolerance " +
-      FormatNumber(options.reference_tolerance) + ", at most " +
-      Int(options.reference_max_iterations) + " iterations, through every frame");
-  if (options.subspace) {
-    header.push_back(
-        "subspace (--energy=arap, default settings): local/global at most " +
-        Int(options.subspace_local_global_iterations) + " and Gauss-Newton at most " +
-        Int(options.subspace_gauss_newton_iterations) +
-        " iterations a frame (reference at most " + Int(options.subspace_reference_iterations) +
-        "), function and parameter tolerance " +
-        FormatNumber(kSubspaceTolerance) +
-        ", each from its own previous frame; E*: the solver lab's reference (Gauss-Newton, "
-        "tolerances 1e-14)");
-  }
-  header.push_back(
-      "iterations and ms to a relative gap (E - E*) / E* of 1e-3 and 1e-6, medians over the "
-      "measured frames ('not reached': the median frame did not reach it within the cap); "
-      "ratio_1e-6_vs_baseline: median over frames of the variant's iterations to 1e-6 over the "
-      "baseline's (plain / local_global; a baseline that does not reach it counts as the cap); "
-      "final_vs_baseline_max: largest (E_final - E_final,baseline) / E* over the frames; threads " +
-      Int(options.threads) + " a scenario, " + Int(options.jobs) + " scenario(s) at a time");
+  const std::vector<std::string> header = LabHeader(options);
   const Table table = RowsTable(rows);
   const std::vector<std::string> targets =
       options.full_arap ? TargetLines(rows, options.anderson_windows)

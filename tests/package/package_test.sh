@@ -4,8 +4,8 @@
 #   install       msdeform installed with `cmake --install BUILD --prefix TMP`
 #                 and found with find_package(msdeform CONFIG REQUIRED);
 #   subdirectory  msdeform's source tree added with add_subdirectory (tests,
-#                 apps, experiments are OFF there; only bend_bar is built,
-#                 with the libraries it links: core to scales);
+#                 apps, experiments are OFF there; only drag_path is built,
+#                 with the one library it links, msdeform::core);
 # then runs its programs. Everything happens in a temporary folder, removed at exit.
 #
 #   bash tests/package/package_test.sh install BUILD_DIR
@@ -63,9 +63,9 @@ if [[ "${mode}" == subdirectory ]]; then
   done
 fi
 if [[ "${mode}" == subdirectory ]]; then
-  programs=(bend_bar)
+  programs=(drag_path)
 else
-  programs=(bend_bar list_methods)
+  programs=(drag_path bend_bar list_methods)
 fi
 for program in "${programs[@]}"; do
   cmake --build "${work}/build" -j2 --target "${program}" >> "${work}/build.log" \
