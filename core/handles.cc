@@ -67,6 +67,21 @@ bool CheckIds(const std::vector<int>& ids, int num_vertices, const char* what, s
 
 }  // namespace
 
+void ConstrainedVertices(const HandleLayout& layout, std::vector<int>* constrained,
+                         std::vector<char>* follows_handle) {
+  constrained->clear();
+  follows_handle->clear();
+  // Merge the two sorted, disjoint lists.
+  size_t f = 0, m = 0;
+  while (f < layout.fixed.size() || m < layout.moveable.size()) {
+    const bool take_moveable =
+        f == layout.fixed.size() ||
+        (m < layout.moveable.size() && layout.moveable[m] < layout.fixed[f]);
+    constrained->push_back(take_moveable ? layout.moveable[m++] : layout.fixed[f++]);
+    follows_handle->push_back(take_moveable ? 1 : 0);
+  }
+}
+
 bool ValidateHandles(const HandleLayout& layout, int num_vertices, std::string* error) {
   if (!CheckIds(layout.fixed, num_vertices, "fixed", error)) return false;
   if (!CheckIds(layout.moveable, num_vertices, "moveable", error)) return false;

@@ -40,6 +40,12 @@ struct HandleLayout {
 // fixed and moveable. On failure *error names the first offending vertex.
 bool ValidateHandles(const HandleLayout& layout, int num_vertices, std::string* error);
 
+// A valid layout's moveable and fixed vertices as one sorted list, and per
+// entry whether it follows the handle (1: moveable) or stays at rest (0:
+// fixed): the constrained vertices of the local/global ARAP solvers.
+void ConstrainedVertices(const HandleLayout& layout, std::vector<int>* constrained,
+                         std::vector<char>* follows_handle);
+
 // Reads a .sel file for a mesh with `num_vertices` vertices: status 0 goes to
 // `fixed`, 2 to `moveable`, 1 (free to deform) to neither. Errors (file, line
 // and problem in *error): unreadable file, a line that is not one integer,

@@ -45,23 +45,6 @@ std::vector<int> MeasuredFrames(const std::vector<int>& wanted, int num_frames) 
   return frames;
 }
 
-// The layout's constrained vertices (sorted) and, per entry, whether it
-// follows the handle (else it is fixed at rest), as methods/full_arap.cc
-// builds them.
-void ConstrainedVertices(const HandleLayout& layout, std::vector<int>* constrained,
-                         std::vector<char>* follows_handle) {
-  constrained->clear();
-  follows_handle->clear();
-  size_t f = 0, m = 0;
-  while (f < layout.fixed.size() || m < layout.moveable.size()) {
-    const bool take_moveable =
-        f == layout.fixed.size() ||
-        (m < layout.moveable.size() && layout.moveable[m] < layout.fixed[f]);
-    constrained->push_back(take_moveable ? layout.moveable[m++] : layout.fixed[f++]);
-    follows_handle->push_back(take_moveable ? 1 : 0);
-  }
-}
-
 Eigen::Matrix3Xd Targets(const Mesh& mesh, const std::vector<int>& constrained,
                          const std::vector<char>& follows_handle,
                          const Eigen::Affine3d& deformed_from_rest) {

@@ -56,17 +56,7 @@ bool FullArapMethod::DoPrecompute(const Mesh& mesh, const MethodOptions& options
 
 bool FullArapMethod::DoSetHandles(const HandleLayout& layout, std::string* error) {
   if (!ValidateHandles(layout, mesh_.num_vertices(), error)) return false;
-  constrained_.clear();
-  follows_handle_.clear();
-  // Merge the two sorted, disjoint lists.
-  size_t f = 0, m = 0;
-  while (f < layout.fixed.size() || m < layout.moveable.size()) {
-    const bool take_moveable =
-        f == layout.fixed.size() ||
-        (m < layout.moveable.size() && layout.moveable[m] < layout.fixed[f]);
-    constrained_.push_back(take_moveable ? layout.moveable[m++] : layout.fixed[f++]);
-    follows_handle_.push_back(take_moveable ? 1 : 0);
-  }
+  ConstrainedVertices(layout, &constrained_, &follows_handle_);
   deformed_ = mesh_.vertices;
   summary_ = LocalGlobalArapSummary();
   return arap_.Setup(mesh_, constrained_, options_, error);

@@ -53,17 +53,7 @@ bool Polisher::Setup(const Mesh& rest, const HandleLayout& layout, const PolishO
   ready_ = false;
   if (!options.Check(error)) return false;
   if (!ValidateHandles(layout, rest.num_vertices(), error)) return false;
-  constrained_.clear();
-  follows_handle_.clear();
-  // Merge the two sorted, disjoint lists (as full_arap does).
-  size_t f = 0, m = 0;
-  while (f < layout.fixed.size() || m < layout.moveable.size()) {
-    const bool take_moveable =
-        f == layout.fixed.size() ||
-        (m < layout.moveable.size() && layout.moveable[m] < layout.fixed[f]);
-    constrained_.push_back(take_moveable ? layout.moveable[m++] : layout.fixed[f++]);
-    follows_handle_.push_back(take_moveable ? 1 : 0);
-  }
+  ConstrainedVertices(layout, &constrained_, &follows_handle_);
   rest_ = rest;
   options_ = options;
   if (!arap_.Setup(rest_, constrained_, SolverOptions(options_), error)) return false;

@@ -179,5 +179,18 @@ INSTANTIATE_TEST_SUITE_P(
         BadDef{"empty", "# only a comment\n", "has 0 numbers"}),
     [](const testing::TestParamInfo<BadDef>& info) { return std::string(info.param.name); });
 
+// The two sorted lists merged by vertex id, each entry marked moveable (1)
+// or fixed (0); hand-merged answer.
+TEST(HandlesTest, ConstrainedVerticesMergesMoveableAndFixedInOrder) {
+  HandleLayout layout;
+  layout.moveable = {2, 5, 9};
+  layout.fixed = {0, 3, 4, 10};
+  std::vector<int> constrained = {7};  // replaced, not appended to
+  std::vector<char> follows_handle;
+  ConstrainedVertices(layout, &constrained, &follows_handle);
+  EXPECT_EQ(constrained, (std::vector<int>{0, 2, 3, 4, 5, 9, 10}));
+  EXPECT_EQ(follows_handle, (std::vector<char>{0, 1, 0, 0, 1, 1, 0}));
+}
+
 }  // namespace
 }  // namespace msdeform

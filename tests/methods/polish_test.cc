@@ -161,22 +161,26 @@ TEST(PolishTest, CancelLeavesTheMeshAsGiven) {
   EXPECT_LT(polished.energy_after, polished.energy_before);
 }
 
-TEST(PolishTest, TimeBudgetStopsEarly) {
+// A budget shorter than the solve's own set-up (1 ns) refuses the first
+// iteration: the mesh comes back at the start (constraints on their targets),
+// not converged. (A budget of some milliseconds would make the answer depend
+// on the machine's speed: a small bar can converge within it.)
+TEST(PolishTest, TimeBudgetStopsBeforeAnIterationThatWouldOverrunIt) {
   const BarEdit bar(12, 4);
   const Eigen::Affine3d bend = Bend(12.0);
   const Eigen::Matrix3Xd multiscale = DragMethod("multiscale", bar, bend, 2);
   PolishOptions options;
   options.max_iterations = 1000000;
   options.relative_tolerance = 0.0;  // only the budgets stop it
-  options.time_budget_ms = 20.0;
+  options.time_budget_ms = 1e-6;
   Eigen::Matrix3Xd vertices = multiscale;
   PolishReport report;
   std::string error;
   ASSERT_TRUE(PolishOnce(bar.mesh, bar.layout, bend, options, &vertices, &report, &error))
       << error;
   EXPECT_FALSE(report.converged);
-  EXPECT_GT(report.iterations, 0);
-  EXPECT_LT(report.ms, 1000.0);  // 20 ms and one iteration of a small bar, with slack
+  EXPECT_EQ(report.iterations, 0);
+  EXPECT_EQ(report.energy_after, report.energy_start);
 }
 
 TEST(PolishTest, BadOptionsAndLayoutsAreRefused) {
