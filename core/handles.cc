@@ -82,6 +82,19 @@ void ConstrainedVertices(const HandleLayout& layout, std::vector<int>* constrain
   }
 }
 
+Eigen::Matrix3Xd ConstrainedTargets(const Eigen::Matrix3Xd& rest,
+                                    const std::vector<int>& constrained,
+                                    const std::vector<char>& follows_handle,
+                                    const Eigen::Affine3d& deformed_from_rest) {
+  Eigen::Matrix3Xd targets(3, constrained.size());
+  for (size_t j = 0; j < constrained.size(); ++j) {
+    const Eigen::Vector3d at_rest = rest.col(constrained[j]);
+    targets.col(j) =
+        follows_handle[j] ? Eigen::Vector3d(deformed_from_rest * at_rest) : at_rest;
+  }
+  return targets;
+}
+
 bool ValidateHandles(const HandleLayout& layout, int num_vertices, std::string* error) {
   if (!CheckIds(layout.fixed, num_vertices, "fixed", error)) return false;
   if (!CheckIds(layout.moveable, num_vertices, "moveable", error)) return false;

@@ -46,6 +46,14 @@ bool ValidateHandles(const HandleLayout& layout, int num_vertices, std::string* 
 void ConstrainedVertices(const HandleLayout& layout, std::vector<int>* constrained,
                          std::vector<char>* follows_handle);
 
+// Where ConstrainedVertices' vertices go in a frame (3 by #constrained):
+// deformed_from_rest * rest for those that follow the handle, rest for the
+// fixed ones; `rest` holds every vertex's rest position.
+Eigen::Matrix3Xd ConstrainedTargets(const Eigen::Matrix3Xd& rest,
+                                    const std::vector<int>& constrained,
+                                    const std::vector<char>& follows_handle,
+                                    const Eigen::Affine3d& deformed_from_rest);
+
 // Reads a .sel file for a mesh with `num_vertices` vertices: status 0 goes to
 // `fixed`, 2 to `moveable`, 1 (free to deform) to neither. Errors (file, line
 // and problem in *error): unreadable file, a line that is not one integer,

@@ -45,17 +45,6 @@ std::vector<int> MeasuredFrames(const std::vector<int>& wanted, int num_frames) 
   return frames;
 }
 
-Eigen::Matrix3Xd Targets(const Mesh& mesh, const std::vector<int>& constrained,
-                         const std::vector<char>& follows_handle,
-                         const Eigen::Affine3d& deformed_from_rest) {
-  Eigen::Matrix3Xd targets(3, constrained.size());
-  for (size_t j = 0; j < constrained.size(); ++j) {
-    const Eigen::Vector3d rest = mesh.vertices.col(constrained[j]);
-    targets.col(j) = follows_handle[j] ? Eigen::Vector3d(deformed_from_rest * rest) : rest;
-  }
-  return targets;
-}
-
 // Fills the gap fields of `frame` from a trace (energies, milliseconds).
 void ReadGaps(const std::vector<double>& energy, const std::vector<double>& ms,
               ArapLabFrame* frame) {
@@ -318,7 +307,7 @@ bool MeasureFullArap(const Mesh& mesh, const HandleLayout& layout,
   for (int f = 1; f <= measured.back(); ++f) {
     if (std::binary_search(measured.begin(), measured.end(), f)) start[f] = deformed;
     const LocalGlobalArapSummary summary = reference.Solve(
-        Targets(mesh, constrained, follows_handle, path[f - 1]), &deformed);
+        ConstrainedTargets(mesh.vertices, constrained, follows_handle, path[f - 1]), &deformed);
     if (!std::isfinite(summary.final_energy)) {
       *error = "the reference's energy at frame " + std::to_string(f) + " is not finite";
       return false;
@@ -339,8 +328,8 @@ bool MeasureFullArap(const Mesh& mesh, const HandleLayout& layout,
     const std::string name = window == 0 ? "plain" : "anderson_" + std::to_string(window);
     for (int f : measured) {
       Eigen::Matrix3Xd x = start[f];
-      const LocalGlobalArapSummary summary =
-          arap.Solve(Targets(mesh, constrained, follows_handle, path[f - 1]), &x);
+      const LocalGlobalArapSummary summary = arap.Solve(
+          ConstrainedTargets(mesh.vertices, constrained, follows_handle, path[f - 1]), &x);
       ArapLabFrame frame;
       frame.variant = name;
       frame.frame = f;

@@ -68,21 +68,12 @@ bool ParseInts(const std::string& flag, const std::string& list, std::vector<int
   return true;
 }
 
-std::vector<std::string> SplitNames(const std::string& list) {
-  std::vector<std::string> names;
-  std::stringstream stream(list);
-  std::string name;
-  while (std::getline(stream, name, ','))
-    if (!name.empty()) names.push_back(name);
-  return names;
-}
-
 bool FillOptions(msdeform::ArapLabOptions* options, std::string* error) {
   options->scenario_dir = FLAGS_scenarios.empty()
                               ? msdeform::SourceTreePath("experiments/scenarios")
                               : FLAGS_scenarios;
   options->out_dir = FLAGS_out_dir;
-  options->only = SplitNames(FLAGS_only);
+  options->only = msdeform::SplitList(FLAGS_only);
   options->frames = FLAGS_frames;
   if (!ParseInts("measured_frames", FLAGS_measured_frames, &options->measured_frames, error) ||
       !ParseInts("anderson_windows", FLAGS_anderson_windows, &options->anderson_windows,

@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -95,15 +94,6 @@ DEFINE_bool(time_other_backend, true,
 namespace msdeform {
 namespace {
 
-std::vector<std::string> SplitNames(const std::string& list) {
-  std::vector<std::string> names;
-  std::stringstream stream(list);
-  std::string name;
-  while (std::getline(stream, name, ','))
-    if (!name.empty()) names.push_back(name);
-  return names;
-}
-
 void PrintLine(const std::string& line) {
   std::printf("%s\n", line.c_str());
   std::fflush(stdout);
@@ -122,7 +112,7 @@ bool CheckNoEnergyFlag(const std::string& instead, std::string* error) {
 
 bool ParseEnergies(const std::string& list, std::vector<Energy>* energies, std::string* error) {
   energies->clear();
-  for (const std::string& name : SplitNames(list)) {
+  for (const std::string& name : SplitList(list)) {
     Energy energy;
     if (!EnergyNames().Parse(name, &energy)) {
       *error = "--energies: unknown energy '" + name + "' (expected " +
@@ -154,8 +144,8 @@ bool FillOptions(RunnerOptions* options, std::string* error) {
   options->out_dir = FLAGS_out_dir;
   options->quick = FLAGS_quick;
   options->frames = FLAGS_frames;
-  options->only = SplitNames(FLAGS_only);
-  options->methods = SplitNames(FLAGS_methods);
+  options->only = SplitList(FLAGS_only);
+  options->methods = SplitList(FLAGS_methods);
   options->time_other_backend = FLAGS_time_other_backend;
   // The Deformer's flags (--method names a graph method), then the methods'
   // own (--cgal_iterations, --fastlsm_steps, ...).
@@ -199,8 +189,8 @@ bool FillLabOptions(SolverLabOptions* options, std::string* error) {
   options->quick = FLAGS_quick;
   options->frames = FLAGS_frames;
   options->large_meshes = FLAGS_large_meshes;
-  options->only = SplitNames(FLAGS_only);
-  options->variants = SplitNames(FLAGS_variants);
+  options->only = SplitList(FLAGS_only);
+  options->variants = SplitList(FLAGS_variants);
   if (!DeformerOptionsFromFlags(&options->deformer, error)) return false;
   options->threads = options->deformer.num_threads;
   options->progress = PrintLine;

@@ -69,12 +69,9 @@ bool FullArapMethod::DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodSta
     *error = "the handle transform is not finite";
     return false;
   }
-  Eigen::Matrix3Xd targets(3, constrained_.size());
-  for (size_t j = 0; j < constrained_.size(); ++j) {
-    const Eigen::Vector3d rest = mesh_.vertices.col(constrained_[j]);
-    targets.col(j) = follows_handle_[j] ? Eigen::Vector3d(deformed_from_rest * rest) : rest;
-  }
-  summary_ = arap_.Solve(targets, &deformed_);
+  summary_ = arap_.Solve(
+      ConstrainedTargets(mesh_.vertices, constrained_, follows_handle_, deformed_from_rest),
+      &deformed_);
   *stats = MethodStats();
   stats->solve_ms = MillisecondsSince(frame_start);
   stats->iterations = summary_.iterations;

@@ -80,12 +80,7 @@ bool Polisher::SetOptions(const PolishOptions& options, std::string* error) {
 }
 
 Eigen::Matrix3Xd Polisher::Targets(const Eigen::Affine3d& deformed_from_rest) const {
-  Eigen::Matrix3Xd targets(3, constrained_.size());
-  for (size_t j = 0; j < constrained_.size(); ++j) {
-    const Eigen::Vector3d rest = rest_.vertices.col(constrained_[j]);
-    targets.col(j) = follows_handle_[j] ? Eigen::Vector3d(deformed_from_rest * rest) : rest;
-  }
-  return targets;
+  return ConstrainedTargets(rest_.vertices, constrained_, follows_handle_, deformed_from_rest);
 }
 
 PolishReport Polisher::Polish(const Eigen::Affine3d& deformed_from_rest,

@@ -1,6 +1,7 @@
 #include "apps/flags/program.h"
 
 #include <iostream>
+#include <sstream>
 
 #include <gflags/gflags.h>
 #include <glog/logging.h>
@@ -46,6 +47,15 @@ int RunProgram(const ProgramInfo& info,
   g_info = &info;
   g_body = body;
   return RunReportingOutOfMemory(info.name.c_str(), Main, argc, argv);
+}
+
+std::vector<std::string> SplitList(const std::string& list) {
+  std::vector<std::string> names;
+  std::stringstream stream(list);
+  std::string name;
+  while (std::getline(stream, name, ','))
+    if (!name.empty()) names.push_back(name);
+  return names;
 }
 
 }  // namespace msdeform

@@ -40,6 +40,9 @@ int RunProgram(const ProgramInfo& info,
                int (*body)(const std::vector<std::string>& command_line), int argc,
                char** argv);
 
+// A list flag's names: "a,b,,c" -> {"a", "b", "c"} (empty items dropped).
+std::vector<std::string> SplitList(const std::string& list);
+
 }  // namespace msdeform
 
 #endif  // MSDEFORM_APPS_FLAGS_PROGRAM_H_
