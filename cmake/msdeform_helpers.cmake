@@ -28,9 +28,15 @@ function(msdeform_library target export_name)
   set_property(TARGET ${target} PROPERTY MSDEFORM_FOLDER ${folder})
 endfunction()
 
+# The folders whose tests are the libraries' own (label "library"): the
+# sanitizer pass of scripts/run_tests.sh builds and runs only these
+# (target msdeform_library_tests; docs/decisions/robustness.md).
+set(MSDEFORM_LIBRARY_TEST_FOLDERS core energies solvers scales methods fuzz examples docs)
+
 # msdeform_test(<folder>/<name>_test) adds tests/<folder>/<name>_test.cc as one
 # executable and one ctest named "<folder>/<name>_test", linked with the shared
-# test main and the given libraries.
+# test main and the given libraries; labelled "library" when its folder is one
+# of MSDEFORM_LIBRARY_TEST_FOLDERS.
 function(msdeform_test name)
   cmake_parse_arguments(ARG "" "" "LIBS" ${ARGN})
   string(REPLACE "/" "_" target "${name}")
@@ -38,6 +44,11 @@ function(msdeform_test name)
   target_link_libraries(${target} PRIVATE msdeform_test_main ${ARG_LIBS})
   add_test(NAME ${name} COMMAND ${target}
            WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  string(REGEX MATCH "^[^/]+" folder "${name}")
+  if(folder IN_LIST MSDEFORM_LIBRARY_TEST_FOLDERS)
+    set_property(TEST ${name} APPEND PROPERTY LABELS library)
+    set_property(GLOBAL APPEND PROPERTY MSDEFORM_LIBRARY_TEST_TARGETS ${target})
+  endif()
 endfunction()
 
 # msdeform_tests(<folder> LIBS <library>... [LABELS <label>...]) adds every
@@ -55,7 +66,7 @@ function(msdeform_tests folder)
       msdeform_test(${folder}/${name} LIBS ${ARG_LIBS})
     endif()
     if(ARG_LABELS)
-      set_tests_properties(${folder}/${name} PROPERTIES LABELS "${ARG_LABELS}")
+      set_property(TEST ${folder}/${name} APPEND PROPERTY LABELS ${ARG_LABELS})
     endif()
   endforeach()
 endfunction()
