@@ -344,6 +344,28 @@ bool MeasureFullArap(const Mesh& mesh, const HandleLayout& layout,
   return true;
 }
 
+// The subspace energy's variants: local/global plain and with each Anderson
+// window of the options, and Gauss-Newton; each with its solver-lab variant
+// (experiments/solver_lab.h) and its iteration cap.
+struct SubspaceVariant {
+  std::string name;
+  std::string solver_lab_name;
+  int anderson_window;
+  int cap;
+};
+
+std::vector<SubspaceVariant> SubspaceVariants(const ArapLabOptions& options) {
+  std::vector<SubspaceVariant> variants = {
+      {"local_global", "arap_local_global", 0, options.subspace_local_global_iterations}};
+  for (int w : options.anderson_windows) {
+    variants.push_back({"local_global_anderson_" + std::to_string(w), "arap_local_global", w,
+                        options.subspace_local_global_iterations});
+  }
+  variants.push_back(
+      {"gauss_newton", "arap_gauss_newton", 0, options.subspace_gauss_newton_iterations});
+  return variants;
+}
+
 bool MeasureSubspaceArap(const Mesh& mesh, const HandleLayout& layout,
                          const std::vector<Eigen::Affine3d>& path, const ArapLabOptions& options,
                          std::vector<ArapLabFrame>* frames, std::string* error) {
@@ -387,19 +409,17 @@ bool MeasureSubspaceArap(const Mesh& mesh, const HandleLayout& layout,
     return false;
   }
   const std::vector<SolverVariant> all = SolverVariants();
-  const std::pair<const char*, const char*> variants[] = {{"local_global", "arap_local_global"},
-                                                          {"gauss_newton", "arap_gauss_newton"}};
-  for (const auto& [name, lab_name] : variants) {
+  for (const SubspaceVariant& subspace_variant : SubspaceVariants(options)) {
+    const std::string& lab_name = subspace_variant.solver_lab_name;
     const auto found = std::find_if(all.begin(), all.end(),
                                     [&](const SolverVariant& v) { return v.name == lab_name; });
     CHECK(found != all.end()) << lab_name;
-    const int cap = std::string(name) == "local_global" ? options.subspace_local_global_iterations
-                                                        : options.subspace_gauss_newton_iterations;
-    DeformerOptions run_options = VariantOptions(base, *found, cap);
+    DeformerOptions run_options = VariantOptions(base, *found, subspace_variant.cap);
+    run_options.arap.anderson_window = subspace_variant.anderson_window;
     run_options.stopping.function_tolerance = kSubspaceTolerance;
     run_options.stopping.parameter_tolerance = kSubspaceTolerance;
     run_options.stopping.gradient_tolerance = 0.0;
-    const std::string variant = name;
+    const std::string variant = subspace_variant.name;
     if (!drag(run_options, [&](int f, const DragStats& stats, double energy) {
           if (!std::binary_search(measured.begin(), measured.end(), f)) return;
           ArapLabFrame frame;
@@ -473,7 +493,8 @@ std::vector<std::string> LabHeader(const ArapLabOptions& options) {
       Int(options.reference_max_iterations) + " iterations, through every frame");
   if (options.subspace) {
     header.push_back(
-        "subspace (--energy=arap, default settings): local/global at most " +
+        "subspace (--energy=arap, default settings): local/global, plain and Anderson " +
+        Join(options.anderson_windows) + " (arap.anderson_window), at most " +
         Int(options.subspace_local_global_iterations) + " and Gauss-Newton at most " +
         Int(options.subspace_gauss_newton_iterations) +
         " iterations a frame (reference at most " + Int(options.subspace_reference_iterations) +
@@ -565,9 +586,9 @@ bool RunArapLab(const ArapLabOptions& options, std::string* error) {
         *error = scenario.name + " / subspace: " + *error;
         return false;
       }
-      add_rows("subspace", frames,
-               {{"local_global", options.subspace_local_global_iterations},
-                {"gauss_newton", options.subspace_gauss_newton_iterations}});
+      std::map<std::string, int> caps;
+      for (const SubspaceVariant& v : SubspaceVariants(options)) caps[v.name] = v.cap;
+      add_rows("subspace", frames, caps);
       subspace_seconds = MillisecondsSince(subspace_start) / 1000.0;
     }
     std::string lines = scenario.name + " (" + Int(scenario.mesh.num_vertices()) +

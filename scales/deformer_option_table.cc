@@ -228,6 +228,10 @@ const OptionTable<ArapOptions>& ArapOptionTable() {
            "The subspace ARAP energy's solver under backend=gauss_newton: local_global "
            "(rotations fitted, then the nodes solved) or gauss_newton (nodes and cluster "
            "rotations jointly, the rotations eliminated per cluster).");
+    t.Int("anderson_window", &A::anderson_window,
+          "solver=local_global: Anderson acceleration's window (past iterates combined, "
+          "with the energy safeguard); 0 runs plain local/global.")
+        .Range(0, 50, "an integer in 0..50");
   });
   return table;
 }
@@ -325,6 +329,7 @@ const OptionTable<DeformerOptions>& DeformerOptionTable() {
         {"arap.soft_weight", "arap_soft_weight", "method"},
         {"arap.kmeans_iterations", "arap_kmeans_iterations", "method"},
         {"arap.solver", "arap_solver", "solver"},
+        {"arap.anderson_window", "arap_anderson_window", "solver"},
         {"rigidity.model", "rigidity", "rigidity"},
         {"rigidity.external_stiffness", "rigidity_stiffness", "rigidity"},
         {"rigidity.damping", "rigidity_damping", "rigidity"},

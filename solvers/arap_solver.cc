@@ -2,8 +2,11 @@
 
 #include <chrono>
 #include <cmath>
+#include <memory>
+#include <utility>
 
 #include "msdeform/core/timing.h"
+#include "msdeform/solvers/anderson_acceleration.h"
 #include "msdeform/solvers/subspace_arap_terms.h"
 
 namespace msdeform {
@@ -66,6 +69,12 @@ SolveSummary ArapLocalGlobalSolver::Solve(const Eigen::Affine3d& handle,
   // handle and free region is then one step from its optimum).
   bool first_step_with_previous = previous_rotations_.size() == rotations.size() &&
                                   stopping_.max_iterations > 0 && v.rows() > 0;
+  std::unique_ptr<AndersonAcceleration> anderson;
+  if (anderson_window_ > 0 && v.rows() > 0) {
+    anderson = std::make_unique<AndersonAcceleration>(static_cast<int>(v.size()), anderson_window_);
+  }
+  SubspaceArap::Slots accelerated_next;
+  double trial_energy = 0.0;
   for (int iteration = 0; iteration < stopping_.max_iterations && v.rows() > 0; ++iteration) {
     if (first_step_with_previous) {
       first_step_with_previous = false;
@@ -91,12 +100,24 @@ SolveSummary ArapLocalGlobalSolver::Solve(const Eigen::Affine3d& handle,
     rhs += damping_.asDiagonal() * v;
     next = factorization_.solve(rhs);
     ++summary.iterations;
-    const double step = (next - v).norm();
+    // Anderson's step from the plain one, G(v) = next; kept where the energy
+    // falls below the last iterate's, else the plain step (the safeguard).
+    bool accelerated = false;
+    if (anderson != nullptr) {
+      accelerated = Accelerate(v, next, energy, anderson.get(), &accelerated_next, &u,
+                               &rotations, &trial_energy);
+    }
+    const SubspaceArap::Slots& step_to = accelerated ? accelerated_next : next;
+    const double step = (step_to - v).norm();
     const double size = v.norm();
-    v = next;
-    arap_->SetVariables(v, &u);
+    v = step_to;
     const double previous = energy;
-    energy = arap_->EnergyFromTrace(u, arap_->FitRotations(u, &rotations));
+    if (accelerated) {
+      energy = trial_energy;  // u and rotations are the accelerated iterate's
+    } else {
+      arap_->SetVariables(v, &u);
+      energy = arap_->EnergyFromTrace(u, arap_->FitRotations(u, &rotations));
+    }
     summary.trace.push_back({MillisecondsSince(start), energy});
     if (!std::isfinite(energy)) {
       summary.failed = true;
@@ -104,15 +125,24 @@ SolveSummary ArapLocalGlobalSolver::Solve(const Eigen::Affine3d& handle,
       break;
     }
     // Each step minimises exactly, so a rise is rounding: no evidence of
-    // convergence (the parameter test decides).
+    // convergence (the parameter test decides). Only a plain step's small
+    // change says the iteration has converged: an extrapolation can land
+    // close to the last iterate while the plain step would still go far.
     const double decrease = previous - energy;
-    if (energy > noise_floor_ && decrease >= 0.0 &&
-        decrease <= stopping_.function_tolerance * previous) {
+    const bool small_decrease = energy > noise_floor_ && decrease >= 0.0 &&
+                                decrease <= stopping_.function_tolerance * previous;
+    const bool small_step =
+        step <= stopping_.parameter_tolerance * (size + stopping_.parameter_tolerance);
+    if (accelerated) {
+      if (small_decrease || small_step) anderson->Reset();
+      continue;
+    }
+    if (small_decrease) {
       summary.converged = true;
       summary.message = "function tolerance";
       break;
     }
-    if (step <= stopping_.parameter_tolerance * (size + stopping_.parameter_tolerance)) {
+    if (small_step) {
       summary.converged = true;
       summary.message = "parameter tolerance";
       break;
@@ -125,6 +155,33 @@ SolveSummary ArapLocalGlobalSolver::Solve(const Eigen::Affine3d& handle,
     previous_rotations_ = std::move(rotations);
   }
   return summary;
+}
+
+bool ArapLocalGlobalSolver::Accelerate(const SubspaceArap::Slots& v,
+                                       const SubspaceArap::Slots& plain, double energy,
+                                       AndersonAcceleration* anderson, SubspaceArap::Slots* next,
+                                       SubspaceArap::Slots* u, SubspaceArap::Rotations* rotations,
+                                       double* next_energy) const {
+  const int64_t n = v.size();
+  Eigen::VectorXd accelerated;
+  anderson->Compute(Eigen::Map<const Eigen::VectorXd>(v.data(), n),
+                    Eigen::Map<const Eigen::VectorXd>(plain.data(), n), &accelerated);
+  if (anderson->history() == 0) return false;  // nothing to combine yet: the plain step
+  next->resize(v.rows(), 3);
+  Eigen::Map<Eigen::VectorXd>(next->data(), n) = accelerated;
+  SubspaceArap::Slots trial_u = *u;
+  arap_->SetVariables(*next, &trial_u);
+  SubspaceArap::Rotations trial_rotations;
+  const double trial =
+      arap_->EnergyFromTrace(trial_u, arap_->FitRotations(trial_u, &trial_rotations));
+  if (!(trial < energy)) {  // the safeguard (non-finite included)
+    anderson->Reset();
+    return false;
+  }
+  *u = std::move(trial_u);
+  *rotations = std::move(trial_rotations);
+  *next_energy = trial;
+  return true;
 }
 
 double ArapLocalGlobalSolver::Cost(const Eigen::Affine3d& handle,

@@ -65,6 +65,7 @@
 
 #include <Eigen/SparseCholesky>
 
+#include "msdeform/solvers/anderson_acceleration.h"
 #include "msdeform/solvers/damped_gauss_newton.h"
 #include "msdeform/solvers/frame_solver.h"
 #include "msdeform/solvers/gauss_newton_linear_solver.h"
@@ -84,7 +85,9 @@ double ArapDampingFloor(const Eigen::VectorXd& diagonal);
 
 class ArapLocalGlobalSolver : public FrameSolver {
  public:
-  explicit ArapLocalGlobalSolver(const StoppingRule& stopping) : stopping_(stopping) {}
+  // `anderson_window` > 0 accelerates the iteration (ArapOptions::anderson_window).
+  explicit ArapLocalGlobalSolver(const StoppingRule& stopping, int anderson_window = 0)
+      : stopping_(stopping), anderson_window_(anderson_window) {}
 
   // `energy` must hold a subspace ARAP energy (solvers/subspace_arap_terms.h)
   // and no other terms.
@@ -95,7 +98,18 @@ class ArapLocalGlobalSolver : public FrameSolver {
   int num_variables() const override { return arap_ ? arap_->num_variables() : 0; }
 
  private:
+  // Anderson's step from the variables v and the plain step's `plain`: when
+  // the history has differences to combine and the accelerated iterate's
+  // energy is below `energy`, writes that iterate to *next, its slots to *u,
+  // its rotations and energy, and returns true. Else returns false (the
+  // history reset after a refused step) and leaves u and rotations as given.
+  bool Accelerate(const SubspaceArap::Slots& v, const SubspaceArap::Slots& plain, double energy,
+                  AndersonAcceleration* anderson, SubspaceArap::Slots* next,
+                  SubspaceArap::Slots* u, SubspaceArap::Rotations* rotations,
+                  double* next_energy) const;
+
   StoppingRule stopping_;
+  int anderson_window_ = 0;
   std::shared_ptr<const SubspaceArap> arap_;
   double noise_floor_ = 0.0;
   Eigen::VectorXd damping_;  // D's diagonal
@@ -135,6 +149,7 @@ class ArapGaussNewtonSolver : public FrameSolver {
 
   GaussNewtonOptions options_;
   StoppingRule stopping_;
+  int anderson_window_ = 0;
   std::shared_ptr<const SubspaceArap> arap_;
   double noise_floor_ = 0.0;
   // 3 nv by 3 nv, variable (slot p, coordinate d) at 3 p + d; full symmetric.
@@ -155,11 +170,12 @@ class ArapGaussNewtonSolver : public FrameSolver {
   DampedGaussNewtonState state_;
 };
 
-// The solver of arap.solver: ArapLocalGlobalSolver or ArapGaussNewtonSolver
-// (with `gauss_newton`'s linear solver, damping and factorisation rule).
+// The solver of arap.solver: ArapLocalGlobalSolver (with arap.anderson_window)
+// or ArapGaussNewtonSolver (with `gauss_newton`'s linear solver, damping and
+// factorisation rule).
 std::unique_ptr<FrameSolver> MakeArapSolver(
     ArapSolver solver, const StoppingRule& stopping,
-    const GaussNewtonOptions& gauss_newton = GaussNewtonOptions());
+    const GaussNewtonOptions& gauss_newton = GaussNewtonOptions(), int anderson_window = 0);
 
 }  // namespace msdeform
 

@@ -312,10 +312,11 @@ double ArapGaussNewtonSolver::Cost(const Eigen::Affine3d& handle,
 }
 
 std::unique_ptr<FrameSolver> MakeArapSolver(ArapSolver solver, const StoppingRule& stopping,
-                                            const GaussNewtonOptions& gauss_newton) {
+                                            const GaussNewtonOptions& gauss_newton,
+                                            int anderson_window) {
   if (solver == ArapSolver::kGaussNewton)
     return std::make_unique<ArapGaussNewtonSolver>(gauss_newton, stopping);
-  return std::make_unique<ArapLocalGlobalSolver>(stopping);
+  return std::make_unique<ArapLocalGlobalSolver>(stopping, anderson_window);
 }
 
 }  // namespace msdeform

@@ -44,6 +44,10 @@ bool ArapOptions::Check(std::string* error) const {
     *error = "arap.soft_weight must be a finite weight > 0";
     return false;
   }
+  if (anderson_window < 0 || anderson_window > 50) {
+    *error = "arap.anderson_window must be an integer in 0..50";
+    return false;
+  }
   return true;
 }
 

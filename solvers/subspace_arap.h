@@ -82,6 +82,10 @@ struct ArapOptions {
   double soft_weight = 1000.0;
   // The solver of --backend=gauss_newton (Ceres runs its own).
   ArapSolver solver = ArapSolver::kLocalGlobal;
+  // solver=local_global: Anderson acceleration's window (solvers/
+  // anderson_acceleration.h, with the energy safeguard), the number of past
+  // iterates combined; 0 runs the plain local/global iteration.
+  int anderson_window = 0;
 
   bool Check(std::string* error) const;  // messages name the field
 };

@@ -38,7 +38,8 @@ double SubspaceArapTerms::Cost(const NodeTransforms& transforms,
 
 std::unique_ptr<FrameSolver> SubspaceArapTerms::MakeSolver(
     const FrameSolverOptions& options) const {
-  return MakeArapSolver(arap_->options().solver, options.stopping, options.gauss_newton);
+  return MakeArapSolver(arap_->options().solver, options.stopping, options.gauss_newton,
+                        arap_->options().anderson_window);
 }
 
 std::unique_ptr<CeresFamilyBlocks> SubspaceArapTerms::AddToCeresProblem(

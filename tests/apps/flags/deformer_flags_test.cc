@@ -120,6 +120,7 @@ TEST(DeformerOptionTableTest, DescribeOfTheDefaultsIsUnchanged) {
       {"arap.constraints", "exact"},
       {"arap.soft_weight", "1000"},
       {"arap.solver", "local_global"},
+      {"arap.anderson_window", "0"},
       {"w_rot", "1"},
       {"w_coh", "10"},
       {"w_con", "100"},
