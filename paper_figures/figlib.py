@@ -350,8 +350,8 @@ def render_panels(panels, path, panel_size=(520, 600), title=None, columns=None)
 
 def shrink_png(path, limit_kb=200):
     """Re-encodes a PNG with an adaptive palette when it is larger than limit_kb,
-    so committed figures stay small: 256 colours, fewer (192, 128) only while
-    the file is still over 205 KiB. libimagequant (in Debian's Pillow) keeps smooth
+    so committed figures stay small: 256 colours, fewer (192, 128, 96) only while
+    the file is still over 205 KiB (Fig. 6 with its translucent rest poses needs 96). libimagequant (in Debian's Pillow) keeps smooth
     shading and colour maps free of banding."""
     if os.path.getsize(path) <= limit_kb * 1024:
         return
@@ -359,7 +359,7 @@ def shrink_png(path, limit_kb=200):
     method = (Image.Quantize.LIBIMAGEQUANT if features.check_feature("libimagequant")
               else Image.Quantize.MEDIANCUT)
     image = Image.open(path).convert("RGB")
-    for colors in (256, 192, 128):
+    for colors in (256, 192, 128, 96):
         image.quantize(colors=colors, method=method,
                        dither=Image.Dither.FLOYDSTEINBERG).save(path, optimize=True)
         if os.path.getsize(path) <= 205 * 1024:
