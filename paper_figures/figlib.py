@@ -261,6 +261,11 @@ def scalar_bar(renderer, lut, title, rng=None, pos=(0.82, 0.12)):
     # The labels are centred on their ticks, so the top one reaches half a line above the
     # bar: keep the title clear of it (without this "0.1" sits on "E_i/N_i").
     bar.SetVerticalTitleSeparation(12)
+    # A white backing behind the title and the labels: a bar drawn over the mesh (the free
+    # limb's legs, Fig. 4's armadillo) stays legible.
+    for tp in (bar.GetTitleTextProperty(), bar.GetLabelTextProperty()):
+        tp.SetBackgroundColor(1, 1, 1)
+        tp.SetBackgroundOpacity(0.85)
     at = bar.GetAnnotationTextProperty()  # lut.SetAnnotation marks, e.g. a threshold
     at.SetColor(0, 0, 0)
     at.SetFontSize(14)
