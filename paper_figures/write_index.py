@@ -476,7 +476,8 @@ def free_limb_caption():
                     if r["scenario"] == "camel_hoof_lift_free_leg" and r["method"] == "cgal_arap"]
         if rows:
             text += (" CGAL's ARAP moves it by %s of the diagonal at most "
-                     "(experiments/results/table2.csv)." % rows[0]["leakage_max_rel"])
+                     "(experiments/results/table2.csv)."
+                     % diag_fraction(float(rows[0]["leakage_max_rel"])))
     if runs:
         parts, largest = [], 0.0
         for m, t, d in runs:
