@@ -356,8 +356,9 @@ def render_panels(panels, path, panel_size=(520, 600), title=None, columns=None)
 def shrink_png(path, limit_kb=200):
     """Re-encodes a PNG with an adaptive palette when it is larger than limit_kb,
     so committed figures stay small: 256 colours, fewer (192, 128, 96) only while
-    the file is still over 205 KiB (Fig. 6 with its translucent rest poses needs 96). libimagequant (in Debian's Pillow) keeps smooth
-    shading and colour maps free of banding."""
+    the file is still over 205 KiB (Fig. 6 with its translucent rest poses needs 96).
+    libimagequant (in Debian's Pillow) keeps smooth shading and colour maps free of
+    banding."""
     if os.path.getsize(path) <= limit_kb * 1024:
         return
     from PIL import Image, features
