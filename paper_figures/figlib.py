@@ -261,6 +261,11 @@ def scalar_bar(renderer, lut, title, rng=None, pos=(0.82, 0.12)):
     # The labels are centred on their ticks, so the top one reaches half a line above the
     # bar: keep the title clear of it (without this "0.1" sits on "E_i/N_i").
     bar.SetVerticalTitleSeparation(12)
+    # A white backing behind the title and the labels: a bar drawn over the mesh (the free
+    # limb's legs, Fig. 4's armadillo) stays legible.
+    for tp in (bar.GetTitleTextProperty(), bar.GetLabelTextProperty()):
+        tp.SetBackgroundColor(1, 1, 1)
+        tp.SetBackgroundOpacity(0.85)
     at = bar.GetAnnotationTextProperty()  # lut.SetAnnotation marks, e.g. a threshold
     at.SetColor(0, 0, 0)
     at.SetFontSize(14)
@@ -350,16 +355,17 @@ def render_panels(panels, path, panel_size=(520, 600), title=None, columns=None)
 
 def shrink_png(path, limit_kb=200):
     """Re-encodes a PNG with an adaptive palette when it is larger than limit_kb,
-    so committed figures stay small: 256 colours, fewer (192, 128) only while
-    the file is still over 205 KiB. libimagequant (in Debian's Pillow) keeps smooth
-    shading and colour maps free of banding."""
+    so committed figures stay small: 256 colours, fewer (192, 128, 96) only while
+    the file is still over 205 KiB (Fig. 6 with its translucent rest poses needs 96).
+    libimagequant (in Debian's Pillow) keeps smooth shading and colour maps free of
+    banding."""
     if os.path.getsize(path) <= limit_kb * 1024:
         return
     from PIL import Image, features
     method = (Image.Quantize.LIBIMAGEQUANT if features.check_feature("libimagequant")
               else Image.Quantize.MEDIANCUT)
     image = Image.open(path).convert("RGB")
-    for colors in (256, 192, 128):
+    for colors in (256, 192, 128, 96):
         image.quantize(colors=colors, method=method,
                        dither=Image.Dither.FLOYDSTEINBERG).save(path, optimize=True)
         if os.path.getsize(path) <= 205 * 1024:

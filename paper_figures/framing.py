@@ -73,6 +73,41 @@ def edit_view(V, Vd, F, moveable, fixed, up, **kwargs):
     return view_direction(motion, up, lever=lever, facing=facing, **kwargs)
 
 
+def model_view(front, up, azimuth_deg=0.0, elevation_deg=10.0):
+    """The unit direction from a model to the camera that sees it from `front` (the way its
+    face looks, e.g. -z for the armadillo) turned by azimuth_deg about `up` (right-handed:
+    +90 turns a z-up model's front -y to +x) and raised elevation_deg above the horizon."""
+    up = np.asarray(up, float) / np.linalg.norm(up)
+    f = np.asarray(front, float)
+    f = f - (f @ up) * up
+    f /= np.linalg.norm(f)
+    a = np.radians(azimuth_deg)
+    h = np.cos(a) * f + np.sin(a) * np.cross(up, f)  # Rodrigues about up, f orthogonal to up
+    e = np.radians(elevation_deg)
+    return np.cos(e) * h + np.sin(e) * up
+
+
+# Fig. 6's cameras where the edit's data alone picks a view a user would not (edit_view sees
+# the armadillo's arm raise and claw drag from behind, along its back, and the dino's
+# sideways tail swing from behind and 30 degrees above): (front, up, azimuth, elevation) for
+# model_view. The armadillo from its front, level, where both edits swing across the picture;
+# the dino from its left rear, 15 degrees up: in profile, the tail swinging out towards the
+# viewer and across.
+FIG6_VIEWS = {
+    "edit_armadillo_arm_raise_multiscale": ((0, 0, -1), (0, 1, 0), 0.0, 10.0),
+    "edit_armadillo_claw_multiscale": ((0, 0, -1), (0, 1, 0), 0.0, 10.0),
+    "edit_dino_tail_swing_multiscale": ((0, -1, 0), (0, 0, 1), -135.0, 15.0),
+}
+
+
+def screen_fraction(motion, view):
+    """The share of a motion's length that shows across a picture seen from `view`:
+    sqrt(1 - (m . v)^2) for unit m and v."""
+    m = np.asarray(motion, float) / np.linalg.norm(motion)
+    v = np.asarray(view, float) / np.linalg.norm(view)
+    return float(np.sqrt(max(0.0, 1.0 - (m @ v) ** 2)))
+
+
 def place_labels(anchors, widths, gap=0.0):
     """Where labels go in rows above the points they name, each joined to its point by a
     vertical leader: anchors are the points' positions along one axis, widths the labels'

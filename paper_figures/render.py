@@ -17,7 +17,7 @@ from figlib import (DATA, FIXED, MOVEABLE, OUT, ROOT, arap_energy_per_vertex,
                     lines_actor, load_json, lut_viridis, mesh_actor, read_off, render_panels,
                     spheres_actor)
 from captions import diag_fraction  # noqa: E402
-from framing import edit_view  # noqa: E402
+from framing import FIG6_VIEWS, edit_view, model_view  # noqa: E402
 
 MESHES = os.path.join(ROOT, "data", "meshes")
 _mesh_cache = {}
@@ -263,11 +263,12 @@ def fig5_ablation(cfg=None, out="fig5_ablation.png"):
     render_panels(panels, os.path.join(OUT, out), panel_size=(400, 480), columns=5)
 
 
-def edits_figure(edits, path, panel_size=(400, 460)):
+def edits_figure(edits, path, panel_size=(400, 460), ghost=False):
     """Rest and deformed panels per edit (name, title, view, up, zoom[, part]); view None:
     framing.edit_view's direction from the data (the handle's motion, the lever from the
     fixed region and the handle's normals). The camera frames part(V) when given, else the
-    rest and deformed meshes."""
+    rest and deformed meshes. ghost: the rest mesh, faint and translucent, in each deformed
+    panel, so that what moved shows against where it was."""
     panels = []
     for name, title, view, up, zoom, *part in edits:
         d, V, F, Vd = edit(name)
@@ -276,7 +277,10 @@ def edits_figure(edits, path, panel_size=(400, 460)):
         cam = camera_for(part[0](V) if part else np.vstack([V, Vd]), view, up, zoom)
         panels.append(dict(actors=[handles_mesh_actor(d, V, F)], camera=cam,
                            label="%s: rest" % title, label_size=16))
-        panels.append(dict(actors=[handles_mesh_actor(d, Vd, F)], camera=cam,
+        actors = [handles_mesh_actor(d, Vd, F)]
+        if ghost:
+            actors.append(mesh_actor(V, F, color=(0.45, 0.45, 0.45), opacity=GHOST_OPACITY))
+        panels.append(dict(actors=actors, camera=cam,
                            label="%s: deformed" % title, label_size=16,
                            texts=[("scale %d of %d, %d variables" % (d["selected_scale"],
                                                                      d["num_scales"],
@@ -285,19 +289,34 @@ def edits_figure(edits, path, panel_size=(400, 460)):
     render_panels(panels, path, panel_size=panel_size, columns=4)
 
 
+GHOST_OPACITY = 0.18  # Fig. 6's rest pose behind the result: visible, not hiding it
+
+
+def fig6_view(name, up):
+    """Fig. 6's camera direction for an edit: framing.FIG6_VIEWS's where it names one, else
+    None (edit_view's, from the data)."""
+    if name in FIG6_VIEWS:
+        front, model_up, azimuth, elevation = FIG6_VIEWS[name]
+        assert tuple(model_up) == tuple(up), name
+        return model_view(front, up, azimuth, elevation)
+    return None
+
+
 def fig6_fig8():
-    # Fig. 6: every camera from the data (edits_figure, view None); up is each model's axis.
-    extra = []  # experiments/' edits of other models, when generate_data.sh found them
+    # Fig. 6: the armadillo from its front and the dino from its left rear (framing.FIG6_VIEWS),
+    # the others from their data (edit_view); up is each model's axis; the rest pose as a ghost.
+    edits = [("edit_armadillo_arm_raise_multiscale", "arm raise", (0, 1, 0), 1.0),
+             ("edit_armadillo_claw_multiscale", "claw", (0, 1, 0), 1.0),
+             ("edit_camel_neck_multiscale", "camel neck", (0, 1, 0), 1.0),
+             ("edit_camel_leg_bend_multiscale", "camel leg", (0, 1, 0), 1.0)]
+    # experiments/' edits of other models, when generate_data.sh found them
     if os.path.exists(os.path.join(DATA, "edit_man_leg_lift_multiscale.json")):
-        extra.append(("edit_man_leg_lift_multiscale", "man leg", None, (0, 0, 1), 0.85))
+        edits.append(("edit_man_leg_lift_multiscale", "man leg", (0, 0, 1), 0.85))
     if os.path.exists(os.path.join(DATA, "edit_dino_tail_swing_multiscale.json")):
-        extra.append(("edit_dino_tail_swing_multiscale", "dino tail", None, (0, 0, 1), 1.0))
-    edits_figure([
-        ("edit_armadillo_arm_raise_multiscale", "arm raise", None, (0, 1, 0), 1.0),
-        ("edit_armadillo_claw_multiscale", "claw", None, (0, 1, 0), 1.0),
-        ("edit_camel_neck_multiscale", "camel neck", None, (0, 1, 0), 1.0),
-        ("edit_camel_leg_bend_multiscale", "camel leg", None, (0, 1, 0), 1.0),
-    ] + extra, os.path.join(OUT, "fig6_large_edits.png"))
+        edits.append(("edit_dino_tail_swing_multiscale", "dino tail", (0, 0, 1), 1.0))
+    edits_figure([(name, title, fig6_view(name, up), up, zoom)
+                  for name, title, up, zoom in edits],
+                 os.path.join(OUT, "fig6_large_edits.png"), ghost=True)
     # Small edits: zoomed on the edited part.
     edits_figure([
         ("edit_armadillo_ear_multiscale", "armadillo ear", (-0.15, 0.25, -1), (0, 1, 0), 1.0,

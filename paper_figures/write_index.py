@@ -13,6 +13,7 @@ from figlib import DATA, OUT, ROOT, edit_metrics, group1_stats, read_off  # noqa
 import energy_figure  # noqa: E402
 from captions import diag_fraction, moves_by, rotation_deg, translation_rel  # noqa: E402
 import charts  # noqa: E402
+from framing import FIG6_VIEWS  # noqa: E402
 
 _meshes = {}
 
@@ -248,11 +249,16 @@ def fig6_caption():
             "default edit, data/scenarios/armadillo_claw.json); camel: the neck swung down about "
             "its base, the front leg bent at the knee; when experiments/scenarios/ has them, its "
             "man leg lift and dino tail swing (translations of the foot and the tail tip). Blue: "
-            "fixed handles, red: the moveable handle. Each pair shares one camera, computed from "
-            "the edit (paper_figures/framing.py): the handle's motion and the lever from the "
-            "fixed region to the handle across the picture, from the side the handle's normals "
-            "face, at most 30 degrees above the model's horizon; the selected scale and the "
-            "number of optimised variables are printed under the result.")
+            "fixed handles, red: the moveable handle; in each result the rest pose is a faint "
+            "grey ghost, so what moved shows against where it was. Each pair shares one camera "
+            "(paper_figures/framing.py): the armadillo from its front, %d degrees up, and the "
+            "dino from its left rear, %d degrees up (FIG6_VIEWS), the camels and the man from "
+            "their edit's data (edit_view: the handle's motion and the lever from the fixed "
+            "region to the handle across the picture, from the side the handle's normals face, "
+            "at most 30 degrees above the model's horizon); the selected scale and the number of "
+            "optimised variables are printed under the result."
+            % (FIG6_VIEWS["edit_armadillo_arm_raise_multiscale"][3],
+               FIG6_VIEWS["edit_dino_tail_swing_multiscale"][3]))
     arm, claw = load_edit("edit_armadillo_arm_raise_multiscale"), load_edit(
         "edit_armadillo_claw_multiscale")
     if arm and claw:
@@ -470,7 +476,8 @@ def free_limb_caption():
                     if r["scenario"] == "camel_hoof_lift_free_leg" and r["method"] == "cgal_arap"]
         if rows:
             text += (" CGAL's ARAP moves it by %s of the diagonal at most "
-                     "(experiments/results/table2.csv)." % rows[0]["leakage_max_rel"])
+                     "(experiments/results/table2.csv)."
+                     % diag_fraction(float(rows[0]["leakage_max_rel"])))
     if runs:
         parts, largest = [], 0.0
         for m, t, d in runs:
