@@ -149,7 +149,7 @@ Eigen::Vector2d EditorApp::ToViewport(double x, double y) const {
 void EditorApp::MeshOpened() {
   const Mesh& mesh = session_->mesh();
   renderer_->SetTopology(mesh.faces, mesh.num_vertices());
-  camera_.Fit(BoundingBox(mesh), viewport());
+  FirstView();
   uploaded_geometry_ = uploaded_labels_ = uploaded_jobs_ = -1;
   graph_uploaded_ = false;
   vertex_rigidity_.resize(0);
@@ -163,6 +163,18 @@ void EditorApp::MeshOpened() {
   save_sel_ = stem + ".sel";
   save_def_ = stem + ".def";
   save_scenario_ = stem + ".json";
+}
+
+void EditorApp::FirstView() {
+  if (!session_->has_mesh()) return;
+  const Mesh& mesh = session_->mesh();
+  const std::vector<int>& handle = session_->committed_layout().moveable;
+  // With a handle, from the side it faces (camera.h, FirstViewDirection); a
+  // mesh alone from the front (+z).
+  camera_.set_yaw_deg(0.0);
+  camera_.set_pitch_deg(0.0);
+  camera_.LookFrom(FirstViewDirection(mesh, handle));
+  camera_.Fit(BoundingBox(mesh), viewport());
 }
 
 RenderSettings EditorApp::Settings() const {

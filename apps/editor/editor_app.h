@@ -68,8 +68,12 @@ class EditorApp {
   // Opens the window, the context, ImGui and the renderer. False with a
   // message (no display, no OpenGL 3.3).
   bool Init(const EditorOptions& options, std::string* error);
-  // After the session opened a new mesh: uploads it and fits the camera.
+  // After the session opened a new mesh: uploads it and sets the first view.
   void MeshOpened();
+  // The first view of the open edit: the whole mesh, seen from the side its
+  // moveable handle faces (FacingDirection of its rest vertices); a mesh
+  // without a handle from the front. MeshOpened calls it.
+  void FirstView();
 
   // Draws one frame (polls the session first). CaptureFrame also reads the
   // frame back into *rgb (RGB, top row first), with or without the panels.
