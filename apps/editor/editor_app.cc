@@ -118,6 +118,7 @@ bool EditorApp::Init(const EditorOptions& options, std::string* error) {
   ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the working folder
   ImGui::StyleColorsLight();
   ImGui::GetStyle().WindowRounding = 3.0f;
+  ImGui::GetStyle().ItemSpacing.y = 3.0f;  // (4) the panels fit a 1280 x 800 window
   if (!ImGui_ImplGlfw_InitForOpenGL(window_, true) || !ImGui_ImplOpenGL3_Init("#version 330")) {
     *error = "Dear ImGui: cannot set up its GLFW and OpenGL 3 backends";
     return false;
@@ -254,6 +255,7 @@ void EditorApp::CaptureFrame(bool with_ui, std::vector<std::uint8_t>* rgb) {
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();
   ImGui::NewFrame();
+  panels_.clear();
   if (view_.ui) DrawPanels();
   DrawCursor();
   ImGui::Render();
@@ -403,7 +405,7 @@ void EditorApp::Key(int key, int mods) {
       view_.edges = !view_.edges;
       break;
     case GLFW_KEY_C:
-      if (session_->has_mesh()) camera_.Fit(BoundingBox(session_->mesh()), viewport());
+      FirstView();
       break;
     case GLFW_KEY_SPACE:
       session_->ResetPose();

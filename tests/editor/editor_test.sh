@@ -6,6 +6,9 @@
 #      vertices project; the mesh equals msdeform's within 1e-9 of the diagonal;
 #   1b. the first view (no camera given) of the default edit and two scenarios
 #      shows the handle: at least 3x the red pixels of the old view from +z;
+#   1c. the panels fit a 1280 x 800 window (nothing cut or out of view), also
+#      for a method that is not a graph and with the e' overlay, which keeps
+#      the handle red;
 #   2. a scripted session on the cactus: handles selected by region, a drag to a
 #      transform, a screenshot, the edit saved as mesh, .sel/.def and scenario;
 #      msdeform on the saved .sel/.def and on the saved scenario gives the saved
@@ -68,6 +71,33 @@ first_view default 312
 first_view dino_tail_swing 825 --scenario="${root}/experiments/scenarios/dino_tail_swing.json"
 first_view hand_thumb 531 \
   --scenario="${root}/experiments/scenarios/hand_thumb_lift_free_finger.json"
+
+# --- 1c. The panels fit the default 1280 x 800 window. ------------------------
+# The panels' rectangles and how far their contents reach past them come with
+# the camera JSON; for a graph method and one that is not (its graph-only rows
+# greyed), and with the e' overlay and its colour bar (a script).
+for method in multiscale cgal_arap; do
+  if (cd "${root}" && "${editor}" --quiet --method="${method}" --screenshot_ui \
+        --screenshot="${work}/panels_${method}.png" \
+        --screenshot_camera="${work}/panels_${method}.json" 2> "${work}/stderr"); then
+    run_check panels "${work}/panels_${method}.json" "msdeform editor" status
+  else
+    fail "panels with ${method} exited $?: $(cat "${work}/stderr")"
+  fi
+done
+cat > "${work}/panels.json" <<EOF
+[
+  {"do": "open", "scenario": "${root}/data/scenarios/armadillo_claw.json"},
+  {"do": "view", "overlay": "rigidity", "nodes": true, "edges": true, "ui": true},
+  {"do": "screenshot", "path": "panels_rigidity.png", "ui": true, "camera": "panels_rigidity.json"}
+]
+EOF
+if "${editor}" --quiet --script="${work}/panels.json" 2> "${work}/stderr"; then
+  run_check panels "${work}/panels_rigidity.json" "msdeform editor" status "e'"
+  run_check handle_pixels "${work}/panels_rigidity.png" 312 1
+else
+  fail "the e' panels script exited non-zero: $(cat "${work}/stderr")"
+fi
 
 # --- 2. A scripted session. -----------------------------------------------
 # Fixed: the lowest 8% of the trunk; handle: a ball at the top of the trunk
