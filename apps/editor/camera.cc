@@ -23,6 +23,17 @@ void OrbitCamera::Fit(const Eigen::AlignedBox3d& box, const Viewport& viewport) 
   distance_ = scene_radius_ / std::sin(half);
 }
 
+void OrbitCamera::LookFrom(const Eigen::Vector3d& from_target) {
+  const double length = from_target.norm();
+  if (!(length > 0.0) || !std::isfinite(length)) return;
+  const Eigen::Vector3d d = from_target / length;
+  // Eye() = target + distance (sin yaw cos pitch, sin pitch, cos yaw cos pitch).
+  const double limit = std::min(options_.look_max_pitch_deg, options_.max_pitch_deg);
+  pitch_deg_ = std::clamp(std::asin(std::clamp(d.y(), -1.0, 1.0)) * 180.0 / kPi, -limit, limit);
+  // Straight up or down: any yaw; keep the current one.
+  if (std::hypot(d.x(), d.z()) > 1e-12) yaw_deg_ = std::atan2(d.x(), d.z()) * 180.0 / kPi;
+}
+
 void OrbitCamera::Orbit(double dx, double dy) {
   yaw_deg_ = std::fmod(yaw_deg_ - dx * options_.orbit_deg_per_pixel, 360.0);
   set_pitch_deg(pitch_deg_ + dy * options_.orbit_deg_per_pixel);
@@ -113,6 +124,47 @@ Eigen::Vector3d OrbitCamera::ViewPlaneDelta(const Eigen::Vector2d& pixel_delta,
   const double per_pixel =
       2.0 * depth * std::tan(0.5 * Radians(options_.fov_y_deg)) / viewport.height;
   return per_pixel * (pixel_delta.x() * Right() - pixel_delta.y() * Up());
+}
+
+Eigen::Vector3d FacingDirection(const Mesh& mesh, const std::vector<int>& vertices) {
+  std::vector<char> chosen(mesh.num_vertices(), 0);
+  for (int v : vertices) {
+    if (v >= 0 && v < mesh.num_vertices()) chosen[v] = 1;
+  }
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const Eigen::Vector3i face = mesh.faces.col(f);
+    const int count = chosen[face[0]] + chosen[face[1]] + chosen[face[2]];
+    if (count == 0) continue;
+    const Eigen::Vector3d a = mesh.vertices.col(face[0]);
+    // Twice the face's area along its normal (counter-clockwise faces).
+    sum += count * (mesh.vertices.col(face[1]) - a).cross(mesh.vertices.col(face[2]) - a);
+  }
+  const double length = sum.norm();
+  return length > 0.0 && std::isfinite(length) ? Eigen::Vector3d(sum / length)
+                                               : Eigen::Vector3d::Zero();
+}
+
+Eigen::Vector3d FirstViewDirection(const Mesh& mesh, const std::vector<int>& handle) {
+  const Eigen::Vector3d normal = FacingDirection(mesh, handle);
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  int count = 0;
+  for (int v : handle) {
+    if (v < 0 || v >= mesh.num_vertices()) continue;
+    centroid += mesh.vertices.col(v);
+    ++count;
+  }
+  if (count == 0) return Eigen::Vector3d::Zero();
+  Eigen::Vector3d offset = centroid / count - BoundingBox(mesh).center();
+  offset.y() = 0.0;
+  Eigen::Vector3d heading(normal.x(), 0.0, normal.z());
+  if (offset.norm() > 0.0) heading += (1.0 - heading.norm()) * offset.normalized();
+  if (!(heading.norm() > 0.0)) return normal;
+  // A normal straight up or down keeps a little heading (|rise| <= 0.99), so
+  // that OrbitCamera::LookFrom, which limits the pitch, still has a yaw.
+  const double rise = std::clamp(normal.y(), -0.99, 0.99);
+  return std::sqrt(std::max(1.0 - rise * rise, 0.0)) * heading.normalized() +
+         Eigen::Vector3d(0.0, rise, 0.0);
 }
 
 }  // namespace editor

@@ -14,6 +14,9 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <vector>
+
+#include "msdeform/core/mesh.h"
 
 namespace msdeform {
 namespace editor {
@@ -36,6 +39,9 @@ struct CameraOptions {
   double zoom_per_step = 1.12;
   // Pitch is kept within +-this, degrees (the view never flips over the pole).
   double max_pitch_deg = 89.0;
+  // LookFrom keeps the pitch within +-this, degrees: a handle facing up or
+  // down is seen at a slant, the mesh still upright on the screen.
+  double look_max_pitch_deg = 45.0;
 };
 
 class OrbitCamera {
@@ -46,6 +52,11 @@ class OrbitCamera {
   // fits the viewport (with fit_fill), keeping yaw and pitch; `box` also sets
   // the scene radius used for the near and far planes.
   void Fit(const Eigen::AlignedBox3d& box, const Viewport& viewport);
+
+  // Turns the eye to the side `from_target` points to (any length), keeping
+  // target and distance: yaw and pitch of that direction, the pitch within
+  // +-look_max_pitch_deg. A zero vector changes nothing.
+  void LookFrom(const Eigen::Vector3d& from_target);
 
   // Mouse gestures, in pixels moved.
   void Orbit(double dx, double dy);
@@ -96,6 +107,19 @@ class OrbitCamera {
   Eigen::Vector3d target_ = Eigen::Vector3d::Zero();
   double scene_radius_ = 1.0;
 };
+
+// The side a set of vertices faces: the sum of their area-weighted normals
+// (each face's area vector counted once per vertex of the set it has),
+// normalised; zero when the set is empty or its normals cancel.
+Eigen::Vector3d FacingDirection(const Mesh& mesh, const std::vector<int>& vertices);
+
+// The editor's first view of an edit (EditorApp::FirstView) looks at the whole
+// mesh from this side of it, unit (zero: no preference). Its height (sine of
+// the pitch) is FacingDirection(mesh, handle)'s; its heading is that normal's
+// horizontal part, completed, as far as the normal is vertical (a sole facing
+// down, a cap facing up), by the handle centroid's horizontal offset from the
+// bounding box's centre, the side of the mesh the handle is on.
+Eigen::Vector3d FirstViewDirection(const Mesh& mesh, const std::vector<int>& handle);
 
 }  // namespace editor
 }  // namespace msdeform

@@ -442,8 +442,10 @@ Eigen::Vector3d EditSession::HandleCentroid() const {
 std::string EditSession::Status() const {
   std::ostringstream text;
   if (!has_mesh()) return "no mesh: open one (File)";
-  text << inputs_.name << ": " << mesh_.num_vertices() << " vertices, "
-       << method_name() << " / " << SolverName(options_.backend) << "; ";
+  // The per-frame solver is a graph method's; another names none of it.
+  text << inputs_.name << ": " << mesh_.num_vertices() << " vertices, " << method_name();
+  if (IsGraphMethod(method_name())) text << " / " << SolverName(options_.backend);
+  text << "; ";
   if (!error_.empty()) {
     text << "error: " << error_;
   } else if (busy()) {
@@ -460,6 +462,11 @@ std::string EditSession::Status() const {
     text << method_->variables() << " variables";
   }
   return text.str();
+}
+
+bool MethodReadsDeformerRow(const std::string& method, const std::string& row) {
+  if (IsGraphMethod(method)) return true;
+  return row.rfind("lattice.", 0) == 0 || row == "num_threads";
 }
 
 }  // namespace editor

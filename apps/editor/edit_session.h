@@ -159,7 +159,8 @@ class EditSession {
   // written" to that one).
   const std::string& error() const { return error_; }
   bool error_in_path() const { return error_in_path_; }
-  // One line for the status bar.
+  // One line for the status bar: the edit, the method (and a graph method's
+  // per-frame solver), then the state of the layout.
   std::string Status() const;
 
   const std::vector<LayoutTiming>& layout_timings() const { return layout_timings_; }
@@ -236,6 +237,12 @@ class EditSession {
   PolishReport last_polish_;
   bool has_polish_ = false;
 };
+
+// Whether `method` (a registered name) reads the row `row` of
+// DeformerOptionTable(): a graph method every row; another only the lattice
+// rows ("lattice.*") and num_threads (methods/registry.h, MethodDescriptor::
+// graph). The panels grey out the rest for such a method.
+bool MethodReadsDeformerRow(const std::string& method, const std::string& row);
 
 }  // namespace editor
 }  // namespace msdeform

@@ -118,6 +118,7 @@ bool EditorApp::Init(const EditorOptions& options, std::string* error) {
   ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the working folder
   ImGui::StyleColorsLight();
   ImGui::GetStyle().WindowRounding = 3.0f;
+  ImGui::GetStyle().ItemSpacing.y = 3.0f;  // (4) the panels fit a 1280 x 800 window
   if (!ImGui_ImplGlfw_InitForOpenGL(window_, true) || !ImGui_ImplOpenGL3_Init("#version 330")) {
     *error = "Dear ImGui: cannot set up its GLFW and OpenGL 3 backends";
     return false;
@@ -149,7 +150,7 @@ Eigen::Vector2d EditorApp::ToViewport(double x, double y) const {
 void EditorApp::MeshOpened() {
   const Mesh& mesh = session_->mesh();
   renderer_->SetTopology(mesh.faces, mesh.num_vertices());
-  camera_.Fit(BoundingBox(mesh), viewport());
+  FirstView();
   uploaded_geometry_ = uploaded_labels_ = uploaded_jobs_ = -1;
   graph_uploaded_ = false;
   vertex_rigidity_.resize(0);
@@ -163,6 +164,18 @@ void EditorApp::MeshOpened() {
   save_sel_ = stem + ".sel";
   save_def_ = stem + ".def";
   save_scenario_ = stem + ".json";
+}
+
+void EditorApp::FirstView() {
+  if (!session_->has_mesh()) return;
+  const Mesh& mesh = session_->mesh();
+  const std::vector<int>& handle = session_->committed_layout().moveable;
+  // With a handle, from the side it faces (camera.h, FirstViewDirection); a
+  // mesh alone from the front (+z).
+  camera_.set_yaw_deg(0.0);
+  camera_.set_pitch_deg(0.0);
+  camera_.LookFrom(FirstViewDirection(mesh, handle));
+  camera_.Fit(BoundingBox(mesh), viewport());
 }
 
 RenderSettings EditorApp::Settings() const {
@@ -242,6 +255,7 @@ void EditorApp::CaptureFrame(bool with_ui, std::vector<std::uint8_t>* rgb) {
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();
   ImGui::NewFrame();
+  panels_.clear();
   if (view_.ui) DrawPanels();
   DrawCursor();
   ImGui::Render();
@@ -391,7 +405,7 @@ void EditorApp::Key(int key, int mods) {
       view_.edges = !view_.edges;
       break;
     case GLFW_KEY_C:
-      if (session_->has_mesh()) camera_.Fit(BoundingBox(session_->mesh()), viewport());
+      FirstView();
       break;
     case GLFW_KEY_SPACE:
       session_->ResetPose();

@@ -7,7 +7,7 @@
 //             (drag: translate in the view plane; Shift: rotate; Ctrl: roll about the view axis)
 //   Alt+left, middle   orbit;  right   pan;  wheel   zoom
 // Keys: O orbit, F fixed, H handle, E erase, G drag, L brush/lasso, [ ] brush size,
-//   W wireframe, S flat/smooth, R e' map, N nodes, K graph edges, C fit the view,
+//   W wireframe, S flat/smooth, R e' map, N nodes, K graph edges, C the first view,
 //   Space rest pose, Tab panels, P screenshot, Esc cancel a lasso, Ctrl+Q quit.
 // Every Drag of a mouse move is one Deformer::Drag, on this thread; layout
 // changes run in the session's background job while the window keeps drawing.
@@ -26,6 +26,7 @@
 #include "apps/editor/edit_session.h"
 #include "apps/editor/gl.h"
 #include "apps/editor/renderer.h"
+#include "apps/editor/screenshot.h"
 #include "apps/editor/selection.h"
 #include "apps/editor/status_line.h"
 
@@ -68,8 +69,12 @@ class EditorApp {
   // Opens the window, the context, ImGui and the renderer. False with a
   // message (no display, no OpenGL 3.3).
   bool Init(const EditorOptions& options, std::string* error);
-  // After the session opened a new mesh: uploads it and fits the camera.
+  // After the session opened a new mesh: uploads it and sets the first view.
   void MeshOpened();
+  // The first view of the open edit: the whole mesh, seen from the side its
+  // moveable handle faces (FacingDirection of its rest vertices); a mesh
+  // without a handle from the front. MeshOpened calls it.
+  void FirstView();
 
   // Draws one frame (polls the session first). CaptureFrame also reads the
   // frame back into *rgb (RGB, top row first), with or without the panels.
@@ -96,6 +101,8 @@ class EditorApp {
   ViewState& view() { return view_; }
   Viewport viewport() const;
   EditSession& session() { return *session_; }
+  // The panel windows of the last frame drawn with the panels (empty without).
+  const std::vector<PanelRect>& panels() const { return panels_; }
   const std::vector<double>& draw_ms() const { return draw_ms_; }
   // The frames drawn while a background job (a layout change) ran.
   const std::vector<double>& busy_draw_ms() const { return busy_draw_ms_; }
@@ -115,6 +122,9 @@ class EditorApp {
   void DrawStatePanel();
   void DrawTimingPanel();
   void DrawColorBar();
+  void DrawStatusLine();
+  // Records the window being drawn in panels_ (call before its End).
+  void RecordPanel(const char* name);
   void DrawCursor();
   void SetFlagFromPanel(const std::string& name, const std::string& value);
   void OpenFromPanel();
@@ -170,6 +180,7 @@ class EditorApp {
   std::string browse_folder_;
 
   std::string pending_screenshot_;  // asked for during a frame, taken after it
+  std::vector<PanelRect> panels_;
 
   std::vector<double> draw_ms_;
   std::vector<double> busy_draw_ms_;

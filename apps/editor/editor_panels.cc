@@ -1,8 +1,10 @@
-// The editor's Dear ImGui panels: files, tools, method, view, the method's
-// state for the current layout (scale, classes, variables), timings, the e'
-// colour bar and the status line. Part of EditorApp (apps/editor/editor_app.h).
+// The editor's Dear ImGui panels: files, tools, view, the method's state for
+// the current layout (scale, classes, variables), timings, the e' colour bar
+// and the status line (the Method panel: method_panel.cc). Part of EditorApp
+// (apps/editor/editor_app.h).
 
 #include <imgui.h>
+#include <imgui_internal.h>  // the window's extents, for RecordPanel
 #include <imgui_stdlib.h>
 
 #include <algorithm>
@@ -14,12 +16,10 @@
 #include "apps/editor/edit_files.h"
 #include "apps/editor/edit_inputs.h"
 #include "apps/editor/editor_app.h"
-#include "apps/editor/option_flags.h"
 #include "apps/editor/overlays.h"
+#include "apps/editor/panel_widgets.h"
 #include "apps/editor/timing_report.h"
-#include "apps/flags/deformer_flags.h"
 #include "apps/outputs.h"
-#include "msdeform/methods/method_option_table.h"
 #include "msdeform/methods/registry.h"
 
 namespace msdeform {
@@ -28,17 +28,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-ImVec4 Color(const Rgb& rgb) {
-  return ImVec4(rgb[0] / 255.0f, rgb[1] / 255.0f, rgb[2] / 255.0f, 1.0f);
-}
+// The panel column: its width and its distance from the window's edges, pixels.
+constexpr float kPanelWidth = 400.0f;
+constexpr float kMargin = 8.0f;
 
 ImU32 Packed(const Rgb& rgb) { return IM_COL32(rgb[0], rgb[1], rgb[2], 255); }
-
-void Help(const char* text) {
-  ImGui::SameLine();
-  ImGui::TextDisabled("(?)");
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
-}
 
 const char* const kHelpText =
     "Mouse\n"
@@ -53,18 +47,26 @@ const char* const kHelpText =
     "  O orbit  F fixed  H handle  E erase  G drag\n"
     "  L brush / lasso   [ ] brush size\n"
     "  W wireframe  S flat / smooth  R e' colour map\n"
-    "  N node classes  K graph edges  C fit view\n"
+    "  N node classes  K graph edges  C first view\n"
     "  Space rest pose  Tab panels  P screenshot\n"
     "  Esc cancel a lasso  Ctrl+Q quit\n"
     "Files can be dropped on the window.";
 
 }  // namespace
 
+// The panels fit a 1280 x 800 window (the default size) without scrolling:
+// the column above the status line holds Tools, Method, View, the state and
+// the timings open, and File, the method's ablations and details and Help
+// closed. RecordPanel measures what each window would cut or scroll away,
+// and the screenshot tests check it (tests/editor/editor_test.sh).
 void EditorApp::DrawPanels() {
   const Viewport vp = viewport();
-  ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(370, std::max(200.0f, vp.height - 56.0f)),
-                           ImGuiCond_FirstUseEver);
+  DrawStatusLine();
+  const float status_height = panels_.empty() ? 30.0f : panels_.back().height;
+  ImGui::SetNextWindowPos(ImVec2(kMargin, kMargin), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(
+      ImVec2(kPanelWidth, std::max(200.0f, vp.height - status_height - 2 * kMargin)),
+      ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowBgAlpha(0.92f);
   if (ImGui::Begin("msdeform editor")) {
     DrawFilePanel();
@@ -74,27 +76,47 @@ void EditorApp::DrawPanels() {
     DrawStatePanel();
     DrawTimingPanel();
     if (ImGui::CollapsingHeader("Help")) ImGui::TextUnformatted(kHelpText);
+    RecordPanel("msdeform editor");
   }
   ImGui::End();
   DrawColorBar();
+}
 
-  // The status line.
-  ImGui::SetNextWindowPos(ImVec2(0, vp.height - 30.0f));
-  ImGui::SetNextWindowSize(ImVec2(static_cast<float>(vp.width), 30.0f));
+void EditorApp::DrawStatusLine() {
+  // The full width at the bottom, as high as its (wrapped) text.
+  const Viewport vp = viewport();
+  ImGui::SetNextWindowPos(ImVec2(0, static_cast<float>(vp.height)), ImGuiCond_Always,
+                          ImVec2(0, 1));
+  ImGui::SetNextWindowSize(ImVec2(static_cast<float>(vp.width), 0.0f));
   ImGui::SetNextWindowBgAlpha(0.85f);
   ImGui::Begin("status", nullptr,
                ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoInputs |
                    ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
-  ImGui::TextUnformatted(session_->Status().c_str());
-  if (!status_.text().empty()) {
-    ImGui::SameLine();
-    ImGui::TextDisabled("| %s", status_.text().c_str());
-  }
+  std::string text = session_->Status();
+  if (!status_.text().empty()) text += "  | " + status_.text();
+  ImGui::TextWrapped("%s", text.c_str());
+  RecordPanel("status");
   ImGui::End();
 }
 
+void EditorApp::RecordPanel(const char* name) {
+  const ImGuiWindow* window = ImGui::GetCurrentWindow();
+  PanelRect panel;
+  panel.name = name;
+  panel.x = window->Pos.x;
+  panel.y = window->Pos.y;
+  panel.width = window->Size.x;
+  panel.height = window->Size.y;
+  // The contents' extent this frame against the rectangle the window shows
+  // them in (inside its borders and scroll bars; ImGui clips there). An
+  // auto-sized window fits its contents from its next frame.
+  panel.overflow_x = window->DC.CursorMaxPos.x - window->InnerClipRect.Max.x;
+  panel.overflow_y = window->DC.CursorMaxPos.y - window->InnerClipRect.Max.y;
+  panels_.push_back(panel);
+}
+
 void EditorApp::DrawFilePanel() {
-  if (!ImGui::CollapsingHeader("File", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  if (!ImGui::CollapsingHeader("File")) return;
   ImGui::PushItemWidth(-90);
   ImGui::InputText("mesh", &open_mesh_);
   ImGui::InputText(".sel", &open_sel_);
@@ -213,127 +235,6 @@ void EditorApp::DrawToolPanel() {
                       session_->committed_layout().moveable.size());
 }
 
-void EditorApp::SetFlagFromPanel(const std::string& name, const std::string& value) {
-  DeformerOptions options = session_->options();
-  std::string error;
-  if (!SetDeformerFlag(name, value, &options, &error)) {
-    status_.Show(error);
-    return;
-  }
-  status_.Clear();
-  ApplyOptions(options);
-}
-
-// Every registered method (methods/registry.h), then the selected method's
-// own rows of MethodOptionTable() (cgal.*, fastlsm.*), each set through its
-// flag as `msdeform --fastlsm_steps=40` would.
-void EditorApp::DrawMethodChooser() {
-  const std::string current = session_->method_name();
-  ImGui::SetNextItemWidth(200);
-  if (ImGui::BeginCombo("method", current.c_str())) {
-    for (const std::string& name : MethodNames()) {
-      if (ImGui::Selectable(name.c_str(), current == name) && current != name) {
-        DeformerOptions options = session_->options();
-        std::string error;
-        if (!SetDeformerFlag("method", name, &options, &error) ||
-            !session_->SetMethod(name, &error)) {
-          status_.Show(error);
-        } else {
-          status_.Clear();
-        }
-      }
-    }
-    ImGui::EndCombo();
-  }
-  Help(DeformerOptionTable().Find("method")->help.c_str());
-  for (const auto& row : MethodOptionTable().rows()) {
-    if (!RowOfMethod(row.name, current)) continue;
-    const std::string flag = FlagSpellings(row).front();
-    std::string text = DeformerFlagValue(flag);
-    ImGui::SetNextItemWidth(120);
-    if (ImGui::InputText(row.name.c_str(), &text, ImGuiInputTextFlags_EnterReturnsTrue)) {
-      MethodOptions options = session_->method_options();
-      std::string error;
-      if (!SetMethodFlag(flag, text, &options, &error)) {
-        status_.Show(error);
-      } else {
-        status_.Clear();
-        session_->SetMethodOptions(options);
-      }
-    }
-    Help(row.help.c_str());
-  }
-}
-
-void EditorApp::DrawMethodPanel() {
-  if (!ImGui::CollapsingHeader("Method", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  // The method chooser, then DeformerOptionTable()'s command-line rows: a combo per
-  // enum, a checkbox per switch; the solver's details and the numbers under
-  // "More". Each change goes through the flag, as `msdeform --name=value`.
-  const auto draw_row = [this](const OptionRow<DeformerOptions>& row) {
-    const std::string flag = FlagSpellings(row).front();
-    const std::string current = DeformerFlagValue(flag);
-    const char* label = row.name.c_str();
-    if (row.type == OptionType::kEnum) {
-      ImGui::SetNextItemWidth(200);
-      if (ImGui::BeginCombo(label, current.c_str())) {
-        for (const std::string& value : row.choices) {
-          if (ImGui::Selectable(value.c_str(), current == value) && current != value) {
-            SetFlagFromPanel(flag, value);
-          }
-        }
-        ImGui::EndCombo();
-      }
-    } else if (row.type == OptionType::kBool) {
-      bool on = current == "true";
-      if (ImGui::Checkbox(label, &on)) SetFlagFromPanel(flag, on ? "true" : "false");
-    } else {
-      std::string text = current;
-      ImGui::SetNextItemWidth(120);
-      if (ImGui::InputText(label, &text, ImGuiInputTextFlags_EnterReturnsTrue)) {
-        SetFlagFromPanel(flag, text);
-      }
-    }
-    Help(row.help.c_str());
-  };
-  const auto main_row = [](const OptionRow<DeformerOptions>& row) {
-    return (row.type == OptionType::kEnum || row.type == OptionType::kBool) &&
-           (row.topic != "solver" || row.name == "backend");
-  };
-  DrawMethodChooser();
-  for (const auto& row : DeformerOptionTable().rows()) {
-    if (!row.topic.empty() && main_row(row) && row.name != "method") draw_row(row);
-  }
-  if (ImGui::TreeNode("More")) {
-    for (const auto& row : DeformerOptionTable().rows()) {
-      if (!row.topic.empty() && !main_row(row)) draw_row(row);
-    }
-    ImGui::TreePop();
-  }
-  // The paper's procedure: every option PaperProcedure() changes.
-  const DeformerOptions paper = PaperProcedure(DeformerOptions());
-  std::string paper_flags;
-  for (const auto& row : DeformerOptionTable().rows()) {
-    if (row.get(paper) == row.get(DeformerOptions())) continue;
-    const std::vector<std::string> spellings = FlagSpellings(row);
-    paper_flags += (paper_flags.empty() ? "--" : " --") +
-                   (spellings.empty() ? row.name : spellings.front()) + "=" + row.get(paper);
-  }
-  if (ImGui::Button("Paper procedure")) {
-    DeformerOptions options = session_->options();
-    const DeformerOptions target = PaperProcedure(options);
-    std::string error;
-    for (const auto& row : DeformerOptionTable().rows()) {
-      if (row.get(target) == row.get(options)) continue;
-      const std::vector<std::string> spellings = FlagSpellings(row);
-      const std::string name = spellings.empty() ? row.name : spellings.front();
-      if (!SetDeformerFlag(name, row.get(target), &options, &error)) status_.Show(error);
-    }
-    ApplyOptions(options);
-  }
-  Help(paper_flags.c_str());
-}
-
 void EditorApp::DrawViewPanel() {
   if (!ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) return;
   int shading = view_.flat_shading ? 1 : 0;
@@ -343,24 +244,37 @@ void EditorApp::DrawViewPanel() {
   view_.flat_shading = shading == 1;
   ImGui::SameLine();
   ImGui::Checkbox("wireframe (W)", &view_.wireframe);
+  // e', the node classes and the graph edges are a graph method's.
+  const bool graph = IsGraphMethod(session_->method_name());
   int overlay = static_cast<int>(view_.overlay);
   ImGui::RadioButton("handles", &overlay, static_cast<int>(Overlay::kHandles));
   ImGui::SameLine();
+  ImGui::BeginDisabled(!graph);
   ImGui::RadioButton("e' (R)", &overlay, static_cast<int>(Overlay::kRigidity));
+  ImGui::EndDisabled();
   ImGui::SameLine();
   ImGui::RadioButton("plain", &overlay, static_cast<int>(Overlay::kNone));
   view_.overlay = static_cast<Overlay>(overlay);
+  ImGui::BeginDisabled(!graph);
   ImGui::Checkbox("node classes (N)", &view_.nodes);
   ImGui::SameLine();
   ImGui::Checkbox("graph edges (K)", &view_.edges);
-  if (ImGui::Button("Fit view (C)") && session_->has_mesh()) {
-    camera_.Fit(BoundingBox(session_->mesh()), viewport());
-  }
+  ImGui::EndDisabled();
+  ImGui::SameLine();
+  // The whole mesh, seen from the side the moveable handle faces.
+  if (ImGui::Button("First view (C)")) FirstView();
 }
 
 void EditorApp::DrawStatePanel() {
   if (!ImGui::CollapsingHeader("Scale and classes", ImGuiTreeNodeFlags_DefaultOpen)) return;
   const Deformer* deformer = session_->ready() ? session_->deformer() : nullptr;
+  const EditingMethod* method = session_->ready() ? session_->method() : nullptr;
+  if (deformer == nullptr && method != nullptr) {
+    // Not a graph method: no scales or node classes.
+    ImGui::Text("%s: %d variables", session_->method_name().c_str(), method->variables());
+    ImGui::TextDisabled("not a deformation graph: no scales or node classes");
+    return;
+  }
   if (deformer == nullptr) {
     ImGui::TextDisabled(session_->busy() ? "setting up the layout..." : "no layout set up");
     return;
@@ -398,15 +312,18 @@ void EditorApp::DrawTimingPanel() {
     Help(
         "The last handle-layout change (Deformer::SetHandles): rigidity estimation, then scale "
         "selection, node classes and the solver's set-up. It runs in the background.");
-    if (last.init) ImGui::Text("  after Init (lattice, graphs) %.1f", last.init_ms);
-    ImGui::Text("  waited %.1f in all", last.wall_ms);
+    if (last.init) {
+      ImGui::Text("  after Init (lattice, graphs) %.1f; waited %.1f", last.init_ms, last.wall_ms);
+    } else {
+      ImGui::Text("  waited %.1f in all", last.wall_ms);
+    }
   }
   const DragStats& drag = session_->last_drag();
-  ImGui::Text("last move: solve %.2f, skin %.2f (%d iterations)", drag.solve_ms, drag.skin_ms,
-              drag.iterations);
+  ImGui::Text("last move: solve %.2f, skin %.2f", drag.solve_ms, drag.skin_ms);
   Help(
       "One Deformer::Drag: the Gauss-Newton (or Ceres) solve of Eq. 17 on the free nodes, then "
       "skinning the mesh. Each mouse move of the drag tool is one.");
+  ImGui::Text("  %d iterations", drag.iterations);
   ImGui::Checkbox("polish on release", &polish_on_release_);
   Help(
       "After a drag, a few accelerated full_arap iterations (handle and fixed vertices exact) "
@@ -416,8 +333,9 @@ void EditorApp::DrawTimingPanel() {
     ImGui::Text("polishing...");
   } else if (session_->has_polish()) {
     const PolishReport& polish = session_->last_polish();
-    ImGui::Text("polish: ARAP %.4g -> %.4g, %d it, %.1f (setup %.1f)", polish.energy_before,
-                polish.energy_after, polish.iterations, polish.ms, polish.setup_ms);
+    ImGui::TextWrapped("polish: ARAP %.4g -> %.4g, %d it, %.1f (setup %.1f)",
+                       polish.energy_before, polish.energy_after, polish.iterations, polish.ms,
+                       polish.setup_ms);
   }
   ImGui::Text("draw %.2f per frame", last_draw_ms_);
   const TimingSummary summary =
@@ -472,6 +390,7 @@ void EditorApp::DrawColorBar() {
   }
   ImGui::Dummy(ImVec2(width, height + 4));
   ImGui::TextDisabled("rigid = 0");
+  RecordPanel("e'");
   ImGui::End();
 }
 

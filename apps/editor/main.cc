@@ -195,6 +195,8 @@ int RunFilesMode(const DeformerOptions& options, const MethodOptions& method_opt
   std::string staged_path;
   if (!FLAGS_screenshot.empty()) {
     std::vector<std::uint8_t> rgb;
+    // The panels lay themselves out in their first frame (sizes, scroll bars).
+    if (FLAGS_screenshot_ui) app.RenderFrame();
     app.CaptureFrame(FLAGS_screenshot_ui, &rgb);
     const Viewport viewport = app.viewport();
     if (!staged.Stage(FLAGS_screenshot, &staged_path, &error) ||
@@ -203,7 +205,7 @@ int RunFilesMode(const DeformerOptions& options, const MethodOptions& method_opt
     }
     if (!FLAGS_screenshot_camera.empty() &&
         (!staged.Stage(FLAGS_screenshot_camera, &staged_path, &error) ||
-         !WriteText(staged_path, CameraJson(app.camera(), viewport), &error))) {
+         !WriteText(staged_path, CameraJson(app.camera(), viewport, app.panels()), &error))) {
       return Fail(staged.Translate(error));
     }
   }

@@ -67,7 +67,8 @@ std::vector<Rgb> VertexColors(const std::vector<VertexLabel>& labels,
   std::vector<Rgb> colors(labels.size());
   const bool by_rigidity = rigidity.size() == static_cast<Eigen::Index>(labels.size());
   for (size_t v = 0; v < labels.size(); ++v) {
-    colors[v] = by_rigidity ? RigidityColor(rigidity[v]) : LabelColor(labels[v]);
+    colors[v] = by_rigidity && labels[v] == VertexLabel::kFree ? RigidityColor(rigidity[v])
+                                                                : LabelColor(labels[v]);
   }
   return colors;
 }

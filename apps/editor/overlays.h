@@ -45,8 +45,9 @@ Rgb RigidityColor(double e_prime);
 // baselines, or no layout yet). #V.
 Eigen::VectorXd VertexRigidity(const Deformer& deformer);
 
-// Per-vertex colours (3 by #V bytes): by label, or by e' where `rigidity` is
-// not empty.
+// Per-vertex colours (3 by #V bytes): by label; with `rigidity` (#V), the
+// free vertices by e' and the fixed and handle vertices still blue and red, so
+// the e' map shows where the handles are.
 std::vector<Rgb> VertexColors(const std::vector<VertexLabel>& labels,
                               const Eigen::VectorXd& rigidity);
 

@@ -44,7 +44,8 @@ bool WritePng(const std::string& path, int width, int height, const std::vector<
       error);
 }
 
-std::string CameraJson(const OrbitCamera& camera, const Viewport& viewport) {
+std::string CameraJson(const OrbitCamera& camera, const Viewport& viewport,
+                       const std::vector<PanelRect>& panels) {
   nlohmann::ordered_json json;
   json["width"] = viewport.width;
   json["height"] = viewport.height;
@@ -55,6 +56,15 @@ std::string CameraJson(const OrbitCamera& camera, const Viewport& viewport) {
   json["distance"] = camera.distance();
   const Eigen::Vector3d& t = camera.target();
   json["target"] = {t.x(), t.y(), t.z()};
+  for (const PanelRect& panel : panels) {
+    json["panels"].push_back({{"name", panel.name},
+                              {"x", panel.x},
+                              {"y", panel.y},
+                              {"width", panel.width},
+                              {"height", panel.height},
+                              {"overflow_x", panel.overflow_x},
+                              {"overflow_y", panel.overflow_y}});
+  }
   return json.dump(1) + "\n";
 }
 

@@ -2,7 +2,9 @@
 // libstb-dev), and the camera they were taken with as JSON, so that a test or
 // a figure script can project points onto the image:
 //   {"width": W, "height": H, "view": [16], "projection": [16],   // row by row
-//    "yaw_deg": .., "pitch_deg": .., "distance": .., "target": [x, y, z]}
+//    "yaw_deg": .., "pitch_deg": .., "distance": .., "target": [x, y, z],
+//    "panels": [{"name": .., "x": .., "y": .., "width": .., "height": ..,
+//                "overflow_x": .., "overflow_y": ..}, ...]}   // with the panels drawn
 // A world point p lands at pixel x = (ndc_x + 1) / 2 W, y = (1 - ndc_y) / 2 H
 // (top-left origin) with ndc = (projection view [p 1])_xyz / w.
 
@@ -23,8 +25,18 @@ namespace editor {
 bool WritePng(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb,
               std::string* error);
 
-// The camera JSON above.
-std::string CameraJson(const OrbitCamera& camera, const Viewport& viewport);
+// A panel window as drawn: its rectangle (pixels, top-left origin) and how far
+// its contents reach past what it shows, right and down (pixels; <= 0: all of
+// it is in view, nothing cut or scrolled away).
+struct PanelRect {
+  std::string name;
+  float x = 0, y = 0, width = 0, height = 0;
+  float overflow_x = 0, overflow_y = 0;
+};
+
+// The camera JSON above; "panels" when `panels` is not empty.
+std::string CameraJson(const OrbitCamera& camera, const Viewport& viewport,
+                       const std::vector<PanelRect>& panels = {});
 
 }  // namespace editor
 }  // namespace msdeform

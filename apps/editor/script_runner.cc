@@ -292,7 +292,7 @@ class Runner {
     if (args.contains("camera")) {
       const std::string camera = script_.Resolve(args["camera"].get<std::string>());
       if (!Stage(camera, &staged, error) ||
-          !WriteText(staged, CameraJson(app_->camera(), viewport), error)) {
+          !WriteText(staged, CameraJson(app_->camera(), viewport, app_->panels()), error)) {
         *error = staged_->Translate(*error);
         return false;
       }

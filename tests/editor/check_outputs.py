@@ -10,6 +10,10 @@ OFF meshes as the editor and msdeform write them, and .sel/.def files.
   check_outputs.py drag CAMERA REST SEL DEF_A DEF_B DX DY   the handle moved (DX, DY) pixels
   check_outputs.py lasso CAMERA MESH SEL X0 Y0 X1 Y1  fixed vertices: inside the box, and some
   check_outputs.py label SEL VERTEX STATUS            the vertex has this .sel status
+  check_outputs.py panels CAMERA NAME...               the named panels are drawn, inside the
+                                                       image, nothing cut or scrolled away
+  check_outputs.py handle_pixels PNG MIN_RED [MIN_BLUE]   at least MIN_RED handle-red pixels
+                                                       (and MIN_BLUE fixed-blue ones)
 
 Each prints one line and exits 1 when the check fails.
 """
@@ -175,6 +179,48 @@ def check_pixels(png, camera_path, mesh_path, sel_path):
           f"; shading std {np.std(grey):.1f}")
 
 
+def colour_masks(image):
+    """Boolean masks of the handle-red and fixed-blue pixels, as classify() decides."""
+    r, g, b = image[:, :, 0], image[:, :, 1], image[:, :, 2]
+    red = (r > 60) & (r > 2 * g) & (r > 2 * b)
+    blue = (b > 80) & (b > 1.6 * r) & (b > 1.2 * g)
+    return red, blue
+
+
+def check_handle_pixels(png, min_red, min_blue=0):
+    """The handle is seen: at least min_red red pixels (and min_blue blue ones)."""
+    image = read_png(png)
+    red, blue = colour_masks(image)
+    height, width, _ = image.shape
+    line = (f"{png}: {red.sum()} handle-red pixels ({100 * red.mean():.2f}% of {width} x "
+            f"{height}), {blue.sum()} fixed-blue")
+    if red.sum() < min_red or blue.sum() < min_blue:
+        fail(f"{line}; expected at least {min_red} red and {min_blue} blue")
+    print("ok " + line)
+
+
+def check_panels(camera_path, names):
+    """The panel windows of a screenshot with the panels (the camera JSON's "panels"):
+    the named ones are there, each lies inside the image, and its contents fit it
+    (overflow <= 0: no line cut at the right, nothing below the bottom to scroll to)."""
+    camera = json.load(open(camera_path))
+    panels = {p["name"]: p for p in camera.get("panels", [])}
+    for name in names:
+        if name not in panels:
+            fail(f"{camera_path}: no panel {name!r} (panels: {sorted(panels)})")
+    for name, p in panels.items():
+        if (p["x"] < 0 or p["y"] < 0 or p["x"] + p["width"] > camera["width"] or
+                p["y"] + p["height"] > camera["height"]):
+            fail(f"{camera_path}: panel {name!r} at {p['x']}, {p['y']} size {p['width']} x "
+                 f"{p['height']} runs past the {camera['width']} x {camera['height']} image")
+        if p["overflow_x"] > 0 or p["overflow_y"] > 0:
+            fail(f"{camera_path}: panel {name!r}: contents reach {p['overflow_x']} px past its "
+                 f"right and {p['overflow_y']} px past its bottom")
+    print(f"ok {camera_path}: " + ", ".join(
+        f"{n} {p['width']:.0f} x {p['height']:.0f} (room {-p['overflow_y']:.0f} px)"
+        for n, p in panels.items()))
+
+
 def check_same_mesh(a_path, b_path, tolerance=1e-9):
     a, fa = read_off(a_path)
     b, fb = read_off(b_path)
@@ -235,6 +281,10 @@ if __name__ == "__main__":
         check_drag(*args[:5], float(args[5]), float(args[6]))
     elif command == "lasso":
         check_lasso(args[0], args[1], args[2], *(float(x) for x in args[3:]))
+    elif command == "panels":
+        check_panels(args[0], args[1:])
+    elif command == "handle_pixels":
+        check_handle_pixels(args[0], *(int(x) for x in args[1:]))
     elif command == "label":
         check_label(args[0], int(args[1]), int(args[2]))
     else:

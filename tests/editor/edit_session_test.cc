@@ -86,6 +86,17 @@ TEST(EditSessionTest, RunsAnyRegisteredMethodByName) {
     EXPECT_EQ(session.positions(), reference->deformed_vertices());  // bit for bit
     EXPECT_EQ(session.normals().cols(), inputs.mesh.num_vertices());
     EXPECT_NE(session.Status().find(name), std::string::npos) << session.Status();
+    // The per-frame solver is named for a graph method only.
+    const bool graph = IsGraphMethod(name);
+    for (const std::string& solver : SolverNames().names()) {
+      EXPECT_EQ(session.Status().find(solver) != std::string::npos,
+                graph && solver == SolverName(session.options().backend))
+          << session.Status();
+    }
+    EXPECT_EQ(MethodReadsDeformerRow(name, "rigidity.model"), graph);
+    EXPECT_EQ(MethodReadsDeformerRow(name, "backend"), graph);
+    EXPECT_TRUE(MethodReadsDeformerRow(name, "lattice.cell_width"));
+    EXPECT_TRUE(MethodReadsDeformerRow(name, "num_threads"));
     EXPECT_EQ(session.deformer() != nullptr, name == std::string("static"));
   }
   EditSession session;
