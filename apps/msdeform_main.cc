@@ -57,7 +57,8 @@ DEFINE_string(rerun, "",
               "settings); only output and diagnostic flags may be added.");
 DEFINE_string(out, "",
               "[output] Deformed mesh (.off, .obj or .ply). Default: "
-              "msdeform_out/<name>_<method>_<solver>.off.");
+              "msdeform_out/<name>_<method>_<energy>_<solver>.off for a graph method, "
+              "msdeform_out/<name>_<method>.off for another (its name says its energy).");
 DEFINE_string(report, "", "[output] JSON report. Default: --out with extension .json.");
 DEFINE_string(dump_nodes, "", "[output] CSV of the DG1 nodes: node,x,y,z,e_prime,class.");
 DEFINE_string(out_frames, "",
@@ -138,6 +139,19 @@ bool LoadMesh(const std::string& path, int num_threads, Mesh* mesh, MeshReadRepo
   return true;
 }
 
+// A graph method's per-frame solver; "" for another method (it has its own).
+std::string FrameSolver(const Job& job) {
+  return IsGraphMethod(job.method) ? SolverName(job.options.backend) : "";
+}
+
+// What tells runs on one input apart: the method, then a graph method's
+// energy and solver ("multiscale_ed_gauss_newton"); another method's name
+// says its energy and solver ("cgal_arap").
+std::string RunTag(const Job& job) {
+  if (!IsGraphMethod(job.method)) return job.method;
+  return job.method + "_" + MinimisedEnergy(job.method, job.options) + "_" + FrameSolver(job);
+}
+
 bool PrepareJob(Job* job, std::string* error) {
   // --method names any registered method; MethodOptionsFromFlags leaves
   // deformer.method at its default for a method that is not a graph.
@@ -146,6 +160,9 @@ bool PrepareJob(Job* job, std::string* error) {
     *error = "--method=" + job->method + ": expected " + MethodNameList();
     return false;
   }
+  // A flag given for a method that does not read it is an error, not
+  // silently ignored (a rerun's flags come from a run that was checked).
+  if (FLAGS_rerun.empty() && !CheckFlagsReadBy(job->method, error)) return false;
   if (!MethodOptionsFromFlags(&job->method_options, error)) return false;
   job->options = job->method_options.deformer;
   Method graph_method;
@@ -158,8 +175,6 @@ bool PrepareJob(Job* job, std::string* error) {
              std::to_string(kMaxScenarioFrames);
     return false;
   }
-  const std::string& method = job->method;
-  const std::string solver = SolverName(job->options.backend);
 
   // Inputs: names first, so that the outputs can be checked against them
   // before anything is read.
@@ -185,9 +200,8 @@ bool PrepareJob(Job* job, std::string* error) {
   }
 
   // Outputs, checked before any work.
-  job->out_path = FLAGS_out.empty()
-                      ? "msdeform_out/" + job->name + "_" + method + "_" + solver + ".off"
-                      : FLAGS_out;
+  job->out_path =
+      FLAGS_out.empty() ? "msdeform_out/" + job->name + "_" + RunTag(*job) + ".off" : FLAGS_out;
   job->report_path = FLAGS_report.empty()
                          ? fs::path(job->out_path).replace_extension(".json").string()
                          : FLAGS_report;
@@ -563,7 +577,9 @@ bool BuildReport(const Job& job, const EditingMethod* method, const DragLog& log
   report["name"] = job.name;
   report["mesh"] = job.mesh_path;
   report["method"] = job.method;
-  report["solver"] = SolverName(job.options.backend);
+  report["energy"] = MinimisedEnergy(job.method, job.options);
+  // A graph method's per-frame solver; null for a method with its own.
+  report["solver"] = IsGraphMethod(job.method) ? Json(FrameSolver(job)) : Json(nullptr);
   report["seed"] = job.options.graph.seed;
   if (!Provenance(job, command_line, &report, error)) return false;
   report["vertices"] = job.mesh.num_vertices();
@@ -653,6 +669,23 @@ bool BuildReport(const Job& job, const EditingMethod* method, const DragLog& log
   return true;
 }
 
+// Where the handle is a soft constraint, the words the summary adds to its
+// error: a graph method under the ed energy (Position terms weighed by w_con
+// against the others) or under arap with soft constraints; "" where the
+// method holds the handle exactly.
+std::string SoftHandleNote(const Job& job) {
+  if (!IsGraphMethod(job.method)) return "";
+  if (job.options.energy == Energy::kEd) {
+    return "; under the ed energy the handle is a soft constraint, weighed by --w_con=" +
+           OptionShortNumberText(job.options.w_con);
+  }
+  if (job.options.arap.constraints == ArapConstraints::kSoft) {
+    return "; with --arap_constraints=soft the handle is a soft constraint, weighed by "
+           "--arap_soft_weight=" + OptionShortNumberText(job.options.arap.soft_weight);
+  }
+  return "";
+}
+
 // The lines msdeform prints on success (none with --quiet).
 void PrintSummary(const Job& job, const EditingMethod& method, const DragLog& log,
                   const DragSummary& summary, const PolishReport* polish) {
@@ -665,20 +698,24 @@ void PrintSummary(const Job& job, const EditingMethod& method, const DragLog& lo
       totally_free += c == NodeClass::kTotallyFree;
       half_free += c == NodeClass::kHalfFree;
     }
-    std::printf("msdeform: %s (%d vertices), %s method, %s solver: scale %d of %zu; "
+    std::printf("msdeform: %s (%d vertices), %s method, %s energy, %s solver: scale %d of %zu; "
                 "%d Totally Free + %d Half Free nodes optimised (%d variables)\n",
                 job.name.c_str(), job.mesh.num_vertices(), job.method.c_str(),
-                SolverName(job.options.backend), deformer->active_graph() + 1,
+                MinimisedEnergy(job.method, job.options).c_str(), FrameSolver(job).c_str(),
+                deformer->active_graph() + 1,
                 deformer->graphs().size(), totally_free, half_free, deformer->num_variables());
   } else {
-    std::printf("msdeform: %s (%d vertices), %s method: %d elements optimised (%d variables)\n",
+    std::printf("msdeform: %s (%d vertices), %s method, %s energy: %d elements optimised (%d "
+                "variables)\n",
                 job.name.c_str(), job.mesh.num_vertices(), job.method.c_str(),
-                method.nodes_optimized(), method.variables());
+                MinimisedEnergy(job.method, job.options).c_str(), method.nodes_optimized(),
+                method.variables());
   }
-  std::printf("  %zu frames: median frame %.2f ms (solve %.2f, skin %.2f); handle rms %.3g = "
-              "%.2g of the bbox diagonal (distance of the handle vertices from their targets)\n",
-              job.path.size(), Median(summary.frame_ms), Median(summary.solve_ms),
-              Median(summary.skin_ms), summary.handle_rms, summary.handle_rms / diagonal);
+  std::printf("  %zu frame%s: median frame %.2f ms (solve %.2f, skin %.2f); handle rms %.3g = "
+              "%.2g of the bbox diagonal (distance of the handle vertices from their targets%s)\n",
+              job.path.size(), job.path.size() == 1 ? "" : "s", Median(summary.frame_ms),
+              Median(summary.solve_ms), Median(summary.skin_ms), summary.handle_rms,
+              summary.handle_rms / diagonal, SoftHandleNote(job).c_str());
   if (!job.watch.empty()) {
     std::printf("  watch region (%zu vertices) moved %.2g of the diagonal on average, %.2g at "
                 "most\n",

@@ -113,7 +113,12 @@ bool ValidateHandles(const HandleLayout& layout, int num_vertices, std::string* 
   return true;
 }
 
-bool ReadSel(const std::string& path, int num_vertices, HandleLayout* layout, std::string* error) {
+namespace {
+
+// ReadSel for `num_vertices` statuses, or (-1) as many as the file has;
+// *count is the number read.
+bool ReadSelStatuses(const std::string& path, int num_vertices, HandleLayout* layout, int* count,
+                     std::string* error) {
   std::ifstream in;
   if (!OpenForReading(path, &in, error)) return false;
   HandleLayout result;
@@ -144,7 +149,7 @@ bool ReadSel(const std::string& path, int num_vertices, HandleLayout* layout, st
                       " is outside 0 (fixed), 1 (deformable), 2 (handle)",
                   error);
     }
-    if (vertex >= num_vertices) {
+    if (num_vertices >= 0 && vertex >= num_vertices) {
       return Fail(path,
                   at + "more statuses than the mesh's " + std::to_string(num_vertices) +
                       " vertices (is this .sel for another mesh?)",
@@ -155,7 +160,7 @@ bool ReadSel(const std::string& path, int num_vertices, HandleLayout* layout, st
     ++vertex;
   }
   if (in.bad()) return Fail(path, "read error", error);
-  if (vertex != num_vertices) {
+  if (num_vertices >= 0 && vertex != num_vertices) {
     return Fail(path,
                 "has " + std::to_string(vertex) + " statuses but the mesh has " +
                     std::to_string(num_vertices) + " vertices (is this .sel for another mesh?)",
@@ -165,7 +170,20 @@ bool ReadSel(const std::string& path, int num_vertices, HandleLayout* layout, st
     return Fail(path, "no handle vertex (status 2); nothing would move", error);
   }
   *layout = std::move(result);
+  *count = vertex;
   return true;
+}
+
+}  // namespace
+
+bool ReadSel(const std::string& path, int num_vertices, HandleLayout* layout, std::string* error) {
+  int count = 0;
+  return ReadSelStatuses(path, num_vertices, layout, &count, error);
+}
+
+bool ReadSel(const std::string& path, HandleLayout* layout, int* num_vertices,
+             std::string* error) {
+  return ReadSelStatuses(path, -1, layout, num_vertices, error);
 }
 
 bool WriteSel(const std::string& path, const HandleLayout& layout, int num_vertices,

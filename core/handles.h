@@ -59,6 +59,10 @@ Eigen::Matrix3Xd ConstrainedTargets(const Eigen::Matrix3Xd& rest,
 // and problem in *error): unreadable file, a line that is not one integer,
 // a status outside 0..2, more or fewer statuses than vertices, no handle (2).
 bool ReadSel(const std::string& path, int num_vertices, HandleLayout* layout, std::string* error);
+// The same without a mesh: the vertex count is the file's (one status a
+// vertex), returned in *num_vertices; a count is not checked.
+bool ReadSel(const std::string& path, HandleLayout* layout, int* num_vertices,
+             std::string* error);
 
 // Writes `layout` as a .sel file for a mesh with `num_vertices` vertices,
 // atomically. Fails (no file written) when the layout does not validate.

@@ -23,7 +23,7 @@ def deform(V, F, status, M, method):
     """Drags the handle to M in 10 frames; returns the deformed vertices and the Method."""
     editor = msdeform.Method(V, F, method)
     editor.set_handles(status)
-    return editor.drag_along(M, frames=10).copy(), editor
+    return editor.drag_along(M, frames=10), editor  # a new array, as libigl returns
 
 
 def main(out_dir):

@@ -185,6 +185,7 @@ MSDEFORM_REGISTER_METHODS(fastlsm, registry) {
   fastlsm.name = "fastlsm";
   fastlsm.energy = "shape_matching";
   fastlsm.options = "fastlsm";
+  fastlsm.deformer_rows = {"lattice"};
   fastlsm.add_option_rows = [](OptionTable<MethodOptions>* t) {
     t->Embed("fastlsm", &MethodOptions::fastlsm, FastLsmOptionTable());
   };

@@ -88,6 +88,7 @@ MSDEFORM_REGISTER_METHODS(full_arap, registry) {
   full_arap.name = "full_arap";
   full_arap.energy = "arap";
   full_arap.options = "full_arap";
+  full_arap.deformer_rows = {"num_threads"};
   full_arap.add_option_rows = [](OptionTable<MethodOptions>* t) {
     EmbedOwnOptions("full_arap", FullArapOptionTable(), t);
   };

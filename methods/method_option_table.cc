@@ -91,6 +91,29 @@ std::vector<std::string> MethodsOfRow(const std::string& name) {
   return methods;
 }
 
+bool MethodReadsRow(const std::string& method, const std::string& name) {
+  const MethodDescriptor* d = FindMethod(method);
+  if (d == nullptr || MethodOptionTable().Find(name) == nullptr) return false;
+  if (name == "method") return true;
+  if (IsMethodOwnRow(name)) {
+    const std::vector<std::string> methods = MethodsOfRow(name);
+    return std::find(methods.begin(), methods.end(), method) != methods.end();
+  }
+  if (d->graph) return true;
+  for (const std::string& row : d->deformer_rows) {
+    if (name == row || name.rfind(row + ".", 0) == 0) return true;
+  }
+  return false;
+}
+
+std::vector<std::string> MethodsReadingRow(const std::string& name) {
+  std::vector<std::string> methods;
+  for (const MethodDescriptor& d : RegisteredMethods()) {
+    if (MethodReadsRow(d.name, name)) methods.push_back(d.name);
+  }
+  return methods;
+}
+
 bool MethodOptions::Check(std::string* error) const {
   // Every row's range (the methods' own under their prefix: "cgal.iterations=0:
   // ..."), then what the Deformer's rows cannot say.

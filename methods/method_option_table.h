@@ -31,6 +31,15 @@ bool IsMethodOwnRow(const std::string& name);
 // "cgal.*", fastlsm for "fastlsm.*"; none for any other.
 std::vector<std::string> MethodsOfRow(const std::string& name);
 
+// Whether the registered method `method` reads the row `name` of
+// MethodOptionTable(), from its descriptor (methods/registry.h): "method"
+// for every method; a Deformer row for a graph method, or one of the
+// descriptor's deformer_rows; a method's own row for the methods of its
+// prefix. False for an unknown method or row.
+bool MethodReadsRow(const std::string& method, const std::string& name);
+// The registered methods that read the row `name`, in registration order.
+std::vector<std::string> MethodsReadingRow(const std::string& name);
+
 }  // namespace msdeform
 
 #endif  // MSDEFORM_METHODS_METHOD_OPTION_TABLE_H_

@@ -27,10 +27,16 @@ struct MethodDescriptor {
   // The registered name ("multiscale", "cgal_arap", ...).
   std::string name;
   // A deformation-graph method (scales/deformer.h): graphs, node classes,
-  // and DeformerOptions::energy to choose (ed or arap). The others minimise
-  // one energy of their own and read only the lattice and thread rows of
-  // the Deformer's.
+  // and DeformerOptions::energy to choose (ed or arap); it reads every row of
+  // DeformerOptionTable(). The others minimise one energy of their own and
+  // read only the Deformer's rows in `deformer_rows`.
   bool graph = false;
+  // The rows of DeformerOptionTable() a method that is not a graph reads: a
+  // row's name ("num_threads") or the prefix of an embedded table's rows
+  // ("lattice" for every "lattice.*"). The front ends refuse an option given
+  // for a method that does not read it (MethodReadsRow,
+  // methods/method_option_table.h).
+  std::vector<std::string> deformer_rows;
   // What a method that is not a graph minimises, as the tables name it
   // ("arap", "sr_arap", "shape_matching"); a graph method's is its options'
   // energy (MinimisedEnergy).

@@ -282,6 +282,9 @@ MSDEFORM_REGISTER_METHODS(rigid_cells, registry) {
   MethodDescriptor rigid_cells;
   rigid_cells.name = "rigid_cells";
   rigid_cells.energy = "rigid_cells";
+  // Its own cells_per_diagonal replaces the lattice's (RigidCellsOptions).
+  rigid_cells.deformer_rows = {"lattice.cell_width", "lattice.max_grid_cells",
+                               "lattice.split_cells", "lattice.piece_margin", "num_threads"};
   rigid_cells.create = [] { return std::make_unique<RigidCells>(); };
   registry->push_back(std::move(rigid_cells));
 }

@@ -6,6 +6,7 @@
 
 #include <Python.h>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -54,12 +55,29 @@ void WriteMeshFile(const py::object& path_object, const py::object& vertices,
   if (!ok) ThrowOSError(error);
 }
 
-py::array_t<int> ReadSelFile(const py::object& path_object, int num_vertices) {
+py::array_t<int> ReadSelFile(const py::object& path_object, const py::object& count) {
   const std::string path = PathFromObject(path_object, "path");
-  if (num_vertices < 1) {
-    ThrowValueError("num_vertices: expected a vertex count >= 1, got " +
-                    std::to_string(num_vertices));
+  if (count.is_none()) {
+    // The file's own count: one status a vertex.
+    HandleLayout layout;
+    int num_vertices = 0;
+    std::string error;
+    if (!ReadSel(path, &layout, &num_vertices, &error)) ThrowOSError(error);
+    return StatusFromLayout(layout, num_vertices);
   }
+  // Python's int or anything with __index__ (NumPy integers), never a bool.
+  PyObject* index = PyBool_Check(count.ptr()) ? nullptr : PyNumber_Index(count.ptr());
+  if (index == nullptr) {
+    PyErr_Clear();
+    ThrowTypeError("num_vertices: expected an integer (the mesh's vertex count) or None, got " +
+                   std::string(py::repr(count)));
+  }
+  const py::int_ value = py::reinterpret_steal<py::int_>(index);
+  if (value < py::int_(1) || value > py::int_(std::numeric_limits<int>::max())) {
+    ThrowValueError("num_vertices: expected a vertex count >= 1, got " +
+                    std::string(py::repr(value)));
+  }
+  const int num_vertices = value.cast<int>();
   HandleLayout layout;
   std::string error;
   if (!ReadSel(path, num_vertices, &layout, &error)) ThrowOSError(error);
@@ -128,11 +146,13 @@ void BindIo(py::module_& m) {
         "TypeError/ValueError for bad arrays (ValueError with the C++ ValidateMesh message for "
         "out-of-range face indices, non-finite coordinates, ...) and OSError when the file "
         "cannot be written or the extension is not one of those.");
-  m.def("read_sel", &ReadSelFile, py::arg("path"), py::arg("num_vertices"),
-        "Reads a Botsch-Sorkine .sel file for a mesh of num_vertices vertices and returns the "
-        "status per vertex as an int32 array: 0 fixed, 1 free, 2 handle. Raises OSError with "
-        "the C++ message (file, line, problem): unreadable file, a bad line or status, a wrong "
-        "count, no handle vertex.");
+  m.def("read_sel", &ReadSelFile, py::arg("path"), py::arg("num_vertices") = py::none(),
+        "Reads a Botsch-Sorkine .sel file and returns the status per vertex as an int32 array: "
+        "0 fixed, 1 free, 2 handle. The file has one status a vertex; num_vertices (the mesh's "
+        "vertex count, len(V)) checks that it is the mesh's, None takes the file's count. "
+        "Raises OSError with the C++ message (file, line, problem): unreadable file, a bad "
+        "line or status, a count other than num_vertices, no handle vertex; TypeError or "
+        "ValueError for a num_vertices that is not a count >= 1.");
   m.def("write_sel", &WriteSelFile, py::arg("path"), py::arg("status"),
         "Writes a .sel file from a status array (0 fixed, 1 free, 2 handle; one per vertex) "
         "atomically. Raises ValueError for a bad status array (a value outside 0..2, no "

@@ -82,8 +82,10 @@ std::unique_ptr<PyMethod> MakeMethod(const py::object& vertices, const py::objec
   const MethodOptions method_options = MethodOptionsFrom(options, kwargs);
   auto self = std::make_unique<PyMethod>();
   std::string error;
-  self->method = CreateMethod(MethodNameFrom(method, method_options), &error);
+  const std::string name = MethodNameFrom(method, method_options);
+  self->method = CreateMethod(name, &error);
   if (self->method == nullptr) ThrowValueError("method: " + error);
+  CheckKeywordsReadBy(name, options, kwargs);
   bool ok;
   {
     py::gil_scoped_release release;
@@ -178,7 +180,7 @@ std::vector<Eigen::Affine3d> DragAlongPathOf(const PyMethod& self, const py::obj
 
 // The one drag loop of drag and drag_along: the C++ DragAlong (the loop of
 // the command line and the runner) with the GIL released; every successful
-// frame's statistics appended. Returns the deformed vertices' view.
+// frame's statistics appended. Returns a copy of the deformed vertices.
 py::array_t<double> DragThrough(const py::object& self_object, PyMethod& self,
                                 const std::vector<Eigen::Affine3d>& path,
                                 bool continue_after_failure) {
@@ -208,7 +210,9 @@ py::array_t<double> DragThrough(const py::object& self_object, PyMethod& self,
     self.failed_frames = log.failed_frames;
   }
   if (!ok) ThrowRuntimeError(error);
-  return ReadOnlyView(self.shown(), self_object);
+  // A new array, as libigl returns: the next drag does not change it.
+  std::lock_guard<std::mutex> lock(self.mutex);
+  return PositionsToArray(self.shown());
 }
 
 py::array_t<double> Drag(const py::object& self_object, const py::object& matrix) {
@@ -334,7 +338,17 @@ std::string ConstructorDoc() {
       "options.method (a graph method, 'multiscale' by default). `options` is a "
       "DeformerOptions (or a dict of its fields); keyword arguments set its fields on top of "
       "it (w_con=1e3, solver='ceres', stopping={'max_iterations': 5}, ...): the graph methods "
-      "read them all, the others their lattice and thread rows. The methods' own options "
+      "read them all, the others only these of them:";
+  // From the descriptors (methods/registry.h), so a new method is listed.
+  for (const MethodDescriptor& d : RegisteredMethods()) {
+    if (d.graph) continue;
+    std::string rows;
+    for (const std::string& row : d.deformer_rows) rows += (rows.empty() ? "" : ", ") + row;
+    doc += " " + d.name + ": " + (rows.empty() ? "none" : rows) + ";";
+  }
+  doc +=
+      " a keyword (or a key of a dict `options`) the method does not read raises TypeError "
+      "naming it, the method and the methods that read it. The methods' own options "
       "(msdeform.option_rows(), 'cgal.', 'fastlsm.', ... rows) are keywords too:\n";
   const MethodOptions defaults;
   for (const OptionRow<MethodOptions>& row : MethodOptionTable().rows()) {
@@ -366,9 +380,9 @@ void BindDragging(py::class_<PyMethod>& c) {
   c.def("drag", &Drag, py::arg("M"),
         "Moves the handle to M @ (its rest positions) (M: 4x4 with last row 0 0 0 1, or 3x4) "
         "and deforms the mesh warm-started from the previous frame; or, for a (frames, 4, 4) "
-        "M, each transform in turn. Returns the deformed vertices as a read-only float64 "
-        "(#V, 3) view of the method's own storage (no copy); the view keeps the Method alive, "
-        "and the next drag or drag_along updates it in place: use .copy() to keep a frame. "
+        "M, each transform in turn. Returns the deformed vertices as a new float64 (#V, 3) "
+        "array (as libigl returns one): the next drag or drag_along does not change it "
+        "(deformed_vertices is the read-only view that follows the current frame). "
         "Raises RuntimeError before set_handles and when a frame fails ('frame F of N: ' and "
         "the C++ message; the last good pose is kept).");
   c.def("drag_along", &DragAlongPath, py::arg("M"), py::arg("frames") = py::none(),
@@ -379,7 +393,7 @@ void BindDragging(py::class_<PyMethod>& c) {
         "(drag_path), or a (frames, 4, 4) array of transforms (then frames must be None). "
         "continue_after_failure: a failed intermediate frame keeps the last good pose and the "
         "drag goes on (the command line's behaviour); otherwise the first failure raises. "
-        "Returns the same view as drag(); frame_stats gains every frame's statistics and "
+        "Returns a new (#V, 3) array as drag() does; frame_stats gains every frame's statistics and "
         "failed_frames lists the failed ones. Raises RuntimeError with 'frame F of N: ...' on "
         "failure.");
   c.def("polish", &Polish,
@@ -484,8 +498,9 @@ void BindMeshAndLattice(py::class_<PyMethod>& c) {
       Locked([](const py::object& o, PyMethod& s) {
         return ReadOnlyView(s.shown(), o);
       }, false),
-      "The current deformed vertices, the read-only (#V, 3) view drag() returns (the rest "
-      "vertices before the first drag after set_handles).");
+      "The current deformed vertices, a read-only float64 (#V, 3) view of the Method's "
+      "storage that the next drag updates in place (drag() returns a copy); the rest "
+      "vertices before the first drag after set_handles.");
   c.def_property_readonly(
       "deformed_normals",
       Locked([](const py::object& o, PyMethod& s) {

@@ -86,9 +86,11 @@ void BindGraphs(py::class_<PyMethod>& c) {
 void BindLayout(py::class_<PyMethod>& c) {
   GraphMember(c, "relative_extent",
               [](const Deformer& d) { return VectorToArray(d.rigidity().relative_extent); }, true,
-              "e' (paper Eq. 5, normalised): the rigidity estimate per lattice particle, float64 "
-              "(#particles,); the first num_surface_particles entries are the DG1 nodes'. Small "
-              "means rigid. Empty for the static baselines.");
+              "One entry per lattice particle, not per node: float64 (#particles,) with "
+              "#particles = len(particle_positions) (surface and interior). e' (paper Eq. 5, "
+              "normalised), the rigidity estimate; the first num_surface_particles entries are "
+              "the DG1 nodes' (node_extent has one per node of the selected scale). Small means "
+              "rigid. Empty for the static baselines.");
   GraphMember(c, "extent", [](const Deformer& d) { return VectorToArray(d.rigidity().extent); },
               true,
               "e per lattice particle in mesh units (e' = e / handle_extent); empty for the "
@@ -122,7 +124,8 @@ void BindLayout(py::class_<PyMethod>& c) {
     for (NodeClass node_class : d.node_classes()) classes.push_back(static_cast<int>(node_class));
     return IdsToArray(classes);
   }, true,
-      "Class per node of the selected scale as int32: 0 fixed, 1 half_free, 2 totally_free "
+      "One entry per node of the selected scale (as node_positions), not per lattice "
+      "particle or DG1 node: int32 (#nodes,), 0 fixed, 1 half_free, 2 totally_free "
       "(msdeform.NODE_CLASSES[c] names class c).");
 }
 

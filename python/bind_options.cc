@@ -516,6 +516,54 @@ MethodOptions MethodOptionsFrom(const py::handle& options, const py::kwargs& kwa
   return result;
 }
 
+void CheckKeywordsReadBy(const std::string& method, const py::handle& options,
+                         const py::kwargs& kwargs) {
+  std::vector<std::string> keys;
+  for (const auto& [key, value] : kwargs) keys.push_back(py::str(key));
+  if (py::isinstance<py::dict>(options)) {
+    for (const auto& [key, value] : options.cast<py::dict>()) keys.push_back(py::str(key));
+  }
+  const py::object type = py::type::of<DeformerOptions>();
+  const py::tuple fields = type.attr("fields");
+  const py::dict aliases = type.attr("aliases");
+  for (const std::string& key : keys) {
+    // The rows the keyword sets: a method's own row, a Deformer row by its
+    // other spelling, or a field (a nested struct's: every row under it).
+    std::vector<std::string> rows;
+    for (const OptionRow<MethodOptions>& row : MethodOptionTable().rows()) {
+      if (!IsMethodOwnRow(row.name)) continue;
+      const std::vector<std::string> keywords = MethodKeywords(row.name);
+      if (std::find(keywords.begin(), keywords.end(), key) != keywords.end()) {
+        rows.push_back(row.name);
+      }
+    }
+    const py::str py_key(key);
+    if (rows.empty() && aliases.contains(py_key)) rows.push_back(py::str(aliases[py_key]));
+    if (rows.empty() && fields.contains(py_key)) {
+      for (const OptionRow<MethodOptions>& row : MethodOptionTable().rows()) {
+        if (!IsMethodOwnRow(row.name) && (row.name == key || row.name.rfind(key + ".", 0) == 0)) {
+          rows.push_back(row.name);
+        }
+      }
+    }
+    bool read = rows.empty();  // not a row (MethodOptionsFrom judged it)
+    std::vector<std::string> readers;
+    for (const std::string& row : rows) {
+      read = read || MethodReadsRow(method, row);
+      for (const std::string& reader : MethodsReadingRow(row)) {
+        if (std::find(readers.begin(), readers.end(), reader) == readers.end()) {
+          readers.push_back(reader);
+        }
+      }
+    }
+    if (read) continue;
+    ThrowTypeError(key + ": not an option of the " + method + " method (" +
+                   (readers.empty() ? std::string("no method reads it")
+                                    : "an option of " + Join(readers)) +
+                   ")");
+  }
+}
+
 void BindOptions(py::module_& m) {
   BindSubOptions(m);
   BindDeformerOptions(m);

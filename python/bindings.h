@@ -99,6 +99,13 @@ DeformerOptions DeformerOptionsFrom(const py::handle& options, const py::kwargs&
 // fastlsm_steps_per_frame or fastlsm_steps) set cgal/fastlsm, checked by the
 // row (ValueError naming the keyword); the rest are DeformerOptionsFrom's.
 MethodOptions MethodOptionsFrom(const py::handle& options, const py::kwargs& kwargs);
+// TypeError "w_con: not an option of the cgal_arap method (an option of
+// multiscale, static, static_dense)" for a keyword (or a key of a dict
+// `options`) that sets only rows `method` does not read (MethodReadsRow,
+// methods/method_option_table.h); a DeformerOptions object is not checked
+// (its fields are all set, none given by name).
+void CheckKeywordsReadBy(const std::string& method, const py::handle& options,
+                         const py::kwargs& kwargs);
 // The keywords of a method's own row ("fastlsm.steps_per_frame":
 // fastlsm_steps_per_frame, fastlsm_steps).
 std::vector<std::string> MethodKeywords(const std::string& row_name);

@@ -1,8 +1,12 @@
 #include "apps/flags/deformer_flags.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cstdint>
 #include <deque>
+#include <limits>
 #include <map>
+#include <set>
 #include <ostream>
 #include <string>
 #include <utility>
@@ -162,6 +166,17 @@ bool FlagRowValues(int group, std::vector<FlagValue>* values, std::string* error
   return true;
 }
 
+std::vector<FlagValue> GivenFlagRows() {
+  std::vector<FlagValue> given;
+  for (const TableFlag& flag : TableFlags()) {
+    if (IsDefault(flag.spelling)) continue;
+    bool seen = false;
+    for (const FlagValue& value : given) seen = seen || value.row == flag.row;
+    if (!seen) given.push_back({flag.row, flag.spelling, FlagText(flag)});
+  }
+  return given;
+}
+
 std::string MethodFlag() {
   std::string value;
   gflags::GetCommandLineOption("method", &value);
@@ -239,6 +254,69 @@ bool CheckFlagNames(int argc, char** argv, std::string* error) {
   return true;
 }
 
+namespace {
+
+// What is wrong with `text` as a value of a gflags flag of `type` ("double",
+// "int32", ...), in the tables' words; "" when gflags will take it.
+std::string FlagValueProblem(const std::string& type, const std::string& text) {
+  if (type == "double") {
+    double value = 0.0;
+    return ParseOptionDouble(text, &value) ? "" : "expected a number";
+  }
+  if (type == "int32" || type == "int64") {
+    long long value = 0;
+    const bool ok = ParseOptionInteger(text, &value) &&
+                    (type == "int64" || (value >= std::numeric_limits<int32_t>::min() &&
+                                         value <= std::numeric_limits<int32_t>::max()));
+    return ok ? "" : "expected an integer";
+  }
+  if (type == "uint32" || type == "uint64") {
+    unsigned long long value = 0;
+    const bool ok = ParseOptionUnsigned(text, &value) &&
+                    (type == "uint64" || value <= std::numeric_limits<uint32_t>::max());
+    return ok ? "" : "expected an integer >= 0";
+  }
+  if (type == "bool") {
+    // gflags's spellings of a bool.
+    static const std::set<std::string> kBools = {"true", "t", "yes", "y", "1",
+                                                 "false", "f", "no", "n", "0"};
+    std::string lower = text;
+    std::transform(lower.begin(), lower.end(), lower.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return kBools.count(lower) ? "" : "expected true or false";
+  }
+  return "";
+}
+
+}  // namespace
+
+bool CheckFlagValues(int argc, char** argv, std::string* error) {
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i];
+    if (arg == "--") break;
+    if (arg.size() < 2 || arg[0] != '-') continue;
+    arg.erase(0, arg[1] == '-' ? 2 : 1);
+    const size_t equals = arg.find('=');
+    const std::string name = arg.substr(0, equals);
+    gflags::CommandLineFlagInfo info;
+    if (name.empty() || !gflags::GetCommandLineFlagInfo(name.c_str(), &info)) continue;
+    std::string text;
+    if (equals != std::string::npos) {
+      text = arg.substr(equals + 1);
+    } else if (info.type == "bool" || i + 1 >= argc) {
+      continue;  // --x (true), or gflags's "missing its argument"
+    } else {
+      text = argv[++i];  // gflags's --x value
+    }
+    const std::string problem = FlagValueProblem(info.type, text);
+    if (!problem.empty()) {
+      *error = "--" + name + "=" + text + ": " + problem;
+      return false;
+    }
+  }
+  return true;
+}
+
 std::vector<std::pair<std::string, std::string>> ProgramFlagValues() {
   // The spellings of one option record the value it took (that of the
   // spelling given), so that --rerun sets them all alike.
@@ -273,6 +351,15 @@ bool HandleHelpRequest(int argc, char** argv, const std::string& usage, std::ost
   // The program's own flags: those whose description starts with
   // "[topic] ", in the order of kTopics; glog's and gflags's are left out
   // (--helpfull lists them).
+  // A row's other spellings are named in its first one's help ("also
+  // --solver"), not listed again.
+  std::set<std::string> later_spellings;
+  const std::vector<TableFlag>& table_flags = TableFlags();
+  for (size_t i = 1; i < table_flags.size(); ++i) {
+    if (SameRow(table_flags[i - 1], table_flags[i])) {
+      later_spellings.insert(table_flags[i].spelling);
+    }
+  }
   static const char* kTopics[] = {"input",   "output",  "method",    "solver",
                                   "weights", "rigidity", "ablations", "diagnostics"};
   std::map<std::string, std::vector<gflags::CommandLineFlagInfo>> by_topic;
@@ -282,7 +369,7 @@ bool HandleHelpRequest(int argc, char** argv, const std::string& usage, std::ost
     const std::string& text = flag.description;
     if (text.size() < 3 || text[0] != '[') continue;
     const size_t close = text.find("] ");
-    if (close == std::string::npos) continue;
+    if (close == std::string::npos || later_spellings.count(flag.name)) continue;
     by_topic[text.substr(1, close - 1)].push_back(flag);
   }
   out << usage << "\n";
@@ -293,7 +380,12 @@ bool HandleHelpRequest(int argc, char** argv, const std::string& usage, std::ost
     for (const gflags::CommandLineFlagInfo& flag : it->second) {
       const std::string text = flag.description.substr(flag.description.find("] ") + 2);
       std::string value = flag.default_value;
+      double number = 0.0;
       if (flag.type == "string") value = "\"" + value + "\"";
+      // gflags prints a double to 17 digits (0.10000000000000001).
+      if (flag.type == "double" && ParseOptionDouble(value, &number)) {
+        value = OptionShortNumberText(number);
+      }
       out << "  --" << flag.name << " (" << flag.type << ", default " << value << ")\n      "
           << text << "\n";
     }

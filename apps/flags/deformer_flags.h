@@ -98,6 +98,15 @@ bool OptionsFromFlagRows(const OptionTable<T>& table, int group, T* options, std
 // gflags does not know (gflags itself would only say it is unknown).
 bool CheckFlagNames(int argc, char** argv, std::string* error);
 
+// Before gflags parses argv: false with "--w_con=abc: expected a number"
+// (the tables' words) when a flag's value is not of its type (gflags itself
+// would print its own multi-word "ERROR: illegal value ..." and exit).
+bool CheckFlagValues(int argc, char** argv, std::string* error);
+
+// The rows of the tables' flags given on the command line (not left at
+// their defaults), each once: the spelling given and its text.
+std::vector<FlagValue> GivenFlagRows();
+
 // The program's own flags (those with a "[topic] " description) and their
 // current values, in name order: what a report records to repeat a run.
 std::vector<std::pair<std::string, std::string>> ProgramFlagValues();

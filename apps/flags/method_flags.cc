@@ -1,5 +1,9 @@
 #include "apps/flags/method_flags.h"
 
+#include <vector>
+
+#include <gflags/gflags.h>
+
 #include "apps/flags/deformer_flags.h"
 #include "msdeform/methods/method_option_table.h"
 #include "msdeform/methods/registry.h"
@@ -20,6 +24,26 @@ bool MethodOptionsFromFlags(MethodOptions* options, std::string* error) {
 
 bool MethodOwnOptionsFromFlags(MethodOptions* options, std::string* error) {
   return OptionsFromFlagRows(MethodOptionTable(), kMethodGroup, options, error);
+}
+
+bool CheckFlagsReadBy(const std::string& method, std::string* error) {
+  std::vector<FlagValue> given = GivenFlagRows();
+  gflags::CommandLineFlagInfo seed;
+  if (gflags::GetCommandLineFlagInfo("seed", &seed) && !seed.is_default) {
+    given.push_back({"graph.seed", "seed", seed.current_value});
+  }
+  for (const FlagValue& flag : given) {
+    if (MethodReadsRow(method, flag.row)) continue;
+    std::string readers;
+    for (const std::string& reader : MethodsReadingRow(flag.row)) {
+      readers += (readers.empty() ? "" : ", ") + reader;
+    }
+    *error = "--" + flag.spelling + "=" + flag.text + ": not an option of the " + method +
+             " method (" + (readers.empty() ? "no method reads it" : "an option of " + readers) +
+             ")";
+    return false;
+  }
+  return true;
 }
 
 }  // namespace msdeform

@@ -25,6 +25,13 @@ bool MethodOptionsFromFlags(MethodOptions* options, std::string* error);
 // program that reads the Deformer's flags itself.
 bool MethodOwnOptionsFromFlags(MethodOptions* options, std::string* error);
 
+// False with "--w_con=5: not an option of the cgal_arap method (an option of
+// multiscale, static, static_dense)" when a flag given on the command line
+// (not one left at its default) sets a row that `method` does not read
+// (MethodReadsRow, methods/method_option_table.h); --seed counts as
+// graph.seed.
+bool CheckFlagsReadBy(const std::string& method, std::string* error);
+
 }  // namespace msdeform
 
 #endif  // MSDEFORM_APPS_FLAGS_METHOD_FLAGS_H_

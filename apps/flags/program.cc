@@ -26,7 +26,9 @@ int Main(int argc, char** argv) {
   if (HandleHelpRequest(argc, argv, info.usage, std::cout)) return 0;
   const std::vector<std::string> command_line(argv, argv + argc);
   std::string error;
-  if (!CheckFlagNames(argc, argv, &error)) return Fail(error);
+  if (!CheckFlagNames(argc, argv, &error) || !CheckFlagValues(argc, argv, &error)) {
+    return Fail(error);
+  }
   gflags::SetUsageMessage(info.usage);
   if (!info.version.empty()) gflags::SetVersionString(info.version);
   gflags::ParseCommandLineFlags(&argc, &argv, true);

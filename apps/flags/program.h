@@ -1,5 +1,6 @@
 // The main() every msdeform program shares: --help from the flags' topics,
-// unknown flags named with the nearest one, gflags's usage and version,
+// unknown flags named with the nearest one, a value not of its flag's type
+// named in one line, gflags's usage and version,
 // glog to standard error, no stray argument, and out of memory reported in
 // one line (core/main_guard.h). A program states what differs and its body:
 //

@@ -16,8 +16,9 @@ The C++ library (the extension ``msdeform._msdeform``) on NumPy arrays::
 
 Arrays: vertices float64 (#V, 3), faces int32 (#F, 3) (any integer dtype is accepted),
 vertex id lists 1-D integer arrays, transforms 4x4 with last row 0 0 0 1 (or 3x4).
-``Method.drag`` returns a read-only view of the method's own storage that the next drag
-updates in place; ``.copy()`` keeps a frame.
+``Method.drag`` and ``Method.drag_along`` return a new array that later drags leave as it
+is (as libigl's functions do); ``Method.deformed_vertices`` is a read-only view of the
+method's own storage that follows the current frame.
 
 Errors carry the C++ message: TypeError for a wrong type or dtype (or an unknown option
 keyword, with the nearest one), ValueError for a wrong shape or value (arrays, options, handle
@@ -160,7 +161,7 @@ def deform(V, F, status, M, frames=1, method=None, options=None, **kwargs):
     """
     editor = Method(V, F, method, options, **kwargs)
     editor.set_handles(status)
-    return editor.drag_along(M, frames=frames).copy()
+    return editor.drag_along(M, frames=frames)
 
 
 def __getattr__(name):

@@ -24,6 +24,25 @@ TEST(HandlesTest, ReadSelSplitsStatusesIntoFixedAndMoveable) {
   EXPECT_EQ(layout.moveable, (std::vector<int>{2, 4}));
 }
 
+TEST(HandlesTest, ReadSelWithoutACountTakesTheFiles) {
+  const std::string path =
+      WriteText(FreshFolder() + "/six.sel", "# 6 vertices\n1\n0\n2\n  0  \n\n2\r\n1\n");
+  HandleLayout layout;
+  int num_vertices = 0;
+  std::string error;
+  ASSERT_TRUE(ReadSel(path, &layout, &num_vertices, &error)) << error;
+  EXPECT_EQ(num_vertices, 6);
+  EXPECT_EQ(layout.fixed, (std::vector<int>{1, 3}));
+  EXPECT_EQ(layout.moveable, (std::vector<int>{2, 4}));
+  // The other checks stay: a bad status, no handle.
+  const std::string bad = WriteText(FreshFolder() + "/bad.sel", "0\n3\n");
+  EXPECT_FALSE(ReadSel(bad, &layout, &num_vertices, &error));
+  EXPECT_NE(error.find("line 2: status 3 for vertex 1"), std::string::npos) << error;
+  const std::string none = WriteText(FreshFolder() + "/none.sel", "0\n1\n");
+  EXPECT_FALSE(ReadSel(none, &layout, &num_vertices, &error));
+  EXPECT_NE(error.find("no handle vertex"), std::string::npos) << error;
+}
+
 struct BadSel {
   const char* name;
   const char* contents;

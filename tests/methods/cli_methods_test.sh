@@ -66,7 +66,9 @@ if cmp -s "${work}/cgal_sr_arap.off" "${work}/cgal_own.off"; then
 fi
 for flag in fastlsm_steps=0 fastlsm_damping=1 fastlsm_region_half_width=9 cgal_iterations=0 \
             cgal_tolerance=-1 cgal_sre_alpha=nan; do
-  if "${msdeform}" --quiet --scenario="${scenario}" --method=fastlsm --"${flag}" \
+  method=fastlsm
+  [[ "${flag}" == cgal_* ]] && method=cgal_sr_arap
+  if "${msdeform}" --quiet --scenario="${scenario}" --method="${method}" --"${flag}" \
        --out="${work}/bad.off" 2> "${work}/stderr"; then
     echo "cli_methods_test: --${flag} succeeded"; exit 1
   fi

@@ -83,6 +83,47 @@ TEST(RegistryTest, DescriptorsSayGraphEnergyAndOwnRows) {
   }
 }
 
+// Which rows each method reads, from the descriptors (known answers): what
+// the command line and Python refuse when given for another method.
+TEST(RegistryTest, SaysWhichRowsAMethodReads) {
+  EXPECT_TRUE(MethodReadsRow("multiscale", "w_con"));
+  EXPECT_TRUE(MethodReadsRow("static", "backend"));
+  EXPECT_TRUE(MethodReadsRow("multiscale", "lattice.cell_width"));
+  EXPECT_FALSE(MethodReadsRow("multiscale", "cgal.iterations"));
+  EXPECT_TRUE(MethodReadsRow("cgal_arap", "cgal.iterations"));
+  EXPECT_TRUE(MethodReadsRow("cgal_sr_arap", "cgal.sre_alpha"));
+  EXPECT_FALSE(MethodReadsRow("cgal_arap", "w_con"));
+  EXPECT_FALSE(MethodReadsRow("cgal_arap", "backend"));
+  EXPECT_FALSE(MethodReadsRow("cgal_arap", "num_threads"));
+  EXPECT_FALSE(MethodReadsRow("cgal_arap", "fastlsm.damping"));
+  EXPECT_TRUE(MethodReadsRow("fastlsm", "lattice.cell_width"));
+  EXPECT_TRUE(MethodReadsRow("fastlsm", "fastlsm.steps_per_frame"));
+  EXPECT_FALSE(MethodReadsRow("fastlsm", "num_threads"));
+  EXPECT_TRUE(MethodReadsRow("rigid_cells", "lattice.cell_width"));
+  EXPECT_FALSE(MethodReadsRow("rigid_cells", "lattice.cells_per_diagonal"));
+  EXPECT_TRUE(MethodReadsRow("rigid_cells", "num_threads"));
+  EXPECT_TRUE(MethodReadsRow("full_arap", "num_threads"));
+  EXPECT_FALSE(MethodReadsRow("full_arap", "energy"));
+  for (const std::string& name : MethodNames()) EXPECT_TRUE(MethodReadsRow(name, "method"));
+  EXPECT_FALSE(MethodReadsRow("no_such_method", "method"));
+  EXPECT_FALSE(MethodReadsRow("multiscale", "no_such_row"));
+  const std::vector<std::string> w_con = MethodsReadingRow("w_con");
+  ASSERT_GE(w_con.size(), 3u);
+  EXPECT_EQ(std::vector<std::string>(w_con.begin(), w_con.begin() + 3),
+            (std::vector<std::string>{"multiscale", "static", "static_dense"}));
+  EXPECT_EQ(MethodsReadingRow("fastlsm.damping"), std::vector<std::string>{"fastlsm"});
+  // Every descriptor's deformer_rows name rows of the table.
+  for (const MethodDescriptor& d : RegisteredMethods()) {
+    for (const std::string& row : d.deformer_rows) {
+      bool found = false;
+      for (const auto& r : MethodOptionTable().rows()) {
+        found = found || r.name == row || r.name.rfind(row + ".", 0) == 0;
+      }
+      EXPECT_TRUE(found) << d.name << ": deformer_rows names no row '" << row << "'";
+    }
+  }
+}
+
 TEST(RegistryTest, CreatesEachByItsName) {
   for (const std::string& name : MethodNames()) {
     std::string error;

@@ -54,23 +54,39 @@ def test_identity_drag_leaves_the_mesh_at_rest(meshes):
     assert np.abs(V2 - V).max() <= 1e-9 * d.diagonal
 
 
-def test_drag_returns_a_read_only_view_updated_in_place(meshes):
+def test_drag_returns_an_array_later_drags_leave_alone(meshes):
+    # As libigl: V2 = d.drag(M) is a new array; d.deformed_vertices is the view that follows.
     V, F = msdeform.read_mesh(meshes / "cactus.off")
     d = msdeform.Method(V, F)
     d.set_handles(meshes / "cactus.sel")
     M = msdeform.read_def(meshes / "cactus.def")
     first = d.drag(M)
     kept = first.copy()
-    assert not first.flags.writeable
-    with pytest.raises(ValueError):
-        first[0, 0] = 1.0
-    assert np.shares_memory(first, d.deformed_vertices)
+    assert first.flags.writeable and first.dtype == np.float64 and first.shape == V.shape
+    assert not np.shares_memory(first, d.deformed_vertices)
+    along = d.drag_along(M, frames=3)
+    assert np.array_equal(first, kept)  # the next calls did not change it
+    assert not np.shares_memory(along, d.deformed_vertices)
+    assert np.array_equal(along, d.deformed_vertices)
     second = d.drag(np.eye(4))
-    assert np.shares_memory(first, second)
-    assert np.array_equal(first, second)  # the same storage, now the second frame
-    assert not np.array_equal(kept, second)
-    del d
-    assert second.sum() == second.sum()  # the view keeps the Method alive
+    assert np.array_equal(first, kept) and not np.array_equal(second, kept)
+    assert not np.array_equal(along, second)
+    view = d.deformed_vertices
+    assert not view.flags.writeable
+    with pytest.raises(ValueError):
+        view[0, 0] = 1.0
+    before = view.copy()
+    d.drag(M)
+    assert not np.array_equal(view, before)  # the view follows the frame
+    assert "new float64 (#V, 3) array" in msdeform.Method.drag.__doc__
+
+
+def test_per_particle_and_per_node_members_say_so():
+    # relative_extent: one per lattice particle; node_classes: one per node (help() shows it).
+    doc = msdeform.Method.relative_extent.__doc__
+    assert doc.startswith("One entry per lattice particle, not per node")
+    assert msdeform.Method.node_classes.__doc__.startswith(
+        "One entry per node of the selected scale")
 
 
 def test_method_intermediates_follow_the_paper(meshes):

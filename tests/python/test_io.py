@@ -86,6 +86,21 @@ def test_read_sel_is_the_per_vertex_status(meshes):
     assert np.bincount(status).tolist() == [68, 465, 87]
 
 
+def test_read_sel_without_a_count_takes_the_files(meshes, tmp_path):
+    # The file has one status a vertex: no count needed; a count still checks the mesh's.
+    status = msdeform.read_sel(meshes / "cactus.sel")
+    assert np.array_equal(status, msdeform.read_sel(meshes / "cactus.sel", 620))
+    assert np.array_equal(status, msdeform.read_sel(meshes / "cactus.sel", np.int64(620)))
+    with pytest.raises(OSError, match=r"has 620 statuses but the mesh has 621 vertices"):
+        msdeform.read_sel(meshes / "cactus.sel", 621)
+    with pytest.raises(TypeError, match=r"^num_vertices: expected an integer \(the mesh's "
+                                        r"vertex count\) or None, got '620'$"):
+        msdeform.read_sel(meshes / "cactus.sel", "620")
+    (tmp_path / "none.sel").write_text("0\n1\n")
+    with pytest.raises(OSError, match=r"no handle vertex"):
+        msdeform.read_sel(tmp_path / "none.sel")
+
+
 def test_sel_round_trip(meshes, tmp_path):
     status = msdeform.read_sel(meshes / "cactus.sel", 620)
     msdeform.write_sel(tmp_path / "copy.sel", status)

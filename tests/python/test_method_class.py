@@ -246,10 +246,11 @@ def test_deformer_is_gone_with_a_pointer():
 def test_deform_is_the_one_off_form(method):
     V, F = bar()
     status = fixed_and_handle(V)
-    e = msdeform.Method(V, F, method, fastlsm_steps=3)
+    own = {"fastlsm_steps": 3} if method == "fastlsm" else {}
+    e = msdeform.Method(V, F, method, **own)
     e.set_handles(status)
     expected = e.drag_along(T, frames=2)
-    V2 = msdeform.deform(V, F, status, T, frames=2, method=method, fastlsm_steps=3)
+    V2 = msdeform.deform(V, F, status, T, frames=2, method=method, **own)
     assert np.array_equal(V2, expected) and V2.flags.writeable
 
 
@@ -290,3 +291,47 @@ def test_a_nested_options_keyword_names_the_nearest_field():
     with pytest.raises(TypeError, match=r"^DeformerOptions: unknown option 'w_cn' \(did you mean "
                                         r"'w_con'\?\)"):
         msdeform.Method(V, F, options={"w_cn": 1.0})
+
+
+@pytest.mark.parametrize("method,keyword,value,flag,readers", [
+    ("cgal_arap", "w_con", 5, "--w_con=5", "multiscale, static, static_dense"),
+    ("cgal_arap", "backend", "ceres", "--backend=ceres", "multiscale, static, static_dense"),
+    ("cgal_arap", "solver", "ceres", "--solver=ceres", "multiscale, static, static_dense"),
+    ("cgal_arap", "fastlsm_steps", 4, "--fastlsm_steps=4", "fastlsm"),
+    ("multiscale", "cgal_iterations", 5, "--cgal_iterations=5", "cgal_arap, cgal_sr_arap"),
+    ("fastlsm", "num_threads", 2, "--num_threads=2",
+     "multiscale, static, static_dense, rigid_cells, full_arap"),
+])
+def test_an_option_the_method_does_not_read_is_refused_as_on_the_command_line(
+        cli, tmp_path, method, keyword, value, flag, readers):
+    V, F = bar()
+    name = flag[2:].split("=")[0]
+    message = f"{keyword}: not an option of the {method} method (an option of {readers})"
+    with pytest.raises(TypeError, match="^" + re.escape(message) + "$"):
+        msdeform.Method(V, F, method, **{keyword: value})
+    if keyword in msdeform.DeformerOptions.fields or keyword in msdeform.DeformerOptions.aliases:
+        # A dict `options` holds DeformerOptions fields (the methods' own are keywords).
+        with pytest.raises(TypeError, match="^" + re.escape(message) + "$"):
+            msdeform.Method(V, F, method, options={keyword: value})
+    # The command line: the same words, the flag as typed, no output.
+    result = subprocess.run([str(cli), f"--method={method}", flag, "--quiet"],
+                            capture_output=True, text=True, cwd=tmp_path)
+    assert result.returncode == 1
+    assert result.stderr == (f"msdeform: {flag}: not an option of the {method} method "
+                             f"(an option of {readers})\n"), name
+    assert not (tmp_path / "msdeform_out").exists()
+
+
+def test_options_the_method_reads_are_taken():
+    V, F = bar()
+    msdeform.Method(V, F, "cgal_arap", cgal_iterations=5)
+    msdeform.Method(V, F, "fastlsm", cell_width=0.5, fastlsm_steps=3)
+    msdeform.Method(V, F, "full_arap", num_threads=2)
+    msdeform.Method(V, F, "rigid_cells", cell_width=0.5)
+    msdeform.Method(V, F, "multiscale", w_con=5, solver="ceres")
+    # A DeformerOptions object sets every field, none by name: not refused.
+    msdeform.Method(V, F, "cgal_arap", options=msdeform.DeformerOptions(w_con=5))
+    # The constructor's help lists what each method reads, from the registry.
+    doc = msdeform.Method.__init__.__doc__
+    assert "cgal_arap: none;" in doc and "fastlsm: lattice;" in doc
+    assert "full_arap: num_threads;" in doc

@@ -281,6 +281,52 @@ TEST(DeformerFlagsTest, SolverAndBackendAreOneOption) {
   EXPECT_EQ(error, "--backend=gauss_newton and --solver=ceres: one option (backend), given twice");
 }
 
+// A value not of its flag's type is one line in the tables' words, before
+// gflags parses argv (which would print its own "ERROR: illegal value").
+TEST(DeformerFlagsTest, ValuesNotOfTheFlagsTypeAreOneLine) {
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--w_con=abc"}, "--w_con=abc: expected a number"},
+      {{"--w_con="}, "--w_con=: expected a number"},
+      {{"-w_con", "abc"}, "--w_con=abc: expected a number"},
+      {{"--max_iterations=2.5"}, "--max_iterations=2.5: expected an integer"},
+      {{"--threads=99999999999"}, "--threads=99999999999: expected an integer"},
+      {{"--split_cells=maybe"}, "--split_cells=maybe: expected true or false"},
+      {{"--seed=-1"}, "--seed=-1: expected an integer >= 0"},
+  };
+  for (const auto& [args, expected] : cases) {
+    std::vector<std::string> words = {"msdeform"};
+    words.insert(words.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (std::string& word : words) argv.push_back(word.data());
+    std::string error;
+    EXPECT_FALSE(CheckFlagValues(static_cast<int>(argv.size()), argv.data(), &error)) << expected;
+    EXPECT_EQ(error, expected);
+  }
+  // What gflags takes passes: its spellings of a bool, a bare bool, numbers.
+  std::vector<std::string> good = {"msdeform", "--w_con=1e3", "--split_cells=YES", "--nosplit_cells",
+                                   "--alpha_all_one", "--threads", "3", "--unknown=x", "--",
+                                   "--w_con=abc"};
+  std::vector<char*> argv;
+  for (std::string& word : good) argv.push_back(word.data());
+  std::string error;
+  EXPECT_TRUE(CheckFlagValues(static_cast<int>(argv.size()), argv.data(), &error)) << error;
+}
+
+// The rows of the flags given, each once with the spelling given; none when
+// every flag is at its default.
+TEST(DeformerFlagsTest, GivenFlagRowsAreThoseSet) {
+  EXPECT_TRUE(GivenFlagRows().empty());
+  gflags::FlagSaver saver;
+  ASSERT_FALSE(gflags::SetCommandLineOption("solver", "ceres").empty());
+  ASSERT_FALSE(gflags::SetCommandLineOption("w_con", "5").empty());
+  const std::vector<FlagValue> given = GivenFlagRows();
+  ASSERT_EQ(given.size(), 2u);
+  std::map<std::string, std::pair<std::string, std::string>> by_row;
+  for (const FlagValue& value : given) by_row[value.row] = {value.spelling, value.text};
+  EXPECT_EQ(by_row["backend"], std::make_pair(std::string("solver"), std::string("ceres")));
+  EXPECT_EQ(by_row["w_con"], std::make_pair(std::string("w_con"), std::string("5")));
+}
+
 // A report records every flag and --rerun sets them all: the spellings of
 // one option record the value it took, so the rerun builds the same options.
 TEST(DeformerFlagsTest, RecordedFlagsRebuildTheOptions) {
