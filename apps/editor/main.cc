@@ -230,6 +230,9 @@ int Run() {
   // flags (--cgal_iterations, --fastlsm_steps, ...) are rows of the one table.
   const std::string method = MethodFlag();
   if (!IsMethodName(method)) return Fail("--method=" + method + ": expected " + MethodNameList());
+  // As msdeform: a flag the starting method does not read is refused, not
+  // kept silently for a method the user may switch to.
+  if (!CheckFlagsReadBy(method, &error)) return Fail(error);
   MethodOptions method_options;
   if (!MethodOptionsFromFlags(&method_options, &error)) return Fail(error);
   options = method_options.deformer;
