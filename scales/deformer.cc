@@ -42,7 +42,7 @@ bool Deformer::Init(const Mesh& mesh, const DeformerOptions& options, std::strin
   // is refused until an Init succeeds.
   if (!options.Check(error)) return false;
   if (!ValidateMesh(mesh, error)) return false;
-  ResetLayout();
+  ResetSetup();
   precompute_.reset();
   options_ = options;
   precompute_ = Precompute::Create(mesh, options, error);
@@ -54,15 +54,16 @@ bool Deformer::Init(const Mesh& mesh, const DeformerOptions& options, std::strin
 StageTimes Deformer::stages() const {
   StageTimes times;
   if (precompute_) times.Append(precompute_->stages(), "precompute.");
-  if (layout_) times.Append(layout_->stages(), "layout.");
+  // The report's keys: "layout." is the time spent per handle layout.
+  if (setup_) times.Append(setup_->stages(), "layout.");
   if (session_) times.Add("session.solver_setup", session_->setup_ms());
   return times;
 }
 
-void Deformer::ResetLayout() {
-  // The session first: it holds the layout, which pins its graph.
+void Deformer::ResetSetup() {
+  // The session first: it holds the set-up, which pins its graph.
   session_.reset();
-  layout_.reset();
+  setup_.reset();
 }
 
 bool Deformer::SetHandles(const HandleLayout& layout, std::string* error) {
@@ -73,12 +74,12 @@ bool Deformer::SetHandles(const HandleLayout& layout, std::string* error) {
   // An invalid layout leaves the current one in place; a failure after this
   // point leaves no layout (Drag is refused until a SetHandles succeeds).
   if (!ValidateHandles(layout, precompute_->mesh().num_vertices(), error)) return false;
-  ResetLayout();
-  std::shared_ptr<const Layout> new_layout = Layout::Create(precompute_, layout, error);
-  if (new_layout == nullptr) return false;
-  std::unique_ptr<Session> session = Session::Create(new_layout, error);
+  ResetSetup();
+  std::shared_ptr<const HandleSetup> new_setup = HandleSetup::Create(precompute_, layout, error);
+  if (new_setup == nullptr) return false;
+  std::unique_ptr<Session> session = Session::Create(new_setup, error);
   if (session == nullptr) return false;
-  layout_ = std::move(new_layout);
+  setup_ = std::move(new_setup);
   session_ = std::move(session);
   return true;
 }
@@ -120,7 +121,7 @@ const DeformationGraph& Deformer::ConnectedGraph(int index) {
 }
 
 int Deformer::active_graph() const {
-  if (layout_) return layout_->active_graph();
+  if (setup_) return setup_->active_graph();
   return precompute_ ? std::max(precompute_->static_graph(), 0) : 0;
 }
 
@@ -129,19 +130,19 @@ const NodeTransforms& Deformer::transforms() const {
 }
 
 const RigidityEstimate& Deformer::rigidity() const {
-  return layout_ ? layout_->rigidity() : Nothing().rigidity;
+  return setup_ ? setup_->rigidity() : Nothing().rigidity;
 }
 
 const ScaleSelection& Deformer::selection() const {
-  return layout_ ? layout_->selection() : Nothing().selection;
+  return setup_ ? setup_->selection() : Nothing().selection;
 }
 
 const std::vector<NodeClass>& Deformer::node_classes() const {
-  return layout_ ? layout_->node_classes() : Nothing().node_classes;
+  return setup_ ? setup_->node_classes() : Nothing().node_classes;
 }
 
 const DeformationEnergy& Deformer::energy() const {
-  return layout_ ? layout_->energy() : Nothing().energy;
+  return setup_ ? setup_->energy() : Nothing().energy;
 }
 
 }  // namespace msdeform

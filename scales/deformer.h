@@ -9,11 +9,11 @@
 //
 // The Deformer is a facade over the three stages of an edit
 // (docs/extending.md, "The stages of an edit"): Init makes a Precompute (mesh, lattice, graphs;
-// scales/precompute.h), SetHandles a Layout (rigidity, scale, node classes,
-// the energy; scales/layout.h) and a Session (solver, transforms, skinning;
+// scales/precompute.h), SetHandles a HandleSetup (rigidity, scale, node classes,
+// the energy; scales/handle_setup.h) and a Session (solver, transforms, skinning;
 // scales/session.h), Drag drives the session. The stages cannot be made out
 // of order; the facade refuses calls out of order at run time. The methods
-// (Method::kMultiScale, kStatic, kStaticDense) are described in layout.h.
+// (Method::kMultiScale, kStatic, kStaticDense) are described in handle_setup.h.
 
 #ifndef MSDEFORM_SCALES_DEFORMER_H_
 #define MSDEFORM_SCALES_DEFORMER_H_
@@ -31,7 +31,7 @@
 #include "msdeform/core/lattice.h"
 #include "msdeform/core/mesh.h"
 #include "msdeform/scales/deformer_options.h"
-#include "msdeform/scales/layout.h"
+#include "msdeform/scales/handle_setup.h"
 #include "msdeform/scales/node_classes.h"
 #include "msdeform/scales/precompute.h"
 #include "msdeform/scales/rigidity.h"
@@ -74,11 +74,11 @@ class Deformer {
   // handle vertex; the others stay at rest).
   bool Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats, std::string* error);
 
-  // The stages, for code that works on them directly (a second layout on the
+  // The stages, for code that works on them directly (a second set-up on the
   // same precompute, a session of its own): null before a successful Init /
   // SetHandles.
   const std::shared_ptr<const Precompute>& precompute() const { return precompute_; }
-  const std::shared_ptr<const Layout>& layout() const { return layout_; }
+  const std::shared_ptr<const HandleSetup>& setup() const { return setup_; }
   const Session* session() const { return session_.get(); }
 
   // The accessors below read the last successful stage: after a failed Init
@@ -110,29 +110,29 @@ class Deformer {
   const ScaleSelection& selection() const;
   // Node class per node of the active graph (all Totally Free for baselines).
   const std::vector<NodeClass>& node_classes() const;
-  int num_variables() const { return layout_ ? layout_->num_variables() : 0; }
-  int num_coherence_terms() const { return layout_ ? layout_->num_coherence_terms() : 0; }
+  int num_variables() const { return setup_ ? setup_->num_variables() : 0; }
+  int num_coherence_terms() const { return setup_ ? setup_->num_coherence_terms() : 0; }
   // Position terms of the moveable handle (one per handle vertex).
-  int num_position_terms() const { return layout_ ? layout_->num_position_terms() : 0; }
+  int num_position_terms() const { return setup_ ? setup_->num_position_terms() : 0; }
   // Whether every fixed-handle vertex (outside still components) is skinned
   // only by Fixed nodes, so that it stays exactly at rest: the multi-scale
   // default (pin_fixed_region); usually not the static baselines, nor
   // --pin_fixed_region=false.
-  bool fixed_region_exact() const { return layout_ ? layout_->fixed_region_exact() : true; }
+  bool fixed_region_exact() const { return setup_ ? setup_->fixed_region_exact() : true; }
   // Eq. 17 for the current layout, backend independent (tests, benchmarks).
   const DeformationEnergy& energy() const;
   // Vertices skinned by Drag: those with a non-Fixed node among their k
   // nearest, outside components without a moveable-handle vertex.
   int num_skinned_vertices() const {
-    return layout_ ? layout_->num_skinned_vertices() : rest_mesh().num_vertices();
+    return setup_ ? setup_->num_skinned_vertices() : rest_mesh().num_vertices();
   }
   double diagonal() const { return precompute_ ? precompute_->diagonal() : 0.0; }
   // Milliseconds spent in Init's graph/lattice build, and SetHandles's parts
   // (setup: scale selection, classes, energy and the solver's setup).
   double precompute_ms() const { return precompute_ms_; }
-  double rigidity_ms() const { return layout_ ? layout_->rigidity_ms() : 0.0; }
+  double rigidity_ms() const { return setup_ ? setup_->rigidity_ms() : 0.0; }
   double setup_ms() const {
-    return session_ ? layout_->setup_ms() + session_->setup_ms() : 0.0;
+    return session_ ? setup_->setup_ms() + session_->setup_ms() : 0.0;
   }
   // The same by stage: the precompute's, the layout's and the session's, each
   // name prefixed by its stage ("precompute.lattice", "layout.rigidity",
@@ -140,13 +140,13 @@ class Deformer {
   StageTimes stages() const;
 
  private:
-  // Drops the layout and the session (the mesh back at rest).
-  void ResetLayout();
+  // Drops the set-up and the session (the mesh back at rest).
+  void ResetSetup();
 
   DeformerOptions options_;  // the last Init's that passed Check
   std::shared_ptr<const Precompute> precompute_;  // null: empty
-  std::shared_ptr<const Layout> layout_;          // null: no layout
-  std::unique_ptr<Session> session_;              // with layout_
+  std::shared_ptr<const HandleSetup> setup_;      // null: no handle layout set
+  std::unique_ptr<Session> session_;              // with setup_
   double precompute_ms_ = 0.0;
 };
 

@@ -402,23 +402,23 @@ TEST(DeformerCallOrderTest, TheFacadesStagesExistOnlyOnceMade) {
   Deformer deformer;
   std::string error;
   EXPECT_EQ(deformer.precompute(), nullptr);
-  EXPECT_EQ(deformer.layout(), nullptr);
+  EXPECT_EQ(deformer.setup(), nullptr);
   EXPECT_EQ(deformer.session(), nullptr);
   DeformerOptions coarse = OptionsFor(Method::kMultiScale);
   coarse.lattice.cells_per_diagonal = 8.0;  // cells of about a voxel
   ASSERT_TRUE(deformer.Init(bar.mesh, coarse, &error)) << error;
   const std::shared_ptr<const Precompute> precompute = deformer.precompute();
   ASSERT_NE(precompute, nullptr);
-  EXPECT_EQ(deformer.layout(), nullptr);
+  EXPECT_EQ(deformer.setup(), nullptr);
   EXPECT_EQ(deformer.session(), nullptr);
   ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
-  ASSERT_NE(deformer.layout(), nullptr);
+  ASSERT_NE(deformer.setup(), nullptr);
   ASSERT_NE(deformer.session(), nullptr);
-  EXPECT_EQ(&deformer.layout()->precompute(), precompute.get());
+  EXPECT_EQ(&deformer.setup()->precompute(), precompute.get());
 
-  std::shared_ptr<const Layout> layout = Layout::Create(precompute, bar.layout, &error);
-  ASSERT_NE(layout, nullptr) << error;
-  std::unique_ptr<Session> session = Session::Create(layout, &error);
+  std::shared_ptr<const HandleSetup> setup = HandleSetup::Create(precompute, bar.layout, &error);
+  ASSERT_NE(setup, nullptr) << error;
+  std::unique_ptr<Session> session = Session::Create(setup, &error);
   ASSERT_NE(session, nullptr) << error;
   ASSERT_TRUE(deformer.Drag(Lift(1.0), nullptr, &error)) << error;
   ASSERT_TRUE(session->Drag(Lift(1.0), nullptr, &error)) << error;
@@ -437,7 +437,7 @@ TEST(DeformerCallOrderTest, TheFacadesStagesExistOnlyOnceMade) {
   ASSERT_LT(conflict.fixed.size(), bar.layout.fixed.size()) << "no two fixed vertices share a cell";
   EXPECT_FALSE(deformer.SetHandles(conflict, &error));
   EXPECT_NE(error.find("lattice cell"), std::string::npos) << error;
-  EXPECT_EQ(deformer.layout(), nullptr);
+  EXPECT_EQ(deformer.setup(), nullptr);
   EXPECT_EQ(deformer.session(), nullptr);
   EXPECT_EQ(deformer.precompute(), precompute);
   EXPECT_EQ(deformer.deformed_vertices(), bar.mesh.vertices);
@@ -446,7 +446,7 @@ TEST(DeformerCallOrderTest, TheFacadesStagesExistOnlyOnceMade) {
 
   ASSERT_TRUE(deformer.Init(bar.mesh, OptionsFor(Method::kStatic), &error)) << error;
   EXPECT_NE(deformer.precompute(), precompute);
-  EXPECT_EQ(deformer.layout(), nullptr);
+  EXPECT_EQ(deformer.setup(), nullptr);
 }
 
 }  // namespace

@@ -10,7 +10,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "msdeform/scales/layout.h"
+#include "msdeform/scales/handle_setup.h"
 #include "msdeform/scales/precompute.h"
 #include "msdeform/scales/session.h"
 #include "tests/scales/deformer_test_util.h"
@@ -96,9 +96,9 @@ TEST(PrecomputeTest, LayoutsFromSeveralThreadsMatchSerialOnes) {
   auto drag = [&path](const std::shared_ptr<const Precompute>& precompute,
                       const HandleLayout& handles, Eigen::Matrix3Xd* result) {
     std::string error;
-    std::shared_ptr<const Layout> layout = Layout::Create(precompute, handles, &error);
-    if (layout == nullptr) return;
-    std::unique_ptr<Session> session = Session::Create(layout, &error);
+    std::shared_ptr<const HandleSetup> setup = HandleSetup::Create(precompute, handles, &error);
+    if (setup == nullptr) return;
+    std::unique_ptr<Session> session = Session::Create(setup, &error);
     if (session == nullptr) return;
     for (const Eigen::Affine3d& step : path) {
       if (!session->Drag(step, nullptr, &error)) return;

@@ -43,21 +43,21 @@ TEST(SubspaceArapTest, ReducedEnergyEqualsTheFullMeshEvaluation) {
         for (ArapConstraints constraints : kAllConstraints) {
           const DeformerOptions options = ArapOptionsFor(method, clusters, constraints);
           const std::unique_ptr<Deformer> deformer = MakeDeformer(*mesh, options, *handles);
-          const Layout& layout = *deformer->layout();
+          const HandleSetup& setup = *deformer->setup();
           const double diagonal = deformer->diagonal();
-          const std::vector<NodeClass> mixed = MixedClasses(layout.graph().num_nodes());
+          const std::vector<NodeClass> mixed = MixedClasses(setup.graph().num_nodes());
           const std::shared_ptr<const SubspaceArap> hand =
-              BuildWithClasses(layout, mixed, 0.37 * diagonal, options.arap);
+              BuildWithClasses(setup, mixed, 0.37 * diagonal, options.arap);
 
           struct Case {
             const SubspaceArap* arap;
             const std::vector<NodeClass>* classes;
             double unit;
           };
-          for (const Case& c : {Case{FindSubspaceArap(layout.energy()).get(), &layout.node_classes(), diagonal},
+          for (const Case& c : {Case{FindSubspaceArap(setup.energy()).get(), &setup.node_classes(), diagonal},
                                 Case{hand.get(), &mixed, 0.37 * diagonal}}) {
             ASSERT_NE(c.arap, nullptr);
-            const FullMesh full = FullMeshOf(layout, c.unit, options.arap);
+            const FullMesh full = FullMeshOf(setup, c.unit, options.arap);
             for (int trial = 0; trial < 3; ++trial) {
               const NodeTransforms transforms = RandomTransforms(*c.classes, diagonal, &rng);
               const Eigen::Affine3d handle = RandomRigid(diagonal, &rng);
@@ -90,11 +90,11 @@ TEST(SubspaceArapTest, PerVertexClustersGiveTheMetricsArapEnergy) {
           ArapOptionsFor(method, RotationClusters::kVertices, constraints);
       const std::unique_ptr<Deformer> deformer =
           MakeDeformer(two_bars.mesh, options, two_bars.layout);
-      const Layout& layout = *deformer->layout();
-      const SubspaceArap& arap = *FindSubspaceArap(layout.energy());
+      const HandleSetup& setup = *deformer->setup();
+      const SubspaceArap& arap = *FindSubspaceArap(setup.energy());
       const double unit = deformer->diagonal();
-      const FullMesh full = FullMeshOf(layout, unit, options.arap);
-      const NodeTransforms transforms = RandomTransforms(layout.node_classes(), unit, &rng);
+      const FullMesh full = FullMeshOf(setup, unit, options.arap);
+      const NodeTransforms transforms = RandomTransforms(setup.node_classes(), unit, &rng);
       const Eigen::Affine3d handle = RandomRigid(unit, &rng);
       const Eigen::Matrix3Xd x = full.Positions(transforms, handle);
       double soft = 0.0;
@@ -131,18 +131,18 @@ TEST(SubspaceArapTest, RigidOptimumIsAFixedPointOfTheSolver) {
           const DeformerOptions options = ArapOptionsFor(method, clusters, constraints);
           const std::unique_ptr<Deformer> deformer =
               MakeDeformer(*edit.mesh, options, *edit.handles);
-          const Layout& layout = *deformer->layout();
+          const HandleSetup& setup = *deformer->setup();
           ArapLocalGlobalSolver solver(options.stopping);
-          NodeTransforms transforms = RigidTransforms(layout.graph(), layout.node_classes(), h);
+          NodeTransforms transforms = RigidTransforms(setup.graph(), setup.node_classes(), h);
           std::string error;
-          ASSERT_TRUE(solver.Setup(layout.energy(), transforms, &error)) << error;
+          ASSERT_TRUE(solver.Setup(setup.energy(), transforms, &error)) << error;
           const SolveSummary summary = solver.Solve(h, &transforms);
-          const FullMesh full = FullMeshOf(layout, deformer->diagonal(), options.arap);
+          const FullMesh full = FullMeshOf(setup, deformer->diagonal(), options.arap);
           const Eigen::Matrix3Xd x = full.Positions(transforms, h);
           const std::string name = Name(method, clusters, constraints);
           EXPECT_FALSE(summary.failed) << name << ": " << summary.message;
-          EXPECT_LT(full.Energy(x, h, FindSubspaceArap(layout.energy())->cluster_of_vertex()), 1e-20) << name;
-          EXPECT_LE(DistanceFromRigid(layout, x, h), 1e-9) << name;
+          EXPECT_LT(full.Energy(x, h, FindSubspaceArap(setup.energy())->cluster_of_vertex()), 1e-20) << name;
+          EXPECT_LE(DistanceFromRigid(setup, x, h), 1e-9) << name;
           // The reduced energy: 0 up to the rounding of its sums (measured:
           // 1e-16 of their size at most).
           EXPECT_LT(std::abs(summary.final_cost), 1e-14 * full.Magnitude(x, h)) << name;
@@ -191,16 +191,16 @@ TEST(SubspaceArapTest, RigidEditReachesTheOptimumInOneDrag) {
             options.arap.solver = solver;
             const std::unique_ptr<Deformer> deformer =
                 MakeDeformer(*edit.mesh, options, *edit.handles);
-            const Layout& layout = *deformer->layout();
+            const HandleSetup& setup = *deformer->setup();
             std::string error;
             ASSERT_TRUE(deformer->Drag(h, nullptr, &error)) << error;
-            const FullMesh full = FullMeshOf(layout, deformer->diagonal(), options.arap);
+            const FullMesh full = FullMeshOf(setup, deformer->diagonal(), options.arap);
             const std::string name = Name(method, clusters, constraints) +
                                      (solver == ArapSolver::kGaussNewton ? " turn" : " translation");
             const Eigen::Matrix3Xd& x = deformer->deformed_vertices();
-            EXPECT_LT(full.Energy(x, h, FindSubspaceArap(layout.energy())->cluster_of_vertex()), kRigidEnergy)
+            EXPECT_LT(full.Energy(x, h, FindSubspaceArap(setup.energy())->cluster_of_vertex()), kRigidEnergy)
                 << name;
-            EXPECT_LE(DistanceFromRigid(layout, x, h), kRigidDistance) << name;
+            EXPECT_LE(DistanceFromRigid(setup, x, h), kRigidDistance) << name;
           }
         }
       }
@@ -222,8 +222,8 @@ TEST(SubspaceArapTest, EnergyNeverRisesAndConstraintsHold) {
       for (ArapConstraints constraints : kAllConstraints) {
         DeformerOptions options = ArapOptionsFor(method, clusters, constraints);
         const std::unique_ptr<Deformer> deformer = MakeDeformer(bar.mesh, options, bar.layout);
-        const Layout& layout = *deformer->layout();
-        const FullMesh full = FullMeshOf(layout, deformer->diagonal(), options.arap);
+        const HandleSetup& setup = *deformer->setup();
+        const FullMesh full = FullMeshOf(setup, deformer->diagonal(), options.arap);
         const std::string name = Name(method, clusters, constraints);
         for (const Eigen::Affine3d& h : path) {
           DragStats stats;
@@ -235,11 +235,11 @@ TEST(SubspaceArapTest, EnergyNeverRisesAndConstraintsHold) {
           }
           const NodeTransforms& transforms = deformer->transforms();
           for (int j = 0; j < transforms.num_nodes(); ++j) {
-            if (layout.node_classes()[j] == NodeClass::kFixed) {
+            if (setup.node_classes()[j] == NodeClass::kFixed) {
               ASSERT_EQ(transforms.rotation(j), Eigen::Matrix3d::Identity()) << name;
               ASSERT_EQ(transforms.translations.col(j), Eigen::Vector3d::Zero()) << name;
             }
-            if (layout.node_classes()[j] == NodeClass::kHalfFree) {
+            if (setup.node_classes()[j] == NodeClass::kHalfFree) {
               ASSERT_EQ(transforms.translations.col(j), Eigen::Vector3d::Zero()) << name;
             }
           }
@@ -252,7 +252,7 @@ TEST(SubspaceArapTest, EnergyNeverRisesAndConstraintsHold) {
           }
           // Equal up to the rounding of the reduced form's sums (measured:
           // 2.4e-16 of their size at most).
-          const double expected = full.Energy(x, h, FindSubspaceArap(layout.energy())->cluster_of_vertex());
+          const double expected = full.Energy(x, h, FindSubspaceArap(setup.energy())->cluster_of_vertex());
           EXPECT_NEAR(stats.final_cost, expected, 1e-14 * full.Magnitude(x, h)) << name;
         }
       }
@@ -270,12 +270,12 @@ TEST(SubspaceArapTest, SolverKeepsTheConstantBlocks) {
     for (ArapConstraints constraints : kAllConstraints) {
       const DeformerOptions options = ArapOptionsFor(Method::kStatic, clusters, constraints);
       const std::unique_ptr<Deformer> deformer = MakeDeformer(bar.mesh, options, bar.layout);
-      const Layout& layout = *deformer->layout();
-      const std::vector<NodeClass> mixed = MixedClasses(layout.graph().num_nodes());
+      const HandleSetup& setup = *deformer->setup();
+      const std::vector<NodeClass> mixed = MixedClasses(setup.graph().num_nodes());
       DeformationEnergy energy;
       energy.families.push_back(std::make_shared<SubspaceArapTerms>(
-          BuildWithClasses(layout, mixed, deformer->diagonal(), options.arap)));
-      NodeTransforms transforms = NodeTransforms::Identity(layout.graph().num_nodes());
+          BuildWithClasses(setup, mixed, deformer->diagonal(), options.arap)));
+      NodeTransforms transforms = NodeTransforms::Identity(setup.graph().num_nodes());
       for (int j = 0; j < transforms.num_nodes(); ++j) {
         if (mixed[j] != NodeClass::kHalfFree) continue;
         for (int d = 0; d < 3; ++d)
@@ -381,14 +381,14 @@ TEST(SubspaceArapTest, ExactVerticesHaveTheirExactNormals) {
     std::string error;
     ASSERT_TRUE(deformer->Drag(h, nullptr, &error)) << error;
     const Eigen::Matrix3Xd& normals = deformer->deformed_normals();
-    const Eigen::Matrix3Xd& rest = deformer->layout()->precompute().rest_normals();
+    const Eigen::Matrix3Xd& rest = deformer->setup()->precompute().rest_normals();
     for (int v : bar.layout.moveable)
       EXPECT_LE((normals.col(v) - h.linear() * rest.col(v)).norm(), 1e-15) << MethodName(method);
     for (int v : bar.layout.fixed) EXPECT_EQ(normals.col(v), rest.col(v)) << MethodName(method);
   }
 }
 
-// A copy of a layout's energy outlives the Deformer: the energy keeps what it
+// A copy of a set-up's energy outlives the Deformer: the energy keeps what it
 // reads (the precompute's mesh and cotangent weights, a pin on its graph).
 // The sanitizer build catches a read of freed memory here.
 TEST(SubspaceArapTest, ACopyOfTheEnergyOutlivesTheDeformer) {
@@ -396,7 +396,7 @@ TEST(SubspaceArapTest, ACopyOfTheEnergyOutlivesTheDeformer) {
   const DeformerOptions options =
       ArapOptionsFor(Method::kStatic, RotationClusters::kWeights, ArapConstraints::kExact);
   std::unique_ptr<Deformer> deformer = MakeDeformer(bar.mesh, options, bar.layout);
-  const DeformationEnergy energy = deformer->layout()->energy();
+  const DeformationEnergy energy = deformer->setup()->energy();
   const NodeTransforms identity = NodeTransforms::Identity(FindSubspaceArap(energy)->num_nodes());
   Eigen::Affine3d h = Eigen::Affine3d::Identity();
   h.translation() << 1.0, 0.0, 0.0;
@@ -413,10 +413,10 @@ TEST(SubspaceArapTest, NoActiveVertexGivesAnEmptyEnergy) {
   const DeformerOptions options =
       ArapOptionsFor(Method::kStatic, RotationClusters::kWeights, ArapConstraints::kSoft);
   const std::unique_ptr<Deformer> deformer = MakeDeformer(bar.mesh, options, bar.layout);
-  const Layout& layout = *deformer->layout();
-  const std::vector<NodeClass> fixed(layout.graph().num_nodes(), NodeClass::kFixed);
+  const HandleSetup& setup = *deformer->setup();
+  const std::vector<NodeClass> fixed(setup.graph().num_nodes(), NodeClass::kFixed);
   const std::shared_ptr<const SubspaceArap> arap =
-      BuildWithClasses(layout, fixed, deformer->diagonal(), options.arap);
+      BuildWithClasses(setup, fixed, deformer->diagonal(), options.arap);
   EXPECT_EQ(arap->num_active_vertices(), 0);
   EXPECT_EQ(arap->num_clusters(), 0);
   EXPECT_EQ(arap->num_variables(), 0);

@@ -1,7 +1,7 @@
-// The per-layout stage (scales/layout.h): layouts made from one precompute
-// give what separate Deformers give, the graph a layout solves on stays
-// connected however the precompute's cache is used meanwhile, and a layout
-// that cannot be made is refused with a message.
+// The per-handle-layout stage (scales/handle_setup.h): set-ups made from one
+// precompute give what separate Deformers give, the graph a set-up solves on
+// stays connected however the precompute's cache is used meanwhile, and a
+// set-up that cannot be made is refused with a message.
 
 #include <algorithm>
 #include <memory>
@@ -11,7 +11,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "msdeform/scales/layout.h"
+#include "msdeform/scales/handle_setup.h"
 #include "msdeform/scales/precompute.h"
 #include "msdeform/scales/session.h"
 #include "tests/scales/deformer_test_util.h"
@@ -41,7 +41,7 @@ std::vector<Eigen::Matrix3Xd> DeformerFrames(const Mesh& mesh, const DeformerOpt
 // frames of two Deformers, bit for bit, for every method. With one cached
 // coarse scale, the second layout's scale selection connects other graphs:
 // the first layout's graph stays connected (pinned) all the same.
-TEST(LayoutTest, TwoLayoutsOfOnePrecomputeMatchTwoDeformers) {
+TEST(HandleSetupTest, TwoLayoutsOfOnePrecomputeMatchTwoDeformers) {
   const CylinderLayouts cylinder;
   const std::vector<Eigen::Affine3d> path = TurnPath(3);
   for (Method method : kAllMethods) {
@@ -57,10 +57,11 @@ TEST(LayoutTest, TwoLayoutsOfOnePrecomputeMatchTwoDeformers) {
     std::shared_ptr<const Precompute> precompute =
         Precompute::Create(cylinder.mesh, options, &error);
     ASSERT_NE(precompute, nullptr) << error;
-    std::shared_ptr<const Layout> first =
-        Layout::Create(precompute, cylinder.bottom_fixed, &error);
+    std::shared_ptr<const HandleSetup> first =
+        HandleSetup::Create(precompute, cylinder.bottom_fixed, &error);
     ASSERT_NE(first, nullptr) << error;
-    std::shared_ptr<const Layout> second = Layout::Create(precompute, cylinder.top_fixed, &error);
+    std::shared_ptr<const HandleSetup> second =
+        HandleSetup::Create(precompute, cylinder.top_fixed, &error);
     ASSERT_NE(second, nullptr) << error;
     EXPECT_EQ(first->active_graph(), bottom_graph);
     EXPECT_EQ(second->active_graph(), top_graph);
@@ -86,7 +87,7 @@ TEST(LayoutTest, TwoLayoutsOfOnePrecomputeMatchTwoDeformers) {
 
 // The multi-scale selection picks a coarse scale for both cylinder layouts,
 // so the pin in the test above guards a graph the cache could drop.
-TEST(LayoutTest, CylinderLayoutsSelectCoarseScales) {
+TEST(HandleSetupTest, CylinderLayoutsSelectCoarseScales) {
   const CylinderLayouts cylinder;
   std::string error;
   DeformerOptions options = CylinderOptions(Method::kMultiScale);
@@ -94,32 +95,33 @@ TEST(LayoutTest, CylinderLayoutsSelectCoarseScales) {
   std::shared_ptr<const Precompute> precompute =
       Precompute::Create(cylinder.mesh, options, &error);
   ASSERT_NE(precompute, nullptr) << error;
-  std::shared_ptr<const Layout> layout = Layout::Create(precompute, cylinder.bottom_fixed, &error);
-  ASSERT_NE(layout, nullptr) << error;
-  const int active = layout->active_graph();
+  std::shared_ptr<const HandleSetup> setup =
+      HandleSetup::Create(precompute, cylinder.bottom_fixed, &error);
+  ASSERT_NE(setup, nullptr) << error;
+  const int active = setup->active_graph();
   ASSERT_GT(active, 0);
   // The scales the selection tried were pinned only while it ran: the cache
-  // is back within its bound, the layout's graph in it.
+  // is back within its bound, the set-up's graph in it.
   int connected = 0;
   for (size_t i = 1; i < precompute->graphs().size(); ++i) {
     connected += precompute->graphs()[i].is_connected();
   }
   EXPECT_EQ(connected, 1);
-  EXPECT_TRUE(layout->graph().is_connected());
+  EXPECT_TRUE(setup->graph().is_connected());
   const int other = active == 1 ? 2 : 1;
-  // Pinned while the layout lives: another coarse scale does not evict it.
+  // Pinned while the set-up lives: another coarse scale does not evict it.
   precompute->ConnectedGraph(other);
   EXPECT_TRUE(precompute->graphs()[active].is_connected());
-  // Unpinned once the layout is gone: the next use of the cache evicts it.
-  layout.reset();
+  // Unpinned once the set-up is gone: the next use of the cache evicts it.
+  setup.reset();
   precompute->ConnectedGraph(other);
   EXPECT_FALSE(precompute->graphs()[active].is_connected());
 }
 
-// The layout's own checks: a vertex out of range, a fixed and a moveable
+// The set-up's own checks: a vertex out of range, a fixed and a moveable
 // vertex in one lattice cell; each is refused with a message, and the
-// precompute serves the next layout as before.
-TEST(LayoutTest, BadLayoutsAreRefusedWithAMessage) {
+// precompute serves the next set-up as before.
+TEST(HandleSetupTest, BadLayoutsAreRefusedWithAMessage) {
   const CylinderLayouts cylinder;
   std::string error;
   std::shared_ptr<const Precompute> precompute =
@@ -127,7 +129,7 @@ TEST(LayoutTest, BadLayoutsAreRefusedWithAMessage) {
   ASSERT_NE(precompute, nullptr) << error;
   HandleLayout out_of_range = cylinder.bottom_fixed;
   out_of_range.moveable.push_back(cylinder.mesh.num_vertices());
-  EXPECT_EQ(Layout::Create(precompute, out_of_range, &error), nullptr);
+  EXPECT_EQ(HandleSetup::Create(precompute, out_of_range, &error), nullptr);
   EXPECT_FALSE(error.empty());
   // A fixed vertex made moveable: in one lattice cell with fixed ones.
   HandleLayout shared_cell = cylinder.bottom_fixed;
@@ -142,9 +144,9 @@ TEST(LayoutTest, BadLayoutsAreRefusedWithAMessage) {
   }
   ASSERT_LT(shared_cell.fixed.size(), cylinder.bottom_fixed.fixed.size());
   error.clear();
-  EXPECT_EQ(Layout::Create(precompute, shared_cell, &error), nullptr);
+  EXPECT_EQ(HandleSetup::Create(precompute, shared_cell, &error), nullptr);
   EXPECT_NE(error.find("lattice cell"), std::string::npos) << error;
-  EXPECT_NE(Layout::Create(precompute, cylinder.bottom_fixed, &error), nullptr) << error;
+  EXPECT_NE(HandleSetup::Create(precompute, cylinder.bottom_fixed, &error), nullptr) << error;
 }
 
 }  // namespace
