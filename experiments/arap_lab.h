@@ -44,7 +44,7 @@
 
 #include "msdeform/core/handles.h"
 #include "msdeform/core/mesh.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/methods/graph_method.h"
 
 namespace msdeform {
 

@@ -26,10 +26,10 @@ namespace msdeform {
 struct MethodDescriptor {
   // The registered name ("multiscale", "cgal_arap", ...).
   std::string name;
-  // A deformation-graph method (scales/deformer.h): graphs, node classes,
+  // A deformation-graph method (methods/graph_method.h): graphs, node classes,
   // and DeformerOptions::energy to choose (ed or arap). The others minimise
   // one energy of their own and read only the lattice and thread rows of
-  // the Deformer's.
+  // DeformerOptions.
   bool graph = false;
   // What a method that is not a graph minimises, as the tables name it
   // ("arap", "sr_arap", "shape_matching"); a graph method's is its options'

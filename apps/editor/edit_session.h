@@ -41,10 +41,10 @@
 
 #include "apps/editor/edit_inputs.h"
 #include "apps/editor/selection.h"
+#include "msdeform/methods/graph_method.h"
 #include "msdeform/methods/method.h"
 #include "msdeform/methods/method_options.h"
 #include "msdeform/methods/polish.h"
-#include "msdeform/scales/deformer.h"
 
 namespace msdeform {
 namespace editor {
@@ -135,10 +135,10 @@ class EditSession {
   // The labels since the last CommitLayout differ from the committed layout.
   bool layout_pending() const { return labels_changed_; }
   const HandleLayout& committed_layout() const { return committed_layout_; }
-  // The graph method's deformer when one exists and no job runs (for
+  // The graph method when the method is one and no job runs (for
   // overlays), else null (also for a method that is not a graph).
-  const Deformer* deformer() const {
-    return busy() || method_ == nullptr ? nullptr : method_->deformer();
+  const GraphMethod* graph_method() const {
+    return busy() || method_ == nullptr ? nullptr : method_->graph_method();
   }
   // The method when one exists and no job runs, else null.
   const EditingMethod* method() const { return busy() ? nullptr : method_.get(); }

@@ -360,7 +360,7 @@ void EditorApp::DrawViewPanel() {
 
 void EditorApp::DrawStatePanel() {
   if (!ImGui::CollapsingHeader("Scale and classes", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  const Deformer* deformer = session_->ready() ? session_->deformer() : nullptr;
+  const GraphMethod* deformer = session_->ready() ? session_->graph_method() : nullptr;
   if (deformer == nullptr) {
     ImGui::TextDisabled(session_->busy() ? "setting up the layout..." : "no layout set up");
     return;
@@ -383,7 +383,7 @@ void EditorApp::DrawStatePanel() {
   ImGui::TextColored(Color(kHalfFreeColor), "Half Free %d", counts[1]);
   ImGui::SameLine();
   ImGui::TextColored(Color(kFixedNodeColor), "Fixed %d", counts[2]);
-  ImGui::Text("variables %d = 12 x %d + 9 x %d", deformer->num_variables(), counts[0], counts[1]);
+  ImGui::Text("variables %d = 12 x %d + 9 x %d", deformer->variables(), counts[0], counts[1]);
   ImGui::Text("coherence terms %d, position terms %d", deformer->num_coherence_terms(),
               deformer->num_position_terms());
   ImGui::Text("skinned vertices %d of %d", deformer->num_skinned_vertices(),
@@ -462,7 +462,7 @@ void EditorApp::DrawColorBar() {
                   IM_COL32(0, 0, 0, 255));
     draw->AddText(ImVec2(origin.x + width + 6, y - 7), IM_COL32(0, 0, 0, 255), label);
   }
-  const Deformer* deformer = session_->deformer();
+  const GraphMethod* deformer = session_->graph_method();
   if (deformer != nullptr && session_->ready()) {
     const double threshold = std::clamp(deformer->selection().threshold, 0.0, 1.0);
     const float y = origin.y + static_cast<float>((1.0 - threshold) * height);

@@ -1,5 +1,5 @@
 // The per-handle-layout stage (scales/handle_setup.h): set-ups made from one
-// precompute give what separate Deformers give, the graph a set-up solves on
+// precompute give what separate precomputes give, the graph a set-up solves on
 // stays connected however the precompute's cache is used meanwhile, and a
 // set-up that cannot be made is refused with a message.
 
@@ -19,29 +19,33 @@
 namespace msdeform {
 namespace {
 
-// The Deformer's result for one layout and path: vertices after each frame.
-std::vector<Eigen::Matrix3Xd> DeformerFrames(const Mesh& mesh, const DeformerOptions& options,
-                                             const HandleLayout& handles,
-                                             const std::vector<Eigen::Affine3d>& path,
-                                             int* active_graph) {
-  Deformer deformer;
+// The frames of one handle layout and path on a precompute of its own:
+// vertices after each frame.
+std::vector<Eigen::Matrix3Xd> FramesAlone(const Mesh& mesh, const DeformerOptions& options,
+                                          const HandleLayout& handles,
+                                          const std::vector<Eigen::Affine3d>& path,
+                                          int* active_graph) {
   std::string error;
-  EXPECT_TRUE(deformer.Init(mesh, options, &error)) << error;
-  EXPECT_TRUE(deformer.SetHandles(handles, &error)) << error;
-  *active_graph = deformer.active_graph();
+  std::shared_ptr<const Precompute> precompute = Precompute::Create(mesh, options, &error);
+  EXPECT_NE(precompute, nullptr) << error;
+  std::shared_ptr<const HandleSetup> setup = HandleSetup::Create(precompute, handles, &error);
+  EXPECT_NE(setup, nullptr) << error;
+  *active_graph = setup->active_graph();
+  std::unique_ptr<Session> session = Session::Create(setup, &error);
+  EXPECT_NE(session, nullptr) << error;
   std::vector<Eigen::Matrix3Xd> frames;
   for (const Eigen::Affine3d& step : path) {
-    EXPECT_TRUE(deformer.Drag(step, nullptr, &error)) << error;
-    frames.push_back(deformer.deformed_vertices());
+    EXPECT_TRUE(session->Drag(step, nullptr, &error)) << error;
+    frames.push_back(session->deformed_vertices());
   }
   return frames;
 }
 
-// Two layouts of one precompute, both alive and dragged in turns, give the
-// frames of two Deformers, bit for bit, for every method. With one cached
+// Two handle layouts of one precompute, both alive and dragged in turns, give
+// the frames of two precomputes of their own, bit for bit, for every method. With one cached
 // coarse scale, the second layout's scale selection connects other graphs:
 // the first layout's graph stays connected (pinned) all the same.
-TEST(HandleSetupTest, TwoLayoutsOfOnePrecomputeMatchTwoDeformers) {
+TEST(HandleSetupTest, TwoLayoutsOfOnePrecomputeMatchTwoPrecomputes) {
   const CylinderLayouts cylinder;
   const std::vector<Eigen::Affine3d> path = TurnPath(3);
   for (Method method : kAllMethods) {
@@ -49,9 +53,9 @@ TEST(HandleSetupTest, TwoLayoutsOfOnePrecomputeMatchTwoDeformers) {
     options.cached_scales = 1;
     int bottom_graph = -1, top_graph = -1;
     const std::vector<Eigen::Matrix3Xd> bottom =
-        DeformerFrames(cylinder.mesh, options, cylinder.bottom_fixed, path, &bottom_graph);
+        FramesAlone(cylinder.mesh, options, cylinder.bottom_fixed, path, &bottom_graph);
     const std::vector<Eigen::Matrix3Xd> top =
-        DeformerFrames(cylinder.mesh, options, cylinder.top_fixed, path, &top_graph);
+        FramesAlone(cylinder.mesh, options, cylinder.top_fixed, path, &top_graph);
 
     std::string error;
     std::shared_ptr<const Precompute> precompute =

@@ -1,6 +1,6 @@
-// The per-drag stage (scales/session.h): a session of a set-up reproduces the
-// Deformer's Drag bit for bit, sessions of one set-up are independent, and a
-// bad frame is refused without losing the last good one.
+// The per-drag stage (scales/session.h): sessions of one set-up are
+// independent, and a bad frame is refused without losing the last good one.
+// That GraphMethod drags as its session: tests/methods/graph_method_test.cc.
 
 #include <limits>
 #include <memory>
@@ -36,40 +36,6 @@ std::unique_ptr<Session> MakeSession(const Mesh& mesh, const DeformerOptions& op
   std::unique_ptr<Session> session = Session::Create(setup, &error);
   EXPECT_NE(session, nullptr) << error;
   return session;
-}
-
-// Every method and both warm starts that carry state from frame to frame: a
-// session made by hand and the Deformer give the same vertices, normals,
-// transforms and costs on every frame of a path.
-TEST(SessionTest, ReproducesTheDeformersDragFrameByFrame) {
-  const CylinderLayouts cylinder;
-  const std::vector<Eigen::Affine3d> path = TurnPath(4);
-  for (Method method : kAllMethods) {
-    for (InitialGuess guess : {InitialGuess::kPrevious, InitialGuess::kExtrapolated}) {
-      DeformerOptions options = CylinderOptions(method);
-      options.initial_guess = guess;
-      Deformer deformer;
-      std::string error;
-      ASSERT_TRUE(deformer.Init(cylinder.mesh, options, &error)) << error;
-      ASSERT_TRUE(deformer.SetHandles(cylinder.bottom_fixed, &error)) << error;
-      std::unique_ptr<Session> session = MakeSession(cylinder.mesh, options, cylinder.bottom_fixed);
-      ASSERT_NE(session, nullptr);
-      EXPECT_EQ(session->setup().active_graph(), deformer.active_graph());
-      EXPECT_EQ(session->deformed_vertices(), cylinder.mesh.vertices);
-      for (size_t f = 0; f < path.size(); ++f) {
-        DragStats by_deformer, by_session;
-        ASSERT_TRUE(deformer.Drag(path[f], &by_deformer, &error)) << error;
-        ASSERT_TRUE(session->Drag(path[f], &by_session, &error)) << error;
-        EXPECT_EQ(session->deformed_vertices(), deformer.deformed_vertices()) << f;
-        EXPECT_EQ(session->transforms().rotations, deformer.transforms().rotations) << f;
-        EXPECT_EQ(session->transforms().translations, deformer.transforms().translations) << f;
-        EXPECT_EQ(by_session.final_cost, by_deformer.final_cost) << f;
-        EXPECT_EQ(by_session.iterations, by_deformer.iterations) << f;
-      }
-      EXPECT_EQ(session->deformed_normals(), deformer.deformed_normals());
-      EXPECT_NE(session->deformed_vertices(), cylinder.mesh.vertices);
-    }
-  }
 }
 
 // Two sessions of one set-up: the second starts at rest whatever the first

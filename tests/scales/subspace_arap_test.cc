@@ -29,7 +29,7 @@ namespace {
 
 // The reduced energy at random transforms and a random handle equals the
 // full-mesh evaluation to 1e-12 relative, for every cluster option and both
-// constraint kinds, on the layouts the Deformer makes (one mesh with a still
+// constraint kinds, on the handle layouts a graph method sets (one mesh with a still
 // second component) and with hand-made node classes that mix Totally Free,
 // Half Free and Fixed nodes (and a length unit that is not the diagonal).
 TEST(SubspaceArapTest, ReducedEnergyEqualsTheFullMeshEvaluation) {
@@ -42,7 +42,7 @@ TEST(SubspaceArapTest, ReducedEnergyEqualsTheFullMeshEvaluation) {
       for (RotationClusters clusters : kAllClusters) {
         for (ArapConstraints constraints : kAllConstraints) {
           const DeformerOptions options = ArapOptionsFor(method, clusters, constraints);
-          const std::unique_ptr<Deformer> deformer = MakeDeformer(*mesh, options, *handles);
+          const std::unique_ptr<GraphMethod> deformer = MakeDeformer(*mesh, options, *handles);
           const HandleSetup& setup = *deformer->setup();
           const double diagonal = deformer->diagonal();
           const std::vector<NodeClass> mixed = MixedClasses(setup.graph().num_nodes());
@@ -88,7 +88,7 @@ TEST(SubspaceArapTest, PerVertexClustersGiveTheMetricsArapEnergy) {
     for (ArapConstraints constraints : kAllConstraints) {
       const DeformerOptions options =
           ArapOptionsFor(method, RotationClusters::kVertices, constraints);
-      const std::unique_ptr<Deformer> deformer =
+      const std::unique_ptr<GraphMethod> deformer =
           MakeDeformer(two_bars.mesh, options, two_bars.layout);
       const HandleSetup& setup = *deformer->setup();
       const SubspaceArap& arap = *FindSubspaceArap(setup.energy());
@@ -129,7 +129,7 @@ TEST(SubspaceArapTest, RigidOptimumIsAFixedPointOfTheSolver) {
       for (RotationClusters clusters : kAllClusters) {
         for (ArapConstraints constraints : kAllConstraints) {
           const DeformerOptions options = ArapOptionsFor(method, clusters, constraints);
-          const std::unique_ptr<Deformer> deformer =
+          const std::unique_ptr<GraphMethod> deformer =
               MakeDeformer(*edit.mesh, options, *edit.handles);
           const HandleSetup& setup = *deformer->setup();
           ArapLocalGlobalSolver solver(options.stopping);
@@ -152,7 +152,7 @@ TEST(SubspaceArapTest, RigidOptimumIsAFixedPointOfTheSolver) {
   }
 }
 
-// The known optimum through the Deformer: the handle moved rigidly, one
+// The known optimum through a graph method: the handle moved rigidly, one
 // Drag from the rest pose reaches energy 0 and puts every free vertex at
 // H * rest. A translation: the local/global solver's first step (the last
 // frame's rotations, I at rest) is the optimum. A turn of 0.9 rad with a
@@ -189,7 +189,7 @@ TEST(SubspaceArapTest, RigidEditReachesTheOptimumInOneDrag) {
               continue;
             DeformerOptions options = ArapOptionsFor(method, clusters, constraints);
             options.arap.solver = solver;
-            const std::unique_ptr<Deformer> deformer =
+            const std::unique_ptr<GraphMethod> deformer =
                 MakeDeformer(*edit.mesh, options, *edit.handles);
             const HandleSetup& setup = *deformer->setup();
             std::string error;
@@ -221,7 +221,7 @@ TEST(SubspaceArapTest, EnergyNeverRisesAndConstraintsHold) {
     for (RotationClusters clusters : kAllClusters) {
       for (ArapConstraints constraints : kAllConstraints) {
         DeformerOptions options = ArapOptionsFor(method, clusters, constraints);
-        const std::unique_ptr<Deformer> deformer = MakeDeformer(bar.mesh, options, bar.layout);
+        const std::unique_ptr<GraphMethod> deformer = MakeDeformer(bar.mesh, options, bar.layout);
         const HandleSetup& setup = *deformer->setup();
         const FullMesh full = FullMeshOf(setup, deformer->diagonal(), options.arap);
         const std::string name = Name(method, clusters, constraints);
@@ -269,7 +269,7 @@ TEST(SubspaceArapTest, SolverKeepsTheConstantBlocks) {
   for (RotationClusters clusters : kAllClusters) {
     for (ArapConstraints constraints : kAllConstraints) {
       const DeformerOptions options = ArapOptionsFor(Method::kStatic, clusters, constraints);
-      const std::unique_ptr<Deformer> deformer = MakeDeformer(bar.mesh, options, bar.layout);
+      const std::unique_ptr<GraphMethod> deformer = MakeDeformer(bar.mesh, options, bar.layout);
       const HandleSetup& setup = *deformer->setup();
       const std::vector<NodeClass> mixed = MixedClasses(setup.graph().num_nodes());
       DeformationEnergy energy;
@@ -341,7 +341,7 @@ TEST(SubspaceArapTest, BadOptionsNameTheOption) {
     EXPECT_EQ(options.arap.num_clusters, 5);
     EXPECT_EQ(options.arap.constraints, ArapConstraints::kSoft);
   }
-  // Set in code: the Deformer refuses them with the field's name.
+  // Set in code: the graph method refuses them with the field's name.
   struct Bad {
     void (*set)(ArapOptions*);
     const char* message;
@@ -357,9 +357,9 @@ TEST(SubspaceArapTest, BadOptionsNameTheOption) {
     DeformerOptions options =
         ArapOptionsFor(Method::kMultiScale, RotationClusters::kWeights, ArapConstraints::kExact);
     bad.set(&options.arap);
-    Deformer deformer;
+    GraphMethod deformer(options.method);
     std::string error;
-    EXPECT_FALSE(deformer.Init(BarEdit().mesh, options, &error));
+    EXPECT_FALSE(deformer.Precompute(BarEdit().mesh, options, &error));
     EXPECT_NE(error.find(bad.message), std::string::npos) << error;
     EXPECT_EQ(error.find('\n'), std::string::npos) << error;
   }
@@ -374,7 +374,7 @@ TEST(SubspaceArapTest, ExactVerticesHaveTheirExactNormals) {
   for (Method method : kAllMethods) {
     const DeformerOptions options =
         ArapOptionsFor(method, RotationClusters::kWeights, ArapConstraints::kExact);
-    const std::unique_ptr<Deformer> deformer = MakeDeformer(bar.mesh, options, bar.layout);
+    const std::unique_ptr<GraphMethod> deformer = MakeDeformer(bar.mesh, options, bar.layout);
     Eigen::Affine3d h = Eigen::Affine3d::Identity();
     h.linear() = Eigen::AngleAxisd(0.6, Eigen::Vector3d::UnitY()).toRotationMatrix();
     h.translation() << 0.0, 0.0, 2.0;
@@ -388,14 +388,14 @@ TEST(SubspaceArapTest, ExactVerticesHaveTheirExactNormals) {
   }
 }
 
-// A copy of a set-up's energy outlives the Deformer: the energy keeps what it
+// A copy of a set-up's energy outlives the method: the energy keeps what it
 // reads (the precompute's mesh and cotangent weights, a pin on its graph).
 // The sanitizer build catches a read of freed memory here.
-TEST(SubspaceArapTest, ACopyOfTheEnergyOutlivesTheDeformer) {
+TEST(SubspaceArapTest, ACopyOfTheEnergyOutlivesTheMethod) {
   const BarEdit bar(12, 4);
   const DeformerOptions options =
       ArapOptionsFor(Method::kStatic, RotationClusters::kWeights, ArapConstraints::kExact);
-  std::unique_ptr<Deformer> deformer = MakeDeformer(bar.mesh, options, bar.layout);
+  std::unique_ptr<GraphMethod> deformer = MakeDeformer(bar.mesh, options, bar.layout);
   const DeformationEnergy energy = deformer->setup()->energy();
   const NodeTransforms identity = NodeTransforms::Identity(FindSubspaceArap(energy)->num_nodes());
   Eigen::Affine3d h = Eigen::Affine3d::Identity();
@@ -412,7 +412,7 @@ TEST(SubspaceArapTest, NoActiveVertexGivesAnEmptyEnergy) {
   const BarEdit bar(12, 4);
   const DeformerOptions options =
       ArapOptionsFor(Method::kStatic, RotationClusters::kWeights, ArapConstraints::kSoft);
-  const std::unique_ptr<Deformer> deformer = MakeDeformer(bar.mesh, options, bar.layout);
+  const std::unique_ptr<GraphMethod> deformer = MakeDeformer(bar.mesh, options, bar.layout);
   const HandleSetup& setup = *deformer->setup();
   const std::vector<NodeClass> fixed(setup.graph().num_nodes(), NodeClass::kFixed);
   const std::shared_ptr<const SubspaceArap> arap =

@@ -18,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include "msdeform/core/skinning.h"
+#include "msdeform/methods/graph_method.h"
 #include "msdeform/scales/handle_setup.h"
 #include "msdeform/scales/subspace_arap_build.h"
 #include "tests/scales/deformer_test_util.h"
@@ -178,11 +179,12 @@ inline DeformerOptions ArapOptionsFor(Method method, RotationClusters clusters,
   return options;
 }
 
-inline std::unique_ptr<Deformer> MakeDeformer(const Mesh& mesh, const DeformerOptions& options,
-                                              const HandleLayout& handles) {
-  auto deformer = std::make_unique<Deformer>();
+// A graph method with its handles set.
+inline std::unique_ptr<GraphMethod> MakeDeformer(const Mesh& mesh, const DeformerOptions& options,
+                                                 const HandleLayout& handles) {
+  auto deformer = std::make_unique<GraphMethod>(options.method);
   std::string error;
-  EXPECT_TRUE(deformer->Init(mesh, options, &error)) << error;
+  EXPECT_TRUE(deformer->Precompute(mesh, options, &error)) << error;
   EXPECT_TRUE(deformer->SetHandles(handles, &error)) << error;
   return deformer;
 }

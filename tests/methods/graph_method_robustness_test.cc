@@ -10,7 +10,7 @@
 #include "msdeform/core/drag_path.h"
 #include "msdeform/core/handles.h"
 #include "msdeform/core/procedural_meshes.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/methods/graph_method.h"
 #include "tests/scales/deformer_test_util.h"
 
 namespace msdeform {
@@ -43,9 +43,9 @@ TEST(DeformerRobustnessTest, ComponentWithoutHandleStaysAndHasNoVariables) {
   lift.translation() << 0.0, 0.0, 2.0;
   lift.rotate(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX()));
   for (Method method : kAllMethods) {
-    Deformer deformer;
+    GraphMethod deformer(method);
     std::string error;
-    ASSERT_TRUE(deformer.Init(bars.mesh, OptionsFor(method), &error)) << error;
+    ASSERT_TRUE(deformer.Precompute(bars.mesh, OptionsFor(method), &error)) << error;
     ASSERT_TRUE(deformer.SetHandles(bars.layout, &error)) << error;
     const Eigen::Vector3d handle_centre(7.5, 0.5, 0.5);
     for (const Eigen::Affine3d& frame : InterpolateDragPath(lift, handle_centre, 3)) {
@@ -79,9 +79,9 @@ TEST(DeformerRobustnessTest, ComponentWithoutHandleStaysWhenANodeSpansBothCompon
   for (int static_nodes : {1, 2, 3}) {
     DeformerOptions options = OptionsFor(Method::kStatic);
     options.static_nodes = static_nodes;
-    Deformer deformer;
+    GraphMethod deformer(options.method);
     std::string error;
-    ASSERT_TRUE(deformer.Init(bars.mesh, options, &error)) << error;
+    ASSERT_TRUE(deformer.Precompute(bars.mesh, options, &error)) << error;
     ASSERT_TRUE(deformer.SetHandles(bars.layout, &error)) << error;
     ASSERT_TRUE(deformer.Drag(lift, nullptr, &error)) << error;
     const Eigen::Matrix3Xd& deformed = deformer.deformed_vertices();
@@ -103,9 +103,9 @@ TEST(DeformerRobustnessTest, IsolatedVertexIsAComponentOfItsOwn) {
   Eigen::Affine3d lift = Eigen::Affine3d::Identity();
   lift.translation() << 0.0, 0.0, 2.0;
   for (Method method : kAllMethods) {
-    Deformer deformer;
+    GraphMethod deformer(method);
     std::string error;
-    ASSERT_TRUE(deformer.Init(mesh, OptionsFor(method), &error)) << error;
+    ASSERT_TRUE(deformer.Precompute(mesh, OptionsFor(method), &error)) << error;
     ASSERT_TRUE(deformer.SetHandles(bars.layout, &error)) << error;
     ASSERT_TRUE(deformer.Drag(lift, nullptr, &error)) << error;
     const Eigen::Matrix3Xd& deformed = deformer.deformed_vertices();
@@ -119,9 +119,9 @@ TEST(DeformerRobustnessTest, IsolatedVertexIsAComponentOfItsOwn) {
 
 TEST(DeformerRobustnessTest, FailedSolveKeepsTheLastGoodFrame) {
   const TwoBars bars;
-  Deformer deformer;
+  GraphMethod deformer(Method::kMultiScale);
   std::string error;
-  ASSERT_TRUE(deformer.Init(bars.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(bars.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
   ASSERT_TRUE(deformer.SetHandles(bars.layout, &error)) << error;
   Eigen::Affine3d good = Eigen::Affine3d::Identity();
   good.translation() << 0.0, 0.0, 1.0;
@@ -157,9 +157,9 @@ TEST(DeformerRobustnessTest, RandomRigidMotionsOfAWholeMeshHandleAreRigid) {
   std::mt19937 random(20080101);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   for (Method method : kAllMethods) {
-    Deformer deformer;
+    GraphMethod deformer(method);
     std::string error;
-    ASSERT_TRUE(deformer.Init(mesh, OptionsFor(method), &error)) << error;
+    ASSERT_TRUE(deformer.Precompute(mesh, OptionsFor(method), &error)) << error;
     for (int trial = 0; trial < 3; ++trial) {
       ASSERT_TRUE(deformer.SetHandles(everything, &error)) << error;
       const Eigen::Vector3d axis =
@@ -183,11 +183,11 @@ TEST(DeformerRobustnessTest, SameInputsGiveBitIdenticalResults) {
   lift.translation() << 0.0, 0.5, 1.0;
   Eigen::Matrix3Xd first;
   for (int run = 0; run < 2; ++run) {
-    Deformer deformer;
+    GraphMethod deformer(Method::kMultiScale);
     std::string error;
     DeformerOptions options = OptionsFor(Method::kMultiScale);
     options.num_threads = 2;
-    ASSERT_TRUE(deformer.Init(bars.mesh, options, &error)) << error;
+    ASSERT_TRUE(deformer.Precompute(bars.mesh, options, &error)) << error;
     ASSERT_TRUE(deformer.SetHandles(bars.layout, &error)) << error;
     ASSERT_TRUE(deformer.Drag(lift, nullptr, &error)) << error;
     if (run == 0) {

@@ -16,7 +16,7 @@
 
 #include "msdeform/core/handles.h"
 #include "msdeform/core/procedural_meshes.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/methods/graph_method.h"
 #include "tests/scales/deformer_test_util.h"
 #include "tests/test_util.h"
 
@@ -26,9 +26,9 @@ namespace {
 // The deformed mesh of a fresh Deformer: Init, SetHandles, Drag(Lift(z)).
 Eigen::Matrix3Xd FreshResult(const Mesh& mesh, const DeformerOptions& options,
                              const HandleLayout& layout, double z) {
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   std::string error;
-  EXPECT_TRUE(deformer.Init(mesh, options, &error)) << error;
+  EXPECT_TRUE(deformer.Precompute(mesh, options, &error)) << error;
   EXPECT_TRUE(deformer.SetHandles(layout, &error)) << error;
   EXPECT_TRUE(deformer.Drag(Lift(z), nullptr, &error)) << error;
   return deformer.deformed_vertices();
@@ -36,7 +36,7 @@ Eigen::Matrix3Xd FreshResult(const Mesh& mesh, const DeformerOptions& options,
 
 TEST(DeformerCallOrderTest, CallsBeforeInitAreRefused) {
   const BarEdit bar(8, 2);
-  Deformer deformer;
+  GraphMethod deformer(Method::kMultiScale);
   std::string error;
   EXPECT_FALSE(deformer.SetHandles(bar.layout, &error));
   EXPECT_NE(error.find("Init"), std::string::npos) << error;
@@ -47,9 +47,9 @@ TEST(DeformerCallOrderTest, CallsBeforeInitAreRefused) {
 
 TEST(DeformerCallOrderTest, DragBeforeSetHandlesIsRefused) {
   const BarEdit bar(8, 2);
-  Deformer deformer;
+  GraphMethod deformer(Method::kMultiScale);
   std::string error;
-  ASSERT_TRUE(deformer.Init(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
   EXPECT_FALSE(deformer.Drag(Lift(1.0), nullptr, &error));
   EXPECT_NE(error.find("SetHandles"), std::string::npos) << error;
   EXPECT_EQ(deformer.deformed_vertices(), bar.mesh.vertices);
@@ -68,15 +68,15 @@ TEST(DeformerCallOrderTest, ReInitDropsTheLayout) {
   }
   for (Method first : kAllMethods) {
     for (Method second : kAllMethods) {
-      Deformer deformer;
+      GraphMethod deformer(first);
       std::string error;
-      ASSERT_TRUE(deformer.Init(bar.mesh, OptionsFor(first), &error)) << error;
+      ASSERT_TRUE(deformer.Precompute(bar.mesh, OptionsFor(first), &error)) << error;
       ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
       ASSERT_TRUE(deformer.Drag(Lift(1.0), nullptr, &error)) << error;
-      ASSERT_TRUE(deformer.Init(longer, OptionsFor(second), &error)) << error;
+      ASSERT_TRUE(deformer.Precompute(longer, OptionsFor(second), &error)) << error;
       EXPECT_EQ(deformer.deformed_vertices(), longer.vertices);
       EXPECT_TRUE(deformer.node_classes().empty());
-      EXPECT_EQ(deformer.num_variables(), 0);
+      EXPECT_EQ(deformer.variables(), 0);
       EXPECT_FALSE(deformer.Drag(Lift(2.0), nullptr, &error)) << MethodName(second);
       ASSERT_TRUE(deformer.SetHandles(longer_layout, &error)) << error;
       ASSERT_TRUE(deformer.Drag(Lift(2.0), nullptr, &error)) << error;
@@ -107,20 +107,20 @@ TEST(DeformerCallOrderTest, OptionsRefuseAZeroHandleWeightAndTooManyThreads) {
 // past the checks (the lattice) leaves it empty.
 TEST(DeformerCallOrderTest, FailedInitLeavesTheObjectAsItWasOrEmpty) {
   const BarEdit bar(8, 2);
-  Deformer deformer;
+  GraphMethod deformer(Method::kMultiScale);
   std::string error;
-  ASSERT_TRUE(deformer.Init(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
   ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
   ASSERT_TRUE(deformer.Drag(Lift(1.0), nullptr, &error)) << error;
 
   DeformerOptions invalid = OptionsFor(Method::kStatic);
   invalid.w_con = -1.0;
-  EXPECT_FALSE(deformer.Init(MakeBar(12, 1.0, 2), invalid, &error));
+  EXPECT_FALSE(deformer.Precompute(MakeBar(12, 1.0, 2), invalid, &error));
   EXPECT_EQ(deformer.options().method, Method::kMultiScale);
   EXPECT_EQ(deformer.rest_mesh().num_vertices(), bar.mesh.num_vertices());
   ASSERT_TRUE(deformer.Drag(Lift(2.0), nullptr, &error)) << error;
-  Deformer reference;
-  ASSERT_TRUE(reference.Init(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
+  GraphMethod reference(Method::kMultiScale);
+  ASSERT_TRUE(reference.Precompute(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
   ASSERT_TRUE(reference.SetHandles(bar.layout, &error)) << error;
   ASSERT_TRUE(reference.Drag(Lift(1.0), nullptr, &error)) << error;
   ASSERT_TRUE(reference.Drag(Lift(2.0), nullptr, &error)) << error;
@@ -130,12 +130,12 @@ TEST(DeformerCallOrderTest, FailedInitLeavesTheObjectAsItWasOrEmpty) {
   DeformerOptions too_fine = OptionsFor(Method::kMultiScale);
   too_fine.lattice.cells_per_diagonal = 200;
   too_fine.lattice.max_grid_cells = 1000;
-  EXPECT_FALSE(deformer.Init(bar.mesh, too_fine, &error));
+  EXPECT_FALSE(deformer.Precompute(bar.mesh, too_fine, &error));
   error.clear();
   EXPECT_FALSE(deformer.SetHandles(bar.layout, &error));
   EXPECT_NE(error.find("Init"), std::string::npos) << error;
   EXPECT_FALSE(deformer.Drag(Lift(1.0), nullptr, &error));
-  ASSERT_TRUE(deformer.Init(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
   ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
   ASSERT_TRUE(deformer.Drag(Lift(1.0), nullptr, &error)) << error;
   EXPECT_EQ(deformer.deformed_vertices(),
@@ -152,14 +152,14 @@ TEST(DeformerCallOrderTest, FailedSetHandlesIsNotFollowedByAStaleDrag) {
   // (cells of about one voxel), made fixed.
   DeformerOptions options = OptionsFor(Method::kMultiScale);
   options.lattice.cells_per_diagonal = 8.0;
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   std::string error;
-  ASSERT_TRUE(deformer.Init(bar.mesh, options, &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(bar.mesh, options, &error)) << error;
   const int handle_vertex = bar.layout.moveable.front();
-  const int cell = deformer.lattice().particle_of_vertex(handle_vertex);
+  const int cell = deformer.lattice()->particle_of_vertex(handle_vertex);
   int neighbour = -1;
   for (int v = 0; v < bar.mesh.num_vertices() && neighbour < 0; ++v) {
-    if (v != handle_vertex && deformer.lattice().particle_of_vertex(v) == cell) neighbour = v;
+    if (v != handle_vertex && deformer.lattice()->particle_of_vertex(v) == cell) neighbour = v;
   }
   ASSERT_GE(neighbour, 0);
   conflicting.moveable.erase(
@@ -198,12 +198,12 @@ TEST(DeformerCallOrderTest, EveryBackendOptionCombinationRunsOrIsRefusedByCheck)
   int ran = 0, refused = 0;
   double reference_cost = 0.0;
   {
-    Deformer deformer;
+    GraphMethod deformer(Method::kMultiScale);
     std::string error;
     DeformerOptions options = OptionsFor(Method::kMultiScale);
     options.lattice.cells_per_diagonal = 16.0;
     DragStats stats;
-    ASSERT_TRUE(deformer.Init(bar.mesh, options, &error)) << error;
+    ASSERT_TRUE(deformer.Precompute(bar.mesh, options, &error)) << error;
     ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
     ASSERT_TRUE(deformer.Drag(Lift(1.0), &stats, &error)) << error;
     reference_cost = stats.final_cost;
@@ -214,17 +214,17 @@ TEST(DeformerCallOrderTest, EveryBackendOptionCombinationRunsOrIsRefusedByCheck)
     if (!options.Check(&error)) {
       EXPECT_FALSE(error.empty()) << name;
       EXPECT_EQ(error.find('\n'), std::string::npos) << name << ": " << error;
-      Deformer deformer;
+      GraphMethod deformer(options.method);
       std::string init_error;
-      EXPECT_FALSE(deformer.Init(bar.mesh, options, &init_error)) << name;
+      EXPECT_FALSE(deformer.Precompute(bar.mesh, options, &init_error)) << name;
       EXPECT_EQ(init_error, error) << name;
       ++refused;
       return;
     }
-    Deformer deformer;
+    GraphMethod deformer(options.method);
     DeformerOptions coarse = options;
     coarse.lattice.cells_per_diagonal = 16.0;
-    ASSERT_TRUE(deformer.Init(bar.mesh, coarse, &error)) << name << ": " << error;
+    ASSERT_TRUE(deformer.Precompute(bar.mesh, coarse, &error)) << name << ": " << error;
     ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << name << ": " << error;
     DragStats stats;
     ASSERT_TRUE(deformer.Drag(Lift(1.0), &stats, &error)) << name << ": " << error;
@@ -307,9 +307,9 @@ TEST(DeformerCallOrderTest, StillComponentNodesAreFixedBeforeTheAlphaWeights) {
       DeformerOptions options = OptionsFor(Method::kMultiScale);
       options.selection.border = border;
       options.lattice.cells_per_diagonal = cells_per_diagonal;
-      Deformer deformer;
+      GraphMethod deformer(options.method);
       std::string error;
-      ASSERT_TRUE(deformer.Init(mesh, options, &error)) << error;
+      ASSERT_TRUE(deformer.Precompute(mesh, options, &error)) << error;
       ASSERT_TRUE(deformer.SetHandles(layout, &error)) << error;
       const ScaleSelection& selection = deformer.selection();
       EXPECT_EQ(selection.node_class, deformer.node_classes()) << name;
@@ -324,7 +324,7 @@ TEST(DeformerCallOrderTest, StillComponentNodesAreFixedBeforeTheAlphaWeights) {
       }
       EXPECT_GT(second_bar_nodes, 0) << name;
       EXPECT_EQ(selection.num_fixed, fixed) << name;
-      EXPECT_EQ(selection.num_variables(), deformer.num_variables()) << name;
+      EXPECT_EQ(selection.num_variables(), deformer.variables()) << name;
       // Alpha is 1 on every coherence term that touches a non-Totally-Free node.
       const double unit_alpha_weight = std::sqrt(options.w_coh) / deformer.diagonal();
       for (const DeformationEnergy::Coherence& term : deformer.energy().coherence) {
@@ -344,13 +344,13 @@ TEST(DeformerCallOrderTest, StillComponentNodesAreFixedBeforeTheAlphaWeights) {
 // (docs/method.md §4).
 TEST(DeformerCallOrderTest, HarmonicThresholdIsConstant) {
   const BarEdit bar(8, 2);
-  Deformer deformer;
+  GraphMethod deformer(Method::kMultiScale);
   std::string error;
-  ASSERT_TRUE(deformer.Init(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
   ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
   EXPECT_EQ(deformer.selection().threshold, 0.1);
   for (int v : bar.layout.fixed) {
-    EXPECT_EQ(deformer.rigidity().relative_extent[deformer.lattice().particle_of_vertex(v)], 0.0);
+    EXPECT_EQ(deformer.rigidity().relative_extent[deformer.lattice()->particle_of_vertex(v)], 0.0);
   }
   HandleLayout moveable_only;
   moveable_only.moveable = bar.layout.moveable;
@@ -375,17 +375,17 @@ TEST(DeformerCallOrderTest, DeformersInParallelThreadsMatchSerialRuns) {
   EXPECT_EQ(parallel_a, serial_a);
   EXPECT_EQ(parallel_b, serial_b);
 
-  Deformer deformer;
+  GraphMethod deformer(multiscale.method);
   std::string error;
-  ASSERT_TRUE(deformer.Init(bar.mesh, multiscale, &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(bar.mesh, multiscale, &error)) << error;
   ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
   ASSERT_TRUE(deformer.Drag(Lift(1.0), nullptr, &error)) << error;
-  Deformer reference;
-  ASSERT_TRUE(reference.Init(bar.mesh, multiscale, &error)) << error;
+  GraphMethod reference(multiscale.method);
+  ASSERT_TRUE(reference.Precompute(bar.mesh, multiscale, &error)) << error;
   ASSERT_TRUE(reference.SetHandles(bar.layout, &error)) << error;
   ASSERT_TRUE(reference.Drag(Lift(1.0), nullptr, &error)) << error;
   const Eigen::Matrix3Xd expected = reference.deformed_normals();
-  const Deformer& reader = deformer;
+  const GraphMethod& reader = deformer;
   std::vector<Eigen::Matrix3Xd> read(4);
   std::vector<std::thread> readers;
   for (int t = 0; t < 4; ++t) readers.emplace_back([&, t] { read[t] = reader.deformed_normals(); });
@@ -399,14 +399,14 @@ TEST(DeformerCallOrderTest, DeformersInParallelThreadsMatchSerialRuns) {
 // facade's precompute drags exactly as the facade does.
 TEST(DeformerCallOrderTest, TheFacadesStagesExistOnlyOnceMade) {
   const BarEdit bar(8, 2);
-  Deformer deformer;
+  GraphMethod deformer(Method::kMultiScale);
   std::string error;
   EXPECT_EQ(deformer.precompute(), nullptr);
   EXPECT_EQ(deformer.setup(), nullptr);
   EXPECT_EQ(deformer.session(), nullptr);
   DeformerOptions coarse = OptionsFor(Method::kMultiScale);
   coarse.lattice.cells_per_diagonal = 8.0;  // cells of about a voxel
-  ASSERT_TRUE(deformer.Init(bar.mesh, coarse, &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(bar.mesh, coarse, &error)) << error;
   const std::shared_ptr<const Precompute> precompute = deformer.precompute();
   ASSERT_NE(precompute, nullptr);
   EXPECT_EQ(deformer.setup(), nullptr);
@@ -444,7 +444,7 @@ TEST(DeformerCallOrderTest, TheFacadesStagesExistOnlyOnceMade) {
   // The hand-made session lives on, its layout unaffected.
   ASSERT_TRUE(session->Drag(Lift(2.0), nullptr, &error)) << error;
 
-  ASSERT_TRUE(deformer.Init(bar.mesh, OptionsFor(Method::kStatic), &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(bar.mesh, OptionsFor(Method::kStatic), &error)) << error;
   EXPECT_NE(deformer.precompute(), precompute);
   EXPECT_EQ(deformer.setup(), nullptr);
 }

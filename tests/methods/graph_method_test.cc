@@ -1,4 +1,4 @@
-#include "msdeform/scales/deformer.h"
+#include "msdeform/methods/graph_method.h"
 
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
@@ -14,17 +14,17 @@
 namespace msdeform {
 namespace {
 
-void InitOrDie(Deformer* deformer, const Mesh& mesh, const DeformerOptions& options,
+void InitOrDie(GraphMethod* deformer, const Mesh& mesh, const DeformerOptions& options,
                const HandleLayout& layout) {
   std::string error;
-  ASSERT_TRUE(deformer->Init(mesh, options, &error)) << error;
+  ASSERT_TRUE(deformer->Precompute(mesh, options, &error)) << error;
   ASSERT_TRUE(deformer->SetHandles(layout, &error)) << error;
 }
 
 TEST(DeformerTest, IdentityTargetLeavesTheMeshUnchanged) {
   const BarEdit bar;
   for (Method method : kAllMethods) {
-    Deformer deformer;
+    GraphMethod deformer(method);
     InitOrDie(&deformer, bar.mesh, OptionsFor(method), bar.layout);
     std::string error;
     ASSERT_TRUE(deformer.Drag(Eigen::Affine3d::Identity(), nullptr, &error)) << error;
@@ -44,7 +44,7 @@ TEST(DeformerTest, RigidMotionOfAWholeMeshHandleMovesTheMeshRigidly) {
   rotation.pretranslate(Eigen::Vector3d(1, 0, 0));
   for (Method method : kAllMethods) {
     for (const Eigen::Affine3d& motion : {translation, rotation}) {
-      Deformer deformer;
+      GraphMethod deformer(method);
       InitOrDie(&deformer, bar.mesh, OptionsFor(method), everything);
       std::string error;
       for (const Eigen::Affine3d& frame :
@@ -72,7 +72,7 @@ DeformerOptions UnpinnedOptions() {
 
 TEST(DeformerTest, ClassesAreParameterBlockFixing) {
   const BarEdit bar;
-  Deformer deformer;
+  GraphMethod deformer(UnpinnedOptions().method);
   InitOrDie(&deformer, bar.mesh, UnpinnedOptions(), bar.layout);
   const ScaleSelection& selection = deformer.selection();
   int m = 0, q = 0;
@@ -84,7 +84,7 @@ TEST(DeformerTest, ClassesAreParameterBlockFixing) {
   EXPECT_GT(q, 0);
   EXPECT_EQ(m, selection.num_totally_free);
   EXPECT_EQ(q, selection.num_half_free);
-  EXPECT_EQ(deformer.num_variables(), 12 * m + 9 * q);
+  EXPECT_EQ(deformer.variables(), 12 * m + 9 * q);
   // After a drag the Fixed nodes are still the identity and the Half Free
   // nodes still have t = 0.
   std::string error;
@@ -110,7 +110,7 @@ TEST(DeformerTest, ClassesAreParameterBlockFixing) {
 
 // Directed edges (j, k) of the active graph with j Half Free and k Half Free
 // or Fixed: the terms docs/method.md §5 leaves out.
-int LeftOutTerms(const Deformer& deformer) {
+int LeftOutTerms(const GraphMethod& deformer) {
   int count = 0;
   const auto& classes = deformer.node_classes();
   for (const auto& [a, b] : deformer.active().edges) {
@@ -123,7 +123,7 @@ int LeftOutTerms(const Deformer& deformer) {
 
 TEST(DeformerTest, LeftOutTermsAreAbsentAndBackUnderTheAblation) {
   const BarEdit bar;
-  Deformer deformer;
+  GraphMethod deformer(UnpinnedOptions().method);
   InitOrDie(&deformer, bar.mesh, UnpinnedOptions(), bar.layout);
   int expected = 0;
   const auto& classes = deformer.node_classes();
@@ -138,7 +138,7 @@ TEST(DeformerTest, LeftOutTermsAreAbsentAndBackUnderTheAblation) {
 
   DeformerOptions ablation = UnpinnedOptions();
   ablation.keep_left_out_terms = true;
-  Deformer with_terms;
+  GraphMethod with_terms(ablation.method);
   InitOrDie(&with_terms, bar.mesh, ablation, bar.layout);
   EXPECT_EQ(with_terms.node_classes(), deformer.node_classes());
   EXPECT_EQ(with_terms.num_coherence_terms(), expected + left_out);
@@ -146,20 +146,20 @@ TEST(DeformerTest, LeftOutTermsAreAbsentAndBackUnderTheAblation) {
   // The other ablation: fixed-handle nodes lose their rotation.
   ablation = UnpinnedOptions();
   ablation.fix_fixed_handle_nodes = true;
-  Deformer fixed_nodes;
+  GraphMethod fixed_nodes(ablation.method);
   InitOrDie(&fixed_nodes, bar.mesh, ablation, bar.layout);
   for (NodeClass c : fixed_nodes.node_classes()) EXPECT_NE(c, NodeClass::kHalfFree);
-  EXPECT_LT(fixed_nodes.num_variables(), deformer.num_variables());
+  EXPECT_LT(fixed_nodes.variables(), deformer.variables());
 }
 
 TEST(DeformerTest, StaticBaselinesFreeEveryNodeOfTheirGraph) {
   const BarEdit bar;
   for (Method method : {Method::kStatic, Method::kStaticDense}) {
-    Deformer deformer;
+    GraphMethod deformer(method);
     InitOrDie(&deformer, bar.mesh, OptionsFor(method), bar.layout);
     const int n = deformer.active().num_nodes();
     EXPECT_EQ(n, method == Method::kStatic ? 40 : deformer.graphs()[0].num_nodes());
-    EXPECT_EQ(deformer.num_variables(), 12 * n);
+    EXPECT_EQ(deformer.variables(), 12 * n);
     EXPECT_EQ(deformer.num_coherence_terms(), 2 * static_cast<int>(deformer.active().edges.size()));
     EXPECT_EQ(deformer.num_position_terms(), static_cast<int>(bar.layout.moveable.size()));
   }
@@ -185,7 +185,7 @@ std::pair<double, double> CactusErrors(Method method, Solver backend,
   options.method = method;
   options.backend = backend;
   options.num_threads = 1;
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   InitOrDie(&deformer, mesh, options, layout);
   for (const Eigen::Affine3d& frame : InterpolateDragPath(target, centroid, 30)) {
     EXPECT_TRUE(deformer.Drag(frame, nullptr, &error)) << error;
@@ -281,7 +281,7 @@ TEST(DeformerTest, CylinderBendsOverItsWholeLength) {
   DeformerOptions options;
   options.backend = Solver::kGaussNewton;
   options.num_threads = 1;
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   InitOrDie(&deformer, bend.mesh, options, bend.layout);
   // Group 1 reaches from the handle down into the lowest quarter of the free
   // length (e' falls off linearly along a prism; T = 0.1).
@@ -320,9 +320,9 @@ TEST(DeformerTest, CoarseScalesAreConnectedWhenUsedAndCachedBounded) {
   const CylinderBend bend;
   DeformerOptions options = OptionsFor(Method::kMultiScale);
   options.cached_scales = 2;
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   std::string error;
-  ASSERT_TRUE(deformer.Init(bend.mesh, options, &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(bend.mesh, options, &error)) << error;
   const int num_graphs = static_cast<int>(deformer.graphs().size());
   ASSERT_GE(num_graphs, 5);
   EXPECT_TRUE(deformer.graphs()[0].is_connected());
@@ -332,7 +332,7 @@ TEST(DeformerTest, CoarseScalesAreConnectedWhenUsedAndCachedBounded) {
   const int active = deformer.active_graph();
   ASSERT_GT(active, 0) << "the bend should select a coarse scale";
   std::vector<DeformationGraph> eager;
-  ASSERT_TRUE(BuildMultiScaleGraphs(bend.mesh, deformer.lattice(), options.graph, &eager, &error))
+  ASSERT_TRUE(BuildMultiScaleGraphs(bend.mesh, *deformer.lattice(), options.graph, &eager, &error))
       << error;
   const DeformationGraph& lazy = deformer.graphs()[active];
   ASSERT_TRUE(lazy.is_connected());
@@ -353,8 +353,8 @@ TEST(DeformerTest, CoarseScalesAreConnectedWhenUsedAndCachedBounded) {
   }
   // A scale connected, dropped and connected again drags identically.
   options.cached_scales = 1;
-  Deformer again;
-  ASSERT_TRUE(again.Init(bend.mesh, options, &error)) << error;
+  GraphMethod again(options.method);
+  ASSERT_TRUE(again.Precompute(bend.mesh, options, &error)) << error;
   again.ConnectedGraph(active);
   for (int i = 1; i < num_graphs; ++i) {
     if (i != active) again.ConnectedGraph(i);
@@ -376,7 +376,7 @@ TEST(DeformerTest, LargeFixedRegionGetsHalfFreeNodesOnlyAtItsBorder) {
   DeformerOptions options;
   options.num_threads = 1;
   options.selection.pin_fixed_region = false;  // Half Free nodes hold fixed vertices
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   InitOrDie(&deformer, bend.mesh, options, bend.layout);
   const DeformationGraph& graph = deformer.active();
   const std::vector<NodeClass>& classes = deformer.node_classes();
@@ -392,10 +392,10 @@ TEST(DeformerTest, LargeFixedRegionGetsHalfFreeNodesOnlyAtItsBorder) {
   }
   EXPECT_GT(half_free, 0);
   // The paper's rule makes every node of the fixed part Half Free.
-  Deformer paper;
+  GraphMethod paper(PaperProcedure(options).method);
   InitOrDie(&paper, bend.mesh, PaperProcedure(options), bend.layout);
   EXPECT_GT(paper.selection().num_half_free, 3 * half_free);
-  EXPECT_LT(deformer.num_variables(), paper.num_variables());
+  EXPECT_LT(deformer.variables(), paper.variables());
 }
 
 TEST(DeformerTest, LargeArmadilloEditKeepsOptimisedNodesNearP) {
@@ -410,14 +410,14 @@ TEST(DeformerTest, LargeArmadilloEditKeepsOptimisedNodesNearP) {
   ASSERT_TRUE(ResolveScenario(scenario, mesh, &layout, &watch, &target, &error)) << error;
   DeformerOptions options;
   options.num_threads = 1;
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   InitOrDie(&deformer, mesh, options, layout);
   const ScaleSelection& selection = deformer.selection();
   EXPECT_GT(selection.group1_size, options.graph.nodes_per_scale);
   EXPECT_GT(selection.scale, 1);
   EXPECT_LE(selection.num_totally_free, 2 * options.graph.nodes_per_scale);
   EXPECT_GE(selection.num_totally_free, options.graph.nodes_per_scale / 2);
-  EXPECT_LT(deformer.num_variables(), 12 * deformer.graphs()[0].num_nodes() / 5);
+  EXPECT_LT(deformer.variables(), 12 * deformer.graphs()[0].num_nodes() / 5);
 }
 
 }  // namespace
