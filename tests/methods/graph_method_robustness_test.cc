@@ -1,6 +1,6 @@
 // Robustness of the deformer (issue 9): meshes with several components,
 // singular systems, failed solves, random rigid motions, determinism. Kept
-// apart from deformer_test.cc, which checks the method itself.
+// apart from graph_method_test.cc, which checks the method itself.
 
 #include <random>
 
@@ -36,7 +36,7 @@ struct TwoBars {
   }
 };
 
-TEST(DeformerRobustnessTest, ComponentWithoutHandleStaysAndHasNoVariables) {
+TEST(GraphMethodRobustnessTest, ComponentWithoutHandleStaysAndHasNoVariables) {
   const TwoBars bars;
   ASSERT_GT(bars.second_bar.size(), 0u);
   Eigen::Affine3d lift = Eigen::Affine3d::Identity();
@@ -72,7 +72,7 @@ TEST(DeformerRobustnessTest, ComponentWithoutHandleStaysAndHasNoVariables) {
 // A static graph of one node spans both bars (edge collapse merges across
 // components once no edge is left): the node moves with the handle, and the
 // second bar still stays at rest, bit for bit.
-TEST(DeformerRobustnessTest, ComponentWithoutHandleStaysWhenANodeSpansBothComponents) {
+TEST(GraphMethodRobustnessTest, ComponentWithoutHandleStaysWhenANodeSpansBothComponents) {
   const TwoBars bars;
   Eigen::Affine3d lift = Eigen::Affine3d::Identity();
   lift.translation() << 0.0, 0.0, 2.0;
@@ -94,7 +94,7 @@ TEST(DeformerRobustnessTest, ComponentWithoutHandleStaysWhenANodeSpansBothCompon
 
 // An isolated vertex (in no face) is a mesh component of its own: without a
 // moveable-handle vertex it stays at rest, even inside the dragged end.
-TEST(DeformerRobustnessTest, IsolatedVertexIsAComponentOfItsOwn) {
+TEST(GraphMethodRobustnessTest, IsolatedVertexIsAComponentOfItsOwn) {
   TwoBars bars;
   Mesh& mesh = bars.mesh;
   const int isolated = mesh.num_vertices();
@@ -117,7 +117,7 @@ TEST(DeformerRobustnessTest, IsolatedVertexIsAComponentOfItsOwn) {
   }
 }
 
-TEST(DeformerRobustnessTest, FailedSolveKeepsTheLastGoodFrame) {
+TEST(GraphMethodRobustnessTest, FailedSolveKeepsTheLastGoodFrame) {
   const TwoBars bars;
   GraphMethod deformer(Method::kMultiScale);
   std::string error;
@@ -150,7 +150,7 @@ TEST(DeformerRobustnessTest, FailedSolveKeepsTheLastGoodFrame) {
   EXPECT_TRUE(deformer.deformed_vertices().allFinite());
 }
 
-TEST(DeformerRobustnessTest, RandomRigidMotionsOfAWholeMeshHandleAreRigid) {
+TEST(GraphMethodRobustnessTest, RandomRigidMotionsOfAWholeMeshHandleAreRigid) {
   const Mesh mesh = MakeBar(8, 1.0, 2);
   HandleLayout everything;
   for (int v = 0; v < mesh.num_vertices(); ++v) everything.moveable.push_back(v);
@@ -177,7 +177,7 @@ TEST(DeformerRobustnessTest, RandomRigidMotionsOfAWholeMeshHandleAreRigid) {
   }
 }
 
-TEST(DeformerRobustnessTest, SameInputsGiveBitIdenticalResults) {
+TEST(GraphMethodRobustnessTest, SameInputsGiveBitIdenticalResults) {
   const TwoBars bars;
   Eigen::Affine3d lift = Eigen::Affine3d::Identity();
   lift.translation() << 0.0, 0.5, 1.0;

@@ -1,5 +1,9 @@
 #include "msdeform/methods/graph_method.h"
 
+#include <memory>
+#include <string>
+#include <vector>
+
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 #include <gtest/gtest.h>
@@ -9,6 +13,9 @@
 #include "msdeform/core/mesh_io.h"
 #include "msdeform/core/procedural_meshes.h"
 #include "msdeform/core/scenario.h"
+#include "msdeform/scales/handle_setup.h"
+#include "msdeform/scales/precompute.h"
+#include "msdeform/scales/session.h"
 #include "tests/scales/deformer_test_util.h"
 
 namespace msdeform {
@@ -21,7 +28,7 @@ void InitOrDie(GraphMethod* deformer, const Mesh& mesh, const DeformerOptions& o
   ASSERT_TRUE(deformer->SetHandles(layout, &error)) << error;
 }
 
-TEST(DeformerTest, IdentityTargetLeavesTheMeshUnchanged) {
+TEST(GraphMethodTest, IdentityTargetLeavesTheMeshUnchanged) {
   const BarEdit bar;
   for (Method method : kAllMethods) {
     GraphMethod deformer(method);
@@ -33,7 +40,7 @@ TEST(DeformerTest, IdentityTargetLeavesTheMeshUnchanged) {
   }
 }
 
-TEST(DeformerTest, RigidMotionOfAWholeMeshHandleMovesTheMeshRigidly) {
+TEST(GraphMethodTest, RigidMotionOfAWholeMeshHandleMovesTheMeshRigidly) {
   const BarEdit bar;
   HandleLayout everything;
   for (int v = 0; v < bar.mesh.num_vertices(); ++v) everything.moveable.push_back(v);
@@ -70,7 +77,7 @@ DeformerOptions UnpinnedOptions() {
   return options;
 }
 
-TEST(DeformerTest, ClassesAreParameterBlockFixing) {
+TEST(GraphMethodTest, ClassesAreParameterBlockFixing) {
   const BarEdit bar;
   GraphMethod deformer(UnpinnedOptions().method);
   InitOrDie(&deformer, bar.mesh, UnpinnedOptions(), bar.layout);
@@ -121,7 +128,7 @@ int LeftOutTerms(const GraphMethod& deformer) {
   return count;
 }
 
-TEST(DeformerTest, LeftOutTermsAreAbsentAndBackUnderTheAblation) {
+TEST(GraphMethodTest, LeftOutTermsAreAbsentAndBackUnderTheAblation) {
   const BarEdit bar;
   GraphMethod deformer(UnpinnedOptions().method);
   InitOrDie(&deformer, bar.mesh, UnpinnedOptions(), bar.layout);
@@ -152,7 +159,7 @@ TEST(DeformerTest, LeftOutTermsAreAbsentAndBackUnderTheAblation) {
   EXPECT_LT(fixed_nodes.variables(), deformer.variables());
 }
 
-TEST(DeformerTest, StaticBaselinesFreeEveryNodeOfTheirGraph) {
+TEST(GraphMethodTest, StaticBaselinesFreeEveryNodeOfTheirGraph) {
   const BarEdit bar;
   for (Method method : {Method::kStatic, Method::kStaticDense}) {
     GraphMethod deformer(method);
@@ -202,7 +209,7 @@ std::pair<double, double> CactusErrors(Method method, Solver backend,
           fixed_max / deformer.diagonal()};
 }
 
-TEST(DeformerTest, BotschSorkineCactusReachesItsTarget) {
+TEST(GraphMethodTest, BotschSorkineCactusReachesItsTarget) {
   // The handle travels about 0.6 diagonals and turns 70 degrees. The
   // harmonic estimate frees the whole trunk (scale 5 of 5), and the handle
   // comes within 1.13% of the diagonal; but at that scale the cactus's
@@ -275,7 +282,7 @@ struct CylinderBend {
   }
 };
 
-TEST(DeformerTest, CylinderBendsOverItsWholeLength) {
+TEST(GraphMethodTest, CylinderBendsOverItsWholeLength) {
   const CylinderBend bend;
   const double third = (CylinderBend::kFreeTop - CylinderBend::kFreeBottom) / 3.0;
   DeformerOptions options;
@@ -316,7 +323,7 @@ TEST(DeformerTest, CylinderBendsOverItsWholeLength) {
 // The multi-scale Init connects DG1 only; SetHandles connects the scale it
 // selects, the same graph an eager build makes, and a bounded cache keeps the
 // others. A scale dropped and connected again gives the same drag bit for bit.
-TEST(DeformerTest, CoarseScalesAreConnectedWhenUsedAndCachedBounded) {
+TEST(GraphMethodTest, CoarseScalesAreConnectedWhenUsedAndCachedBounded) {
   const CylinderBend bend;
   DeformerOptions options = OptionsFor(Method::kMultiScale);
   options.cached_scales = 2;
@@ -366,7 +373,7 @@ TEST(DeformerTest, CoarseScalesAreConnectedWhenUsedAndCachedBounded) {
   EXPECT_EQ(again.deformed_vertices(), first);
 }
 
-TEST(DeformerTest, LargeFixedRegionGetsHalfFreeNodesOnlyAtItsBorder) {
+TEST(GraphMethodTest, LargeFixedRegionGetsHalfFreeNodesOnlyAtItsBorder) {
   // The cylinder fixed up to z = 7 (70% of it), its top dragged sideways.
   CylinderBend bend;
   bend.layout.fixed.clear();
@@ -398,7 +405,7 @@ TEST(DeformerTest, LargeFixedRegionGetsHalfFreeNodesOnlyAtItsBorder) {
   EXPECT_LT(deformer.variables(), paper.variables());
 }
 
-TEST(DeformerTest, LargeArmadilloEditKeepsOptimisedNodesNearP) {
+TEST(GraphMethodTest, LargeArmadilloEditKeepsOptimisedNodesNearP) {
   Scenario scenario;
   Mesh mesh;
   HandleLayout layout;
@@ -418,6 +425,75 @@ TEST(DeformerTest, LargeArmadilloEditKeepsOptimisedNodesNearP) {
   EXPECT_LE(selection.num_totally_free, 2 * options.graph.nodes_per_scale);
   EXPECT_GE(selection.num_totally_free, options.graph.nodes_per_scale / 2);
   EXPECT_LT(deformer.variables(), 12 * deformer.graphs()[0].num_nodes() / 5);
+}
+
+// A session made by hand from the three stages.
+std::unique_ptr<Session> MakeSession(const Mesh& mesh, const DeformerOptions& options,
+                                     const HandleLayout& handles) {
+  std::string error;
+  std::shared_ptr<const msdeform::Precompute> precompute =
+      msdeform::Precompute::Create(mesh, options, &error);
+  EXPECT_NE(precompute, nullptr) << error;
+  std::shared_ptr<const HandleSetup> setup = HandleSetup::Create(precompute, handles, &error);
+  EXPECT_NE(setup, nullptr) << error;
+  std::unique_ptr<Session> session = Session::Create(setup, &error);
+  EXPECT_NE(session, nullptr) << error;
+  return session;
+}
+
+// What the method's Precompute reports is the precompute's: it is one.
+TEST(GraphMethodTest, ItsPrecomputeIsAPrecompute) {
+  const CylinderLayouts cylinder;
+  for (Method method : kAllMethods) {
+    std::string error;
+    GraphMethod deformer(method);
+    ASSERT_TRUE(deformer.Precompute(cylinder.mesh, CylinderOptions(method), &error)) << error;
+    std::shared_ptr<const msdeform::Precompute> precompute =
+        msdeform::Precompute::Create(cylinder.mesh, CylinderOptions(method), &error);
+    ASSERT_NE(precompute, nullptr) << error;
+    EXPECT_EQ(precompute->rest_normals(), deformer.deformed_normals());
+    EXPECT_EQ(precompute->diagonal(), deformer.diagonal());
+    EXPECT_EQ(precompute->lattice().num_particles(), deformer.lattice()->num_particles());
+    ASSERT_EQ(precompute->graphs().size(), deformer.graphs().size());
+    for (size_t i = 0; i < deformer.graphs().size(); ++i) {
+      EXPECT_EQ(precompute->graphs()[i].positions, deformer.graphs()[i].positions) << i;
+    }
+    EXPECT_EQ(precompute->static_graph() < 0, method == Method::kMultiScale);
+  }
+}
+
+// Every method and both warm starts that carry state from frame to frame: a
+// session made by hand and the method give the same vertices, normals,
+// transforms and costs on every frame of a path.
+TEST(GraphMethodTest, DragsAsASessionMadeByHand) {
+  const CylinderLayouts cylinder;
+  const std::vector<Eigen::Affine3d> path = TurnPath(4);
+  for (Method method : kAllMethods) {
+    for (InitialGuess guess : {InitialGuess::kPrevious, InitialGuess::kExtrapolated}) {
+      DeformerOptions options = CylinderOptions(method);
+      options.initial_guess = guess;
+      GraphMethod deformer(options.method);
+      std::string error;
+      ASSERT_TRUE(deformer.Precompute(cylinder.mesh, options, &error)) << error;
+      ASSERT_TRUE(deformer.SetHandles(cylinder.bottom_fixed, &error)) << error;
+      std::unique_ptr<Session> session = MakeSession(cylinder.mesh, options, cylinder.bottom_fixed);
+      ASSERT_NE(session, nullptr);
+      EXPECT_EQ(session->setup().active_graph(), deformer.active_graph());
+      EXPECT_EQ(session->deformed_vertices(), cylinder.mesh.vertices);
+      for (size_t f = 0; f < path.size(); ++f) {
+        DragStats by_deformer, by_session;
+        ASSERT_TRUE(deformer.Drag(path[f], &by_deformer, &error)) << error;
+        ASSERT_TRUE(session->Drag(path[f], &by_session, &error)) << error;
+        EXPECT_EQ(session->deformed_vertices(), deformer.deformed_vertices()) << f;
+        EXPECT_EQ(session->transforms().rotations, deformer.transforms().rotations) << f;
+        EXPECT_EQ(session->transforms().translations, deformer.transforms().translations) << f;
+        EXPECT_EQ(by_session.final_cost, by_deformer.final_cost) << f;
+        EXPECT_EQ(by_session.iterations, by_deformer.iterations) << f;
+      }
+      EXPECT_EQ(session->deformed_normals(), deformer.deformed_normals());
+      EXPECT_NE(session->deformed_vertices(), cylinder.mesh.vertices);
+    }
+  }
 }
 
 }  // namespace

@@ -8,7 +8,7 @@
 //   every multi-scale variant, every fixed vertex is at its rest position
 //   after every frame.
 // The Fig. 4 case (group 1 along the whole limb) is
-// DeformerTest.CylinderBendsOverItsWholeLength in deformer_test.cc.
+// GraphMethodTest.CylinderBendsOverItsWholeLength in graph_method_test.cc.
 //
 // The scenarios use the real meshes (data/fetch_meshes.sh); without them the
 // scenario tests fail, naming the script.
