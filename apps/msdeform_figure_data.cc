@@ -36,7 +36,7 @@
 #include "msdeform/core/mesh_io.h"
 #include "msdeform/core/scenario.h"
 #include "msdeform/core/timing.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/methods/graph_method.h"
 #include "msdeform/scales/rigidity.h"
 #include "msdeform/scales/scale_selection.h"
 #include "msdeform/solvers/subspace_arap.h"
@@ -123,9 +123,9 @@ bool RunGraphs(std::string* error) {
   DeformerOptions options;
   if (!FillOptions(&options, error)) return false;
   options.method = Method::kMultiScale;
-  Deformer deformer;
-  if (!deformer.Init(mesh, options, error)) return false;
-  const Lattice& lattice = deformer.lattice();
+  GraphMethod deformer(options.method);
+  if (!deformer.Precompute(mesh, options, error)) return false;
+  const Lattice& lattice = *deformer.lattice();
   const int num_scales = static_cast<int>(deformer.graphs().size());
   Json out;
   out["mesh"] = FLAGS_mesh;
@@ -160,9 +160,9 @@ bool RunGraphs(std::string* error) {
 
 // Init, SetHandles and the whole drag; frame_ms gets each Drag's wall time.
 bool InitAndDrag(const Mesh& mesh, const DeformerOptions& options, const HandleLayout& layout,
-                 const std::vector<Eigen::Affine3d>& path, Deformer* deformer,
+                 const std::vector<Eigen::Affine3d>& path, GraphMethod* deformer,
                  std::vector<double>* frame_ms, std::string* error) {
-  if (!deformer->Init(mesh, options, error)) return false;
+  if (!deformer->Precompute(mesh, options, error)) return false;
   if (!deformer->SetHandles(layout, error)) return false;
   DragLog log;
   if (!DragAlong(deformer, path, DragAlongOptions(), &log, error)) return false;
@@ -179,7 +179,7 @@ bool RunEdit(std::string* error) {
   if (!LoadScenario(&scenario, &mesh, &layout, &path, &watch, error)) return false;
   DeformerOptions options;
   if (!FillOptions(&options, error)) return false;
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   std::vector<double> frame_ms;
   if (!InitAndDrag(mesh, options, layout, path, &deformer, &frame_ms, error)) return false;
   const fs::path mesh_out = fs::path(FLAGS_out).replace_extension(".off");
@@ -210,7 +210,7 @@ bool RunEdit(std::string* error) {
   out["deformed_mesh"] = mesh_out.filename().string();
   out["vertices"] = mesh.num_vertices();
   out["diag"] = deformer.diagonal();
-  out["cell_width"] = deformer.lattice().cell_width();
+  out["cell_width"] = deformer.lattice()->cell_width();
   out["fixed"] = layout.fixed;
   out["moveable"] = layout.moveable;
   out["watch"] = watch;  // vertices that should not move (may be empty)
@@ -220,7 +220,7 @@ bool RunEdit(std::string* error) {
   out["selected_scale"] = deformer.active_graph() + 1;
   out["threshold"] = deformer.selection().threshold;
   out["group1"] = deformer.selection().group1_size;
-  out["variables"] = deformer.num_variables();
+  out["variables"] = deformer.variables();
   out["frame_ms_median"] = Median(frame_ms);
 
   // DG1 nodes: position, e' (multi-scale only) and class of the node they merged into.
@@ -265,7 +265,7 @@ bool RunNodesVsP(std::string* error) {
     if (!FillOptions(&options, error)) return false;
     options.method = Method::kMultiScale;
     options.graph.nodes_per_scale = std::atoi(token.c_str());
-    Deformer deformer;
+    GraphMethod deformer(options.method);
     std::vector<double> frame_ms;
     if (!InitAndDrag(mesh, options, layout, path, &deformer, &frame_ms, error)) return false;
     const ScaleSelection& s = deformer.selection();
@@ -278,7 +278,7 @@ bool RunNodesVsP(std::string* error) {
                     {"totally_free", s.num_totally_free},
                     {"half_free", s.num_half_free},
                     {"optimised_nodes", s.num_totally_free + s.num_half_free},
-                    {"variables", deformer.num_variables()},
+                    {"variables", deformer.variables()},
                     {"frame_ms_median", Median(frame_ms)}});
     std::cerr << "P=" << options.graph.nodes_per_scale << " " << rows.back().dump() << "\n";
   }

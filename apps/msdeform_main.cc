@@ -40,7 +40,7 @@
 #include "msdeform/methods/method_options.h"
 #include "msdeform/methods/polish.h"
 #include "msdeform/methods/registry.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/methods/graph_method.h"
 
 DEFINE_string(mesh, "",
               "[input] Input mesh (OFF, OBJ, PLY, STL). Default: the scenario's mesh.");
@@ -250,7 +250,7 @@ bool PrepareJob(Job* job, std::string* error) {
   return true;
 }
 
-std::string NodesCsv(const Deformer& deformer) {
+std::string NodesCsv(const GraphMethod& deformer) {
   std::ostringstream csv;
   csv.precision(9);
   csv << "node,x,y,z,e_prime,class\n";
@@ -444,7 +444,7 @@ bool StartMethod(const Job& job, std::unique_ptr<EditingMethod>* method, std::st
     *error = job.mesh_path + ": " + *error;
     return false;
   }
-  const Deformer* deformer = (*method)->deformer();  // null: not a graph method
+  const GraphMethod* deformer = (*method)->graph_method();  // null: not a graph method
   if (deformer != nullptr && job.options.method == Method::kStatic &&
       deformer->graphs().back().num_nodes() < job.options.static_nodes && !FLAGS_quiet) {
     std::cerr << "msdeform: notice: --static_nodes=" << job.options.static_nodes
@@ -524,7 +524,7 @@ DragSummary Summarise(const Job& job, const EditingMethod& method, const DragLog
     summary.factorizations_total += stats.factorizations;
   }
   summary.final_cost = log.frames.back().final_cost;
-  const Deformer* deformer = method.deformer();
+  const GraphMethod* deformer = method.graph_method();
   summary.diagonal = deformer != nullptr ? deformer->diagonal() : BoundingBoxDiagonal(job.mesh);
   // The quality measures of core/metrics.h, as the experiments compute them.
   summary.handle_rms =
@@ -549,7 +549,7 @@ bool StageMeshes(const Job& job, const EditingMethod& method, const Eigen::Matri
     return false;
   }
   if (!job.nodes_path.empty() && (!staged->Stage(job.nodes_path, &staged_path, error) ||
-                                  !WriteText(staged_path, NodesCsv(*method.deformer()), error))) {
+                                  !WriteText(staged_path, NodesCsv(*method.graph_method()), error))) {
     *error = staged->Translate(*error);
     return false;
   }
@@ -563,7 +563,7 @@ bool BuildReport(const Job& job, const EditingMethod* method, const DragLog& log
                  const std::vector<std::string>& command_line,
                  Clock::time_point total_start, Json* report_out, std::string* error) {
   Json& report = *report_out;
-  const Deformer* deformer = method->deformer();
+  const GraphMethod* deformer = method->graph_method();
   const double diagonal = summary.diagonal;
   const double handle_rms = summary.handle_rms;
   const Displacement& leakage = summary.leakage;
@@ -639,7 +639,7 @@ bool BuildReport(const Job& job, const EditingMethod* method, const DragLog& log
                           {"solve_median", Median(solve_ms)},
                           {"skin_median", Median(skin_ms)},
                           {"total", MillisecondsSince(total_start)}};
-  // Milliseconds by stage (Deformer::stages; none for the methods without them).
+  // Milliseconds by stage (EditingMethod::stages; none for the methods without them).
   Json stages = Json::object();
   const StageTimes stage_times = method->stages();
   for (const auto& [name, ms] : stage_times.entries()) stages[name] = ms;
@@ -690,7 +690,7 @@ std::string SoftHandleNote(const Job& job) {
 void PrintSummary(const Job& job, const EditingMethod& method, const DragLog& log,
                   const DragSummary& summary, const PolishReport* polish) {
   if (FLAGS_quiet) return;
-  const Deformer* deformer = method.deformer();
+  const GraphMethod* deformer = method.graph_method();
   const double diagonal = summary.diagonal;
   if (deformer != nullptr) {
     int totally_free = 0, half_free = 0;
@@ -703,7 +703,7 @@ void PrintSummary(const Job& job, const EditingMethod& method, const DragLog& lo
                 job.name.c_str(), job.mesh.num_vertices(), job.method.c_str(),
                 MinimisedEnergy(job.method, job.options).c_str(), FrameSolver(job).c_str(),
                 deformer->active_graph() + 1,
-                deformer->graphs().size(), totally_free, half_free, deformer->num_variables());
+                deformer->graphs().size(), totally_free, half_free, deformer->variables());
   } else {
     std::printf("msdeform: %s (%d vertices), %s method, %s energy: %d elements optimised (%d "
                 "variables)\n",

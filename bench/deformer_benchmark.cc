@@ -32,7 +32,7 @@
 #include "msdeform/core/mesh_io.h"
 #include "msdeform/core/scenario.h"
 #include "msdeform/core/timing.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/methods/graph_method.h"
 
 namespace msdeform {
 namespace {
@@ -92,27 +92,28 @@ void BM_Precompute(benchmark::State& state, const std::string& name) {
   const ClawEdit& edit = LoadClawEdit(name);
   std::string error;
   for (auto _ : state) {
-    Deformer deformer;
-    CHECK(deformer.Init(edit.mesh, Options(Backend::kGaussNewton), &error)) << error;
+    GraphMethod deformer(Method::kMultiScale);
+    CHECK(deformer.Precompute(edit.mesh, Options(Backend::kGaussNewton), &error)) << error;
     benchmark::DoNotOptimize(deformer.graphs().data());
   }
 }
 
-Deformer& CachedDeformer(const std::string& name, Backend backend, int threads = 2) {
+GraphMethod& CachedDeformer(const std::string& name, Backend backend, int threads = 2) {
   using Key = std::tuple<std::string, Backend, int>;
-  static std::map<Key, std::unique_ptr<Deformer>>* cache = new std::map<Key, std::unique_ptr<Deformer>>;
-  std::unique_ptr<Deformer>& deformer = (*cache)[Key(name, backend, threads)];
+  static std::map<Key, std::unique_ptr<GraphMethod>>* cache =
+      new std::map<Key, std::unique_ptr<GraphMethod>>;
+  std::unique_ptr<GraphMethod>& deformer = (*cache)[Key(name, backend, threads)];
   if (deformer == nullptr) {
-    deformer = std::make_unique<Deformer>();
+    deformer = std::make_unique<GraphMethod>(Method::kMultiScale);
     std::string error;
-    CHECK(deformer->Init(LoadClawEdit(name).mesh, Options(backend, threads), &error)) << error;
+    CHECK(deformer->Precompute(LoadClawEdit(name).mesh, Options(backend, threads), &error)) << error;
   }
   return *deformer;
 }
 
 void BM_SetHandles(benchmark::State& state, const std::string& name, Backend backend) {
   const ClawEdit& edit = LoadClawEdit(name);
-  Deformer& deformer = CachedDeformer(name, backend);
+  GraphMethod& deformer = CachedDeformer(name, backend);
   std::string error;
   for (auto _ : state) CHECK(deformer.SetHandles(edit.layout, &error)) << error;
   state.counters["rigidity_ms"] = deformer.rigidity_ms();
@@ -123,7 +124,7 @@ void BM_SetHandles(benchmark::State& state, const std::string& name, Backend bac
 // the median frame (solve + skin).
 void BM_ClawDrag(benchmark::State& state, const std::string& name, Backend backend) {
   const ClawEdit& edit = LoadClawEdit(name);
-  Deformer& deformer = CachedDeformer(name, backend, static_cast<int>(state.range(0)));
+  GraphMethod& deformer = CachedDeformer(name, backend, static_cast<int>(state.range(0)));
   std::string error;
   std::vector<double> frame, solve, skin, iterations, factorizations;
   for (auto _ : state) {
@@ -146,7 +147,7 @@ void BM_ClawDrag(benchmark::State& state, const std::string& name, Backend backe
   state.counters["skin_ms"] = Median(skin);
   state.counters["iterations"] = Median(iterations);
   state.counters["factorizations"] = Median(factorizations);
-  state.counters["variables"] = deformer.num_variables();
+  state.counters["variables"] = deformer.variables();
   state.counters["skinned_V"] = deformer.num_skinned_vertices();
 }
 

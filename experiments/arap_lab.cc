@@ -384,8 +384,8 @@ bool MeasureSubspaceArap(const Mesh& mesh, const HandleLayout& layout,
   // frame's stats and its energy (EvaluateEnergy, as the solver lab).
   auto drag = [&](const DeformerOptions& run_options,
                   const std::function<void(int, const DragStats&, double)>& on_frame) {
-    Deformer deformer;
-    if (!deformer.Init(mesh, run_options, error) || !deformer.SetHandles(layout, error)) {
+    GraphMethod deformer(run_options.method);
+    if (!deformer.Precompute(mesh, run_options, error) || !deformer.SetHandles(layout, error)) {
       return false;
     }
     for (int f = 1; f <= measured.back(); ++f) {

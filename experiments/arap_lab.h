@@ -8,7 +8,7 @@
 //              3, 5 and 10 (there is no Gauss-Newton solver for it).
 //   subspace   the subspace ARAP energy of --energy=arap
 //              (solvers/arap_solver.h): its local/global solver against its
-//              Gauss-Newton solver, run through the Deformer.
+//              Gauss-Newton solver, run through GraphMethod.
 //
 // full_arap, per scenario: a reference run (Anderson 5, relative tolerance
 // `reference_tolerance`, i.e. until an iteration no longer lowers the energy)
@@ -44,7 +44,7 @@
 
 #include "msdeform/core/handles.h"
 #include "msdeform/core/mesh.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/methods/graph_method.h"
 
 namespace msdeform {
 

@@ -14,6 +14,7 @@
 #include "msdeform/core/timing.h"
 #include "msdeform/core/metrics.h"
 #include "experiments/tables.h"
+#include "msdeform/methods/graph_method.h"
 #include "msdeform/methods/registry.h"
 
 namespace msdeform {
@@ -222,7 +223,7 @@ bool RunMethod(const ExperimentScenario& scenario, const std::string& method_nam
   }
   const Eigen::Matrix3Xd& final_vertices = method->deformed_vertices();
   result->orthogonality = kNaN;
-  if (const Deformer* deformer = method->deformer()) {
+  if (const GraphMethod* deformer = method->graph_method()) {
     result->dg1_nodes = deformer->graphs()[0].num_nodes();
     result->num_scales = deformer->options().method == Method::kMultiScale
                              ? static_cast<int>(deformer->graphs().size())
@@ -639,7 +640,7 @@ bool WriteExperimentTables(const RunnerOptions& options, const RunPlan& plan,
                          "per vertex, minimised by accelerated local/global to a relative change "
                          "of 1e-9 a frame), nodes_optimized = free vertices, variables = 3 per "
                          "free vertex, setup_ms = the Laplacian's factorisation.");
-  table2.notes.push_back("precompute_ms = Deformer::Init (lattice, graphs, weights); rigidity_ms = "
+  table2.notes.push_back("precompute_ms = GraphMethod::Precompute (lattice, graphs, weights); rigidity_ms = "
                          "the shape-matching estimate in SetHandles (multiscale only); setup_ms = "
                          "the rest of SetHandles (scale selection, classes, problem).");
   ablations.notes.push_back(units);

@@ -22,7 +22,7 @@
 
 #include "experiments/experiment_scenario.h"
 #include "msdeform/methods/method_options.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/scales/deformer_options.h"
 
 namespace msdeform {
 

@@ -14,6 +14,7 @@
 #include "msdeform/core/timing.h"
 #include "msdeform/core/metrics.h"
 #include "experiments/tables.h"
+#include "msdeform/methods/graph_method.h"
 #include "msdeform/solvers/deformation_energy.h"
 
 namespace msdeform {
@@ -148,12 +149,12 @@ struct LabDrag {
 bool RunLabDrag(const ExperimentScenario& scenario, const DeformerOptions& options, LabDrag* drag,
                 std::string* error) {
   *drag = LabDrag();
-  Deformer deformer;
-  if (!deformer.Init(scenario.mesh, options, error) ||
+  GraphMethod deformer(options.method);
+  if (!deformer.Precompute(scenario.mesh, options, error) ||
       !deformer.SetHandles(scenario.layout, error)) {
     return false;
   }
-  drag->variables = deformer.num_variables();
+  drag->variables = deformer.variables();
   DragAlongOptions along;
   along.continue_after_failure = true;
   along.on_frame = [&](int frame, const DragStats& stats) {

@@ -36,7 +36,7 @@
 #include <vector>
 
 #include "experiments/experiment_scenario.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/scales/deformer_options.h"
 
 namespace msdeform {
 

@@ -1,6 +1,8 @@
 #include "msdeform/methods/method.h"
 
+#include <string>
 #include <utility>
+#include <vector>
 
 namespace msdeform {
 
@@ -33,6 +35,26 @@ bool EditingMethod::Drag(const Eigen::Affine3d& deformed_from_rest, MethodStats*
   }
   MethodStats local;
   return DoDrag(deformed_from_rest, stats != nullptr ? stats : &local, error);
+}
+
+bool DragAlong(EditingMethod* method, const std::vector<Eigen::Affine3d>& path,
+               const DragAlongOptions& options, DragLog* log, std::string* error) {
+  *log = DragLog();
+  const int num_frames = static_cast<int>(path.size());
+  for (int f = 0; f < num_frames; ++f) {
+    MethodStats stats;
+    std::string frame_error;
+    if (!method->Drag(path[f], &stats, &frame_error)) {
+      log->failed_frames.push_back(f + 1);
+      if (options.continue_after_failure && f + 1 < num_frames) continue;
+      *error = "frame " + std::to_string(f + 1) + " of " + std::to_string(num_frames) +
+               (options.continue_after_failure ? " (the result)" : "") + ": " + frame_error;
+      return false;
+    }
+    if (options.on_frame) options.on_frame(f + 1, stats);
+    log->frames.push_back(std::move(stats));
+  }
+  return true;
 }
 
 }  // namespace msdeform

@@ -17,6 +17,7 @@
 #ifndef MSDEFORM_METHODS_METHOD_H_
 #define MSDEFORM_METHODS_METHOD_H_
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -27,16 +28,17 @@
 #include "msdeform/core/lattice.h"
 #include "msdeform/core/mesh.h"
 #include "msdeform/core/timing.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/scales/session.h"
 
 namespace msdeform {
 
-// Per-frame numbers (scales/deformer.h's DragStats): frame_ms (the whole
+// Per-frame numbers (scales/session.h's DragStats): frame_ms (the whole
 // Drag), solve_ms, skin_ms, iterations, final_cost (NaN for a method without
 // an energy it minimises), converged.
 using MethodStats = DragStats;
 
 struct MethodOptions;  // methods/method_options.h
+class GraphMethod;    // methods/graph_method.h
 
 class EditingMethod {
  public:
@@ -77,9 +79,9 @@ class EditingMethod {
   virtual StageTimes stages() const { return {}; }
   // The lattice the method runs on, or null (CGAL's methods have none).
   virtual const Lattice* lattice() const { return nullptr; }
-  // The deformation-graph methods' Deformer (graphs, scale, node classes,
-  // transforms), or null for a method that is not a graph.
-  virtual const Deformer* deformer() const { return nullptr; }
+  // The method as a deformation-graph method (graphs, scale, node classes,
+  // transforms, its stages), or null for a method that is not a graph.
+  virtual const GraphMethod* graph_method() const { return nullptr; }
 
   bool precomputed() const { return stage_ != Stage::kEmpty; }
   bool handles_set() const { return stage_ == Stage::kHandlesSet; }
@@ -98,8 +100,27 @@ class EditingMethod {
   Stage stage_ = Stage::kEmpty;
 };
 
-// DragAlong(method, path, ...) (scales/deformer.h) drags a method through a
-// path of handle transforms, as it does a Deformer.
+// A drag along a path of handle transforms: the per-frame loop of msdeform,
+// the experiment runner, the figure data and the benchmarks.
+struct DragAlongOptions {
+  // A frame whose solve fails keeps the last good state (Drag restores it).
+  // false: stop at the first failure. true: go on from the last good frame;
+  // only a failure of the last frame, the result, is an error.
+  bool continue_after_failure = false;
+  // Called after each successful frame (1-based frame number), e.g. for
+  // progress lines or to write the frame's mesh.
+  std::function<void(int frame, const MethodStats& stats)> on_frame;
+};
+
+struct DragLog {
+  std::vector<MethodStats> frames;  // successful frames, in order
+  std::vector<int> failed_frames;   // 1-based
+};
+
+// Drags `method` (SetHandles done) through `path`; false with "frame F of N:
+// <what failed>" in *error.
+bool DragAlong(EditingMethod* method, const std::vector<Eigen::Affine3d>& path,
+               const DragAlongOptions& options, DragLog* log, std::string* error);
 
 }  // namespace msdeform
 

@@ -26,7 +26,7 @@ namespace msdeform {
 struct MethodDescriptor {
   // The registered name ("multiscale", "cgal_arap", ...).
   std::string name;
-  // A deformation-graph method (scales/deformer.h): graphs, node classes,
+  // A deformation-graph method (methods/graph_method.h): graphs, node classes,
   // and DeformerOptions::energy to choose (ed or arap); it reads every row of
   // DeformerOptionTable(). The others minimise one energy of their own and
   // read only the Deformer's rows in `deformer_rows`.

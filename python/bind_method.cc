@@ -30,7 +30,7 @@ void PyMethod::RequireHandles() const {
   }
 }
 
-const Deformer& PyMethod::Graph(const char* member) const {
+const GraphMethod& PyMethod::Graph(const char* member) const {
   if (!graph) {
     std::string graphs;
     for (const MethodDescriptor& d : RegisteredMethods()) {
@@ -39,7 +39,7 @@ const Deformer& PyMethod::Graph(const char* member) const {
     ThrowAttributeError(std::string(member) + ": " + name() +
                         " is not a deformation-graph method (those are " + graphs + ")");
   }
-  return *method->deformer();
+  return *method->graph_method();
 }
 
 namespace {
@@ -92,8 +92,8 @@ std::unique_ptr<PyMethod> MakeMethod(const py::object& vertices, const py::objec
     ok = self->method->Precompute(mesh, method_options, &error);
   }
   if (!ok) ThrowValueError(error);
-  self->graph = self->method->deformer() != nullptr;
-  self->options = self->graph ? self->method->deformer()->options() : method_options.deformer;
+  self->graph = self->method->graph_method() != nullptr;
+  self->options = self->graph ? self->method->graph_method()->options() : method_options.deformer;
   self->rest = std::move(mesh);
   return self;
 }
@@ -504,7 +504,7 @@ void BindMeshAndLattice(py::class_<PyMethod>& c) {
   c.def_property_readonly(
       "deformed_normals",
       Locked([](const py::object& o, PyMethod& s) {
-        if (s.graph) return ReadOnlyView(s.method->deformer()->deformed_normals(), o);
+        if (s.graph) return ReadOnlyView(s.method->graph_method()->deformed_normals(), o);
         Mesh deformed;
         deformed.vertices = s.method->deformed_vertices();
         deformed.faces = s.rest.faces;
@@ -524,7 +524,7 @@ void BindMeshAndLattice(py::class_<PyMethod>& c) {
   c.def_property_readonly(
       "diagonal",
       Locked([](const py::object&, PyMethod& s) {
-        return s.graph ? s.method->deformer()->diagonal() : BoundingBoxDiagonal(s.rest);
+        return s.graph ? s.method->graph_method()->diagonal() : BoundingBoxDiagonal(s.rest);
       }, false),
       "The rest mesh's bounding-box diagonal.");
   c.def_property_readonly(

@@ -10,7 +10,7 @@
 
 #include <pybind11/stl.h>
 
-#include "msdeform/scales/deformer.h"
+#include "msdeform/methods/graph_method.h"
 #include "msdeform/scales/scale_selection.h"
 #include "python/method_object.h"
 
@@ -27,7 +27,7 @@ void GraphMember(py::class_<PyMethod>& c, const char* name, Function function,
       name,
       [name, function, needs_handles](PyMethod& self) {
         std::lock_guard<std::mutex> lock(self.mutex);
-        const Deformer& deformer = self.Graph(name);
+        const GraphMethod& deformer = self.Graph(name);
         if (needs_handles) self.RequireHandles();
         return function(deformer);
       },
@@ -59,18 +59,18 @@ py::dict SelectionToDict(const ScaleSelection& selection) {
 
 // What Init builds: the graphs.
 void BindGraphs(py::class_<PyMethod>& c) {
-  GraphMember(c, "num_scales", [](const Deformer& d) {
+  GraphMember(c, "num_scales", [](const GraphMethod& d) {
     return d.options().method == Method::kMultiScale ? static_cast<int>(d.graphs().size()) : 1;
   }, false,
       "N, the number of scales (graphs DG1..DGN) of the multi-scale method; 1 for the static "
       "baselines (as the experiment tables' scales_n).");
-  GraphMember(c, "num_graphs", [](const Deformer& d) { return static_cast<int>(d.graphs().size()); },
+  GraphMember(c, "num_graphs", [](const GraphMethod& d) { return static_cast<int>(d.graphs().size()); },
               false, "Graphs built: DG1..DGN (multi-scale), or DG1 and the static graph.");
   c.def(
       "graph_node_positions",
       [](PyMethod& self, int graph) {
         std::lock_guard<std::mutex> lock(self.mutex);
-        const Deformer& deformer = self.Graph("graph_node_positions");
+        const GraphMethod& deformer = self.Graph("graph_node_positions");
         const int count = static_cast<int>(deformer.graphs().size());
         if (graph < 1 || graph > count) {
           ThrowValueError("graph: expected 1.." + std::to_string(count) + ", got " +
@@ -85,41 +85,41 @@ void BindGraphs(py::class_<PyMethod>& c) {
 // What set_handles derives: e', the scale, the node classes.
 void BindLayout(py::class_<PyMethod>& c) {
   GraphMember(c, "relative_extent",
-              [](const Deformer& d) { return VectorToArray(d.rigidity().relative_extent); }, true,
+              [](const GraphMethod& d) { return VectorToArray(d.rigidity().relative_extent); }, true,
               "One entry per lattice particle, not per node: float64 (#particles,) with "
               "#particles = len(particle_positions) (surface and interior). e' (paper Eq. 5, "
               "normalised), the rigidity estimate; the first num_surface_particles entries are "
               "the DG1 nodes' (node_extent has one per node of the selected scale). Small means "
               "rigid. Empty for the static baselines.");
-  GraphMember(c, "extent", [](const Deformer& d) { return VectorToArray(d.rigidity().extent); },
+  GraphMember(c, "extent", [](const GraphMethod& d) { return VectorToArray(d.rigidity().extent); },
               true,
               "e per lattice particle in mesh units (e' = e / handle_extent); empty for the "
               "baselines.");
-  GraphMember(c, "handle_extent", [](const Deformer& d) { return d.rigidity().handle_extent; },
+  GraphMember(c, "handle_extent", [](const GraphMethod& d) { return d.rigidity().handle_extent; },
               true, "e_h, the moveable handle's extent in mesh units (0 for the baselines).");
-  GraphMember(c, "node_extent", [](const Deformer& d) {
+  GraphMember(c, "node_extent", [](const GraphMethod& d) {
     const std::vector<double>& extent = d.selection().node_extent;
     return py::array_t<double>(static_cast<py::ssize_t>(extent.size()), extent.data());
   }, true,
       "e' per node of the selected scale (the max over its DG1 members by default); empty for "
       "the baselines.");
-  GraphMember(c, "selection", [](const Deformer& d) { return SelectionToDict(d.selection()); },
+  GraphMember(c, "selection", [](const GraphMethod& d) { return SelectionToDict(d.selection()); },
               true,
               "The multi-scale scale selection as a dict: threshold (T, Eq. 7), group1_size "
               "(P1), eq6_scale (s of Eq. 6), scale (after conflicts), local_detail_edit, "
               "num_pinned (nodes kept Fixed because they skin a fixed vertex). Zeros for the "
               "baselines.");
-  GraphMember(c, "fixed_region_exact", [](const Deformer& d) { return d.fixed_region_exact(); },
+  GraphMember(c, "fixed_region_exact", [](const GraphMethod& d) { return d.fixed_region_exact(); },
               true,
               "Whether every fixed-handle vertex is skinned only by Fixed nodes, so that it stays "
               "exactly at rest (the multi-scale default; not the static baselines).");
-  GraphMember(c, "selected_scale", [](const Deformer& d) { return d.active_graph() + 1; }, true,
+  GraphMember(c, "selected_scale", [](const GraphMethod& d) { return d.active_graph() + 1; }, true,
               "The 1-based index of the graph solved on (the selected scale s for multi-scale; "
               "graph_node_positions(selected_scale) == node_positions).");
   GraphMember(c, "node_positions",
-              [](const Deformer& d) { return PositionsToArray(d.active().positions); }, true,
+              [](const GraphMethod& d) { return PositionsToArray(d.active().positions); }, true,
               "Rest node positions g_j of the selected scale's graph, a new (#nodes, 3) array.");
-  GraphMember(c, "node_classes", [](const Deformer& d) {
+  GraphMember(c, "node_classes", [](const GraphMethod& d) {
     std::vector<int> classes;
     for (NodeClass node_class : d.node_classes()) classes.push_back(static_cast<int>(node_class));
     return IdsToArray(classes);
@@ -131,20 +131,20 @@ void BindLayout(py::class_<PyMethod>& c) {
 
 // The solve: transforms and the energy's terms.
 void BindSolve(py::class_<PyMethod>& c) {
-  GraphMember(c, "node_rotations", [](const Deformer& d) { return Rotations(d.transforms()); },
+  GraphMember(c, "node_rotations", [](const GraphMethod& d) { return Rotations(d.transforms()); },
               true,
               "R_j of the selected scale's nodes after the last drag, a new (#nodes, 3, 3) "
               "array.");
   GraphMember(c, "node_translations",
-              [](const Deformer& d) { return PositionsToArray(d.transforms().translations); },
+              [](const GraphMethod& d) { return PositionsToArray(d.transforms().translations); },
               true,
               "t_j of the selected scale's nodes after the last drag, a new (#nodes, 3) array.");
-  GraphMember(c, "num_coherence_terms", [](const Deformer& d) { return d.num_coherence_terms(); },
+  GraphMember(c, "num_coherence_terms", [](const GraphMethod& d) { return d.num_coherence_terms(); },
               true, "Directed coherence terms E(j, k) in the energy.");
-  GraphMember(c, "num_position_terms", [](const Deformer& d) { return d.num_position_terms(); },
+  GraphMember(c, "num_position_terms", [](const GraphMethod& d) { return d.num_position_terms(); },
               true, "Position terms of the moveable handle (one per handle vertex).");
   GraphMember(c, "num_skinned_vertices",
-              [](const Deformer& d) { return d.num_skinned_vertices(); }, true,
+              [](const GraphMethod& d) { return d.num_skinned_vertices(); }, true,
               "Vertices drag() moves (the others stay at rest exactly).");
 }
 

@@ -24,7 +24,7 @@
 #include "msdeform/core/lattice.h"
 #include "msdeform/core/option_table.h"
 #include "msdeform/methods/method_option_table.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/methods/graph_method.h"
 #include "msdeform/scales/rigidity.h"
 #include "msdeform/scales/scale_selection.h"
 #include "msdeform/solvers/ceres_solver.h"
@@ -367,7 +367,7 @@ void BindSubOptions(py::module_& m) {
 void BindDeformerOptions(py::module_& m) {
   using DO = DeformerOptions;
   OptionsClass<DO> options(m, "DeformerOptions",
-                           "Everything the Deformer takes (scales/deformer.h); Method(V, F, "
+                           "Everything the graph methods take (scales/deformer_options.h); Method(V, F, "
                            "method, **kwargs) takes the same fields by keyword.");
   // The table's rows in order; an embedded struct's rows as one nested field.
   const std::map<std::string, std::function<void()>> nested = {

@@ -28,7 +28,7 @@
 #include "msdeform/core/handles.h"
 #include "msdeform/core/mesh.h"
 #include "msdeform/methods/method_options.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/scales/deformer_options.h"
 
 namespace msdeform {
 namespace python {

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "msdeform/methods/graph_method.h"
 #include "msdeform/methods/method.h"
 #include "msdeform/methods/polish.h"
 #include "python/bindings.h"
@@ -26,7 +27,7 @@ namespace python {
 
 struct PyMethod {
   std::unique_ptr<EditingMethod> method;
-  bool graph = false;  // the descriptor's: method->deformer() is not null
+  bool graph = false;  // the descriptor's: method->graph_method() is not null
   std::mutex mutex;
   Mesh rest;                 // V and F as given: drag_along's pivot, the normals' faces
   DeformerOptions options;   // as resolved (a graph method's with its method set)
@@ -55,7 +56,7 @@ struct PyMethod {
   void RequireHandles() const;
   // The graph method's Deformer; AttributeError naming `member` and the
   // method for a method that is not a deformation graph.
-  const Deformer& Graph(const char* member) const;
+  const GraphMethod& Graph(const char* member) const;
 };
 
 // A read-only member of a Method: `function(self_object, self)` under the

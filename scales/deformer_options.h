@@ -1,4 +1,4 @@
-// The options of the Deformer (scales/deformer.h): the method, the method's
+// The options of the Deformer (methods/graph_method.h): the method, the method's
 // parts (lattice, graphs, rigidity, scale selection), the weights of Eq. 17
 // and the per-frame solve, with their names as reports and flags spell them.
 

@@ -2,14 +2,15 @@
 // only on the mesh and the options. Immutable once built.
 //
 //   std::shared_ptr<const Precompute> precompute = Precompute::Create(mesh, options, &error);
-//   std::shared_ptr<const Layout> layout = Layout::Create(precompute, handles, &error);
-//   std::unique_ptr<Session> session = Session::Create(layout, &error);
+//   std::shared_ptr<const HandleSetup> setup = HandleSetup::Create(precompute, handles, &error);
+//   std::unique_ptr<Session> session = Session::Create(setup, &error);
 //   session->Drag(deformed_from_rest, &stats, &error);
 //
 // Each stage is made from the one before it, so a call out of order does not
-// compile. A precompute serves any number of layouts, also from several
-// threads: the two things it changes after Create, the cache of connected
-// coarse graphs and the rigidity estimator's scratch, are behind locks.
+// compile. A precompute serves any number of set-ups (one a handle layout),
+// also from several threads: the two things it changes after Create, the cache
+// of connected coarse graphs and the rigidity estimator's scratch, are behind
+// locks.
 
 #ifndef MSDEFORM_SCALES_PRECOMPUTE_H_
 #define MSDEFORM_SCALES_PRECOMPUTE_H_
@@ -66,7 +67,7 @@ class Precompute {
   // a pin (ConnectAndPin) to keep it longer.
   const DeformationGraph& ConnectedGraph(int index) const;
 
-  // Keeps a graph connected while it lives (a layout's graph, or the scales
+  // Keeps a graph connected while it lives (a set-up's graph, or the scales
   // a selection tries while other threads use the cache).
   class GraphPin {
    public:

@@ -29,7 +29,7 @@
 // neither can a pinned node that holds or skins moveable vertices (the handle
 // would lag behind its target), so the selection moves to finer scales until
 // no node does. On DG1 such a node is left unpinned (the fixed vertices it
-// skins are then held by Position terms only; Deformer::fixed_region_exact).
+// skins are then held by Position terms only; GraphMethod::fixed_region_exact).
 
 #ifndef MSDEFORM_SCALES_SCALE_SELECTION_H_
 #define MSDEFORM_SCALES_SCALE_SELECTION_H_

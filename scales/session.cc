@@ -13,24 +13,24 @@
 
 namespace msdeform {
 
-Session::Session(std::shared_ptr<const Layout> layout) : layout_(std::move(layout)) {}
+Session::Session(std::shared_ptr<const HandleSetup> setup) : setup_(std::move(setup)) {}
 
-std::unique_ptr<Session> Session::Create(std::shared_ptr<const Layout> layout,
+std::unique_ptr<Session> Session::Create(std::shared_ptr<const HandleSetup> setup,
                                          std::string* error) {
-  CHECK(layout != nullptr);
-  std::unique_ptr<Session> session(new Session(std::move(layout)));
-  const Precompute& pre = session->layout_->precompute();
+  CHECK(setup != nullptr);
+  std::unique_ptr<Session> session(new Session(std::move(setup)));
+  const Precompute& pre = session->setup_->precompute();
   const DeformerOptions& options = pre.options();
   const auto start = std::chrono::steady_clock::now();
-  session->transforms_ = NodeTransforms::Identity(session->layout_->graph().num_nodes());
+  session->transforms_ = NodeTransforms::Identity(session->setup_->graph().num_nodes());
   FrameSolverOptions solver_options;
   solver_options.backend = options.backend;
   solver_options.stopping = options.stopping;
   solver_options.gauss_newton = options.gauss_newton;
   solver_options.ceres = options.ceres;
   solver_options.num_threads = options.num_threads;
-  session->solver_ = MakeFrameSolver(session->layout_->energy(), solver_options);
-  if (!session->solver_->Setup(session->layout_->energy(), session->transforms_, error)) {
+  session->solver_ = MakeFrameSolver(session->setup_->energy(), solver_options);
+  if (!session->solver_->Setup(session->setup_->energy(), session->transforms_, error)) {
     *error = "setting up the " + std::string(SolverName(options.backend)) + " solve: " + *error;
     return nullptr;
   }
@@ -48,7 +48,7 @@ bool Session::Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats,
     *error = "the handle transform is not finite";
     return false;
   }
-  const Precompute& pre = layout_->precompute();
+  const Precompute& pre = setup_->precompute();
   DragStats local_stats;
   DragStats& frame = stats != nullptr ? *stats : local_stats;
   frame = DragStats();
@@ -100,12 +100,12 @@ bool Session::Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats,
   const auto skin_start = std::chrono::steady_clock::now();
   SkinningOptions skinning;
   skinning.num_threads = pre.options().num_threads;
-  SkinPositionsAndNormals(pre.mesh().vertices, pre.rest_normals(), layout_->graph(), transforms_,
-                          layout_->skin_all() ? nullptr : &layout_->skinned_vertices(),
+  SkinPositionsAndNormals(pre.mesh().vertices, pre.rest_normals(), setup_->graph(), transforms_,
+                          setup_->skin_all() ? nullptr : &setup_->skinned_vertices(),
                           &deformed_vertices_, /*deformed_normals=*/nullptr, skinning);
   // The vertices a term family places exactly (the subspace ARAP energy's
   // exact constraints: constants outside the subspace).
-  for (const std::shared_ptr<const TermFamily>& family : layout_->energy().families) {
+  for (const std::shared_ptr<const TermFamily>& family : setup_->energy().families) {
     for (int v : family->exact_moveable())
       deformed_vertices_.col(v) = deformed_from_rest * Eigen::Vector3d(pre.mesh().vertices.col(v));
     for (int v : family->exact_fixed()) deformed_vertices_.col(v) = pre.mesh().vertices.col(v);
@@ -119,19 +119,19 @@ bool Session::Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats,
 const Eigen::Matrix3Xd& Session::deformed_normals() const {
   // Skinned on first use; the lock makes concurrent const readers safe.
   std::lock_guard<std::mutex> lock(normals_mutex_);
-  const Precompute& pre = layout_->precompute();
+  const Precompute& pre = setup_->precompute();
   if (normals_stale_) {
     // The vertices no free node skins keep their rest normals.
     if (deformed_normals_.cols() == 0) deformed_normals_ = pre.rest_normals();
     SkinningOptions skinning;
     skinning.num_threads = pre.options().num_threads;
-    SkinPositionsAndNormals(pre.mesh().vertices, pre.rest_normals(), layout_->graph(),
-                            transforms_, layout_->skin_all() ? nullptr : &layout_->skinned_vertices(),
+    SkinPositionsAndNormals(pre.mesh().vertices, pre.rest_normals(), setup_->graph(),
+                            transforms_, setup_->skin_all() ? nullptr : &setup_->skinned_vertices(),
                             /*deformed=*/nullptr, &deformed_normals_, skinning);
     // The exact constraints' vertices are not skinned positions: their
     // normals are the handle's transform of the rest normal (its inverse
     // transpose) and the rest normal.
-    for (const std::shared_ptr<const TermFamily>& family : layout_->energy().families) {
+    for (const std::shared_ptr<const TermFamily>& family : setup_->energy().families) {
       const Eigen::Matrix3d normal_transform = handle_.linear().inverse().transpose();
       for (int v : family->exact_moveable()) {
         const Eigen::Vector3d n = normal_transform * Eigen::Vector3d(pre.rest_normals().col(v));

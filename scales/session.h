@@ -1,5 +1,5 @@
 // Stage 3 of 3 of an edit (scales/precompute.h; docs/extending.md, "The stages of an edit"): the
-// frames of one layout. The backend's solver (a Ceres problem, or the
+// frames of one set-up. The backend's solver (a Ceres problem, or the
 // Gauss-Newton system with its symbolic factorisation) set up once, the node
 // transforms warm-started from frame to frame, and the skinned mesh.
 
@@ -14,7 +14,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include "msdeform/core/deformation_graph.h"
-#include "msdeform/scales/layout.h"
+#include "msdeform/scales/handle_setup.h"
 #include "msdeform/solvers/frame_solver.h"
 
 namespace msdeform {
@@ -35,9 +35,9 @@ struct DragStats {
 
 class Session {
  public:
-  // A session of `layout` (not null), at the rest pose. nullptr with a
+  // A session of `setup` (not null), at the rest pose. nullptr with a
   // message when the backend cannot be set up.
-  static std::unique_ptr<Session> Create(std::shared_ptr<const Layout> layout,
+  static std::unique_ptr<Session> Create(std::shared_ptr<const HandleSetup> setup,
                                          std::string* error);
 
   Session(const Session&) = delete;
@@ -45,11 +45,11 @@ class Session {
 
   // Moves the moveable handle to deformed_from_rest * (its rest position),
   // solves warm-started from the previous frame and skins the mesh (only
-  // Layout::skinned_vertices; the others stay at rest). A failed solve keeps
+  // HandleSetup::skinned_vertices; the others stay at rest). A failed solve keeps
   // the last good transforms and returns false with a message.
   bool Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats, std::string* error);
 
-  const Layout& layout() const { return *layout_; }
+  const HandleSetup& setup() const { return *setup_; }
   const NodeTransforms& transforms() const { return transforms_; }
   const Eigen::Matrix3Xd& deformed_vertices() const { return deformed_vertices_; }
   // The deformed unit normals (Eq. 10) of the last Drag, skinned on the first
@@ -57,13 +57,13 @@ class Session {
   // during a Drag.
   const Eigen::Matrix3Xd& deformed_normals() const;
   // Milliseconds Create spent setting up the solver (the identity transforms
-  // and the backend's Setup).
+  // and the backend's FrameSolver::Setup).
   double setup_ms() const { return setup_ms_; }
 
  private:
-  explicit Session(std::shared_ptr<const Layout> layout);
+  explicit Session(std::shared_ptr<const HandleSetup> setup);
 
-  std::shared_ptr<const Layout> layout_;
+  std::shared_ptr<const HandleSetup> setup_;
   std::unique_ptr<FrameSolver> solver_;
   NodeTransforms transforms_;
   NodeTransforms previous_transforms_;  // the frame before, for kExtrapolated

@@ -1,8 +1,8 @@
 // Builds one handle layout's subspace ARAP energy (solvers/subspace_arap.h)
 // from the mesh, its cotangent weights, the selected graph, its node classes
 // and the handle layout: the vertex kinds, the rotation clusters, Q, K_c and
-// C of the Kronecker form. The solvers read the result; only the layout
-// (scales/layout.h) builds it.
+// C of the Kronecker form. The solvers read the result; only the set-up
+// (scales/handle_setup.h) builds it.
 
 #ifndef MSDEFORM_SCALES_SUBSPACE_ARAP_BUILD_H_
 #define MSDEFORM_SCALES_SUBSPACE_ARAP_BUILD_H_

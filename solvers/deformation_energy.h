@@ -12,7 +12,7 @@
 // SetParameterBlockConstant).
 //
 // The Deformer builds a DeformationEnergy once per handle layout
-// (Deformer::SetHandles); a backend turns it into its own problem.
+// (GraphMethod::SetHandles); a backend turns it into its own problem.
 // Lengths are already scaled into the sqrt weights (docs/decisions/length-unit.md,
 // "Length unit"). Costs are 1/2 sum of squared residuals, as Ceres reports.
 

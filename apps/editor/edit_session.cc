@@ -387,7 +387,7 @@ const Eigen::Matrix3Xd& EditSession::positions() const {
 
 const Eigen::Matrix3Xd& EditSession::normals() const {
   if (!ready()) return rest_normals_;
-  if (const Deformer* graph = method_->deformer(); graph != nullptr && !show_polished_) {
+  if (const GraphMethod* graph = method_->graph_method(); graph != nullptr && !show_polished_) {
     return graph->deformed_normals();
   }
   // A method without skinned normals, or the polished mesh: the deformed
@@ -454,10 +454,10 @@ std::string EditSession::Status() const {
     text << "paint the moveable handle (H) and the fixed region (F)";
   } else if (labels_changed_) {
     text << "selection changed: release the mouse to apply it";
-  } else if (ready() && method_->deformer() != nullptr) {
-    const Deformer& d = *method_->deformer();
+  } else if (ready() && method_->graph_method() != nullptr) {
+    const GraphMethod& d = *method_->graph_method();
     text << "scale " << d.active_graph() + 1 << " of " << d.graphs().size() << ", "
-         << d.num_variables() << " variables";
+         << d.variables() << " variables";
   } else if (ready()) {
     text << method_->variables() << " variables";
   }

@@ -11,7 +11,7 @@
 //   if (session.ready()) session.Drag(transform, &error);   // one solve + skin, here
 //
 // What takes long runs on a worker thread, so the window keeps drawing: a new
-// mesh or new options (Deformer::Init: lattice, graphs), a new handle layout
+// mesh or new options (GraphMethod::Precompute: lattice, graphs), a new handle layout
 // (SetHandles: rigidity, scale selection, classes, the solver's set-up), and
 // the drag path an input comes with. Requests made while a job runs are
 // merged into one follow-up job with the latest labels and options. A Drag
@@ -41,20 +41,20 @@
 
 #include "apps/editor/edit_inputs.h"
 #include "apps/editor/selection.h"
+#include "msdeform/methods/graph_method.h"
 #include "msdeform/methods/method.h"
 #include "msdeform/methods/method_options.h"
 #include "msdeform/methods/polish.h"
-#include "msdeform/scales/deformer.h"
 
 namespace msdeform {
 namespace editor {
 
 // One background job: what it did and how long it took (milliseconds).
 struct LayoutTiming {
-  bool init = false;         // Deformer::Init ran (new mesh or options)
+  bool init = false;         // GraphMethod::Precompute ran (new mesh or options)
   double init_ms = 0.0;      // wall time of Init
-  double rigidity_ms = 0.0;  // Deformer::rigidity_ms (multi-scale only)
-  double setup_ms = 0.0;     // Deformer::setup_ms
+  double rigidity_ms = 0.0;  // GraphMethod::rigidity_ms (multi-scale only)
+  double setup_ms = 0.0;     // GraphMethod::setup_ms
   double path_ms = 0.0;      // the drag path after SetHandles, if any
   double wall_ms = 0.0;      // request to result, as the user waits for it
 };
@@ -63,7 +63,7 @@ struct LayoutTiming {
 struct MoveTiming {
   double solve_ms = 0.0;
   double skin_ms = 0.0;
-  double frame_ms = 0.0;  // the whole Deformer::Drag
+  double frame_ms = 0.0;  // the whole GraphMethod::Drag
   int iterations = 0;
 };
 
@@ -135,10 +135,10 @@ class EditSession {
   // The labels since the last CommitLayout differ from the committed layout.
   bool layout_pending() const { return labels_changed_; }
   const HandleLayout& committed_layout() const { return committed_layout_; }
-  // The graph method's deformer when one exists and no job runs (for
+  // The graph method when the method is one and no job runs (for
   // overlays), else null (also for a method that is not a graph).
-  const Deformer* deformer() const {
-    return busy() || method_ == nullptr ? nullptr : method_->deformer();
+  const GraphMethod* graph_method() const {
+    return busy() || method_ == nullptr ? nullptr : method_->graph_method();
   }
   // The method when one exists and no job runs, else null.
   const EditingMethod* method() const { return busy() ? nullptr : method_.get(); }

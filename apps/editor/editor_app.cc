@@ -183,7 +183,7 @@ RenderSettings EditorApp::Settings() const {
   const Viewport vp = viewport();
   settings.flat_shading = view_.flat_shading;
   settings.wireframe = view_.wireframe;
-  const bool graph = session_->deformer() != nullptr && session_->ready();
+  const bool graph = session_->graph_method() != nullptr && session_->ready();
   settings.nodes = view_.nodes && graph;
   settings.edges = view_.edges && graph;
   settings.node_radius = node_radius_;
@@ -204,7 +204,7 @@ void EditorApp::UpdateColors() {
 }
 
 void EditorApp::UpdateGraph() {
-  const Deformer* deformer = session_->deformer();
+  const GraphMethod* deformer = session_->graph_method();
   if (deformer == nullptr || !session_->ready()) return;
   renderer_->SetGraph(DeformedNodePositions(*deformer), NodeColors(*deformer),
                       deformer->active().edges);
@@ -224,7 +224,7 @@ void EditorApp::SyncGpu() {
   const bool new_job = jobs != uploaded_jobs_;
   if (new_job) {
     uploaded_jobs_ = jobs;
-    const Deformer* deformer = session_->deformer();
+    const GraphMethod* deformer = session_->graph_method();
     vertex_rigidity_ =
         deformer != nullptr && session_->ready() ? VertexRigidity(*deformer) : Eigen::VectorXd();
   }

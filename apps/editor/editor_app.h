@@ -9,7 +9,7 @@
 // Keys: O orbit, F fixed, H handle, E erase, G drag, L brush/lasso, [ ] brush size,
 //   W wireframe, S flat/smooth, R e' map, N nodes, K graph edges, C the first view,
 //   Space rest pose, Tab panels, P screenshot, Esc cancel a lasso, Ctrl+Q quit.
-// Every Drag of a mouse move is one Deformer::Drag, on this thread; layout
+// Every Drag of a mouse move is one GraphMethod::Drag, on this thread; layout
 // changes run in the session's background job while the window keeps drawing.
 
 #ifndef MSDEFORM_APPS_EDITOR_EDITOR_APP_H_

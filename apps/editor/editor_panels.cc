@@ -267,7 +267,7 @@ void EditorApp::DrawViewPanel() {
 
 void EditorApp::DrawStatePanel() {
   if (!ImGui::CollapsingHeader("Scale and classes", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  const Deformer* deformer = session_->ready() ? session_->deformer() : nullptr;
+  const GraphMethod* deformer = session_->ready() ? session_->graph_method() : nullptr;
   const EditingMethod* method = session_->ready() ? session_->method() : nullptr;
   if (deformer == nullptr && method != nullptr) {
     // Not a graph method: no scales or node classes.
@@ -297,7 +297,7 @@ void EditorApp::DrawStatePanel() {
   ImGui::TextColored(Color(kHalfFreeColor), "Half Free %d", counts[1]);
   ImGui::SameLine();
   ImGui::TextColored(Color(kFixedNodeColor), "Fixed %d", counts[2]);
-  ImGui::Text("variables %d = 12 x %d + 9 x %d", deformer->num_variables(), counts[0], counts[1]);
+  ImGui::Text("variables %d = 12 x %d + 9 x %d", deformer->variables(), counts[0], counts[1]);
   ImGui::Text("coherence terms %d, position terms %d", deformer->num_coherence_terms(),
               deformer->num_position_terms());
   ImGui::Text("skinned vertices %d of %d", deformer->num_skinned_vertices(),
@@ -310,7 +310,7 @@ void EditorApp::DrawTimingPanel() {
     const LayoutTiming& last = session_->layout_timings().back();
     ImGui::Text("layout: rigidity %.1f, setup %.1f", last.rigidity_ms, last.setup_ms);
     Help(
-        "The last handle-layout change (Deformer::SetHandles): rigidity estimation, then scale "
+        "The last handle-layout change (GraphMethod::SetHandles): rigidity estimation, then scale "
         "selection, node classes and the solver's set-up. It runs in the background.");
     if (last.init) {
       ImGui::Text("  after Init (lattice, graphs) %.1f; waited %.1f", last.init_ms, last.wall_ms);
@@ -321,7 +321,7 @@ void EditorApp::DrawTimingPanel() {
   const DragStats& drag = session_->last_drag();
   ImGui::Text("last move: solve %.2f, skin %.2f", drag.solve_ms, drag.skin_ms);
   Help(
-      "One Deformer::Drag: the Gauss-Newton (or Ceres) solve of Eq. 17 on the free nodes, then "
+      "One GraphMethod::Drag: the Gauss-Newton (or Ceres) solve of Eq. 17 on the free nodes, then "
       "skinning the mesh. Each mouse move of the drag tool is one.");
   ImGui::Text("  %d iterations", drag.iterations);
   ImGui::Checkbox("polish on release", &polish_on_release_);
@@ -380,7 +380,7 @@ void EditorApp::DrawColorBar() {
                   IM_COL32(0, 0, 0, 255));
     draw->AddText(ImVec2(origin.x + width + 6, y - 7), IM_COL32(0, 0, 0, 255), label);
   }
-  const Deformer* deformer = session_->deformer();
+  const GraphMethod* deformer = session_->graph_method();
   if (deformer != nullptr && session_->ready()) {
     const double threshold = std::clamp(deformer->selection().threshold, 0.0, 1.0);
     const float y = origin.y + static_cast<float>((1.0 - threshold) * height);

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "msdeform/methods/method_options.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/methods/graph_method.h"
 
 namespace msdeform {
 namespace editor {

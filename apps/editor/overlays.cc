@@ -47,7 +47,7 @@ Rgb RigidityColor(double e_prime) {
   return color;
 }
 
-Eigen::VectorXd VertexRigidity(const Deformer& deformer) {
+Eigen::VectorXd VertexRigidity(const GraphMethod& deformer) {
   const RigidityEstimate& rigidity = deformer.rigidity();
   if (deformer.graphs().empty() || rigidity.relative_extent.size() == 0) return {};
   const DeformationGraph& dg1 = deformer.graphs()[0];
@@ -73,7 +73,7 @@ std::vector<Rgb> VertexColors(const std::vector<VertexLabel>& labels,
   return colors;
 }
 
-Eigen::Matrix3Xd DeformedNodePositions(const Deformer& deformer) {
+Eigen::Matrix3Xd DeformedNodePositions(const GraphMethod& deformer) {
   const DeformationGraph& graph = deformer.active();
   const NodeTransforms& transforms = deformer.transforms();
   Eigen::Matrix3Xd positions = graph.positions;
@@ -81,13 +81,13 @@ Eigen::Matrix3Xd DeformedNodePositions(const Deformer& deformer) {
   return positions;
 }
 
-std::vector<Rgb> NodeColors(const Deformer& deformer) {
+std::vector<Rgb> NodeColors(const GraphMethod& deformer) {
   std::vector<Rgb> colors;
   for (NodeClass node_class : deformer.node_classes()) colors.push_back(NodeClassColor(node_class));
   return colors;
 }
 
-std::array<int, 3> CountNodeClasses(const Deformer& deformer) {
+std::array<int, 3> CountNodeClasses(const GraphMethod& deformer) {
   std::array<int, 3> counts = {0, 0, 0};
   for (NodeClass c : deformer.node_classes()) {
     counts[c == NodeClass::kTotallyFree ? 0 : c == NodeClass::kHalfFree ? 1 : 2]++;

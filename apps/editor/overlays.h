@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "apps/editor/selection.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/methods/graph_method.h"
 
 namespace msdeform {
 namespace editor {
@@ -43,7 +43,7 @@ Rgb RigidityColor(double e_prime);
 // particles) with DG1's skinning weights, as the deformation itself blends
 // the nodes. Empty when the deformer has no rigidity estimate (the static
 // baselines, or no layout yet). #V.
-Eigen::VectorXd VertexRigidity(const Deformer& deformer);
+Eigen::VectorXd VertexRigidity(const GraphMethod& deformer);
 
 // Per-vertex colours (3 by #V bytes): by label; with `rigidity` (#V), the
 // free vertices by e' and the fixed and handle vertices still blue and red, so
@@ -53,11 +53,11 @@ std::vector<Rgb> VertexColors(const std::vector<VertexLabel>& labels,
 
 // Node centres of the active graph in the current pose, g_j + t_j (3 by
 // #nodes), and their class colours.
-Eigen::Matrix3Xd DeformedNodePositions(const Deformer& deformer);
-std::vector<Rgb> NodeColors(const Deformer& deformer);
+Eigen::Matrix3Xd DeformedNodePositions(const GraphMethod& deformer);
+std::vector<Rgb> NodeColors(const GraphMethod& deformer);
 
 // Counts per class of the active graph: {Totally Free, Half Free, Fixed}.
-std::array<int, 3> CountNodeClasses(const Deformer& deformer);
+std::array<int, 3> CountNodeClasses(const GraphMethod& deformer);
 
 }  // namespace editor
 }  // namespace msdeform

@@ -13,7 +13,7 @@
 #include "apps/editor/editor_app.h"
 #include "apps/editor/script.h"
 #include "apps/outputs.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/scales/deformer_options.h"
 
 namespace msdeform {
 namespace editor {

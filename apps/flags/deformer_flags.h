@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "msdeform/core/option_table.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/methods/graph_method.h"
 
 namespace msdeform {
 

@@ -39,8 +39,8 @@ TEST(EditSessionTest, OpensASelDefPairAsMsdeformDoes) {
   ASSERT_EQ(inputs.path.size(), 1u);
 
   // msdeform's steps (apps/msdeform_main.cc): Init, SetHandles, DragAlong.
-  Deformer reference;
-  ASSERT_TRUE(reference.Init(inputs.mesh, DeformerOptions(), &error)) << error;
+  GraphMethod reference(Method::kMultiScale);
+  ASSERT_TRUE(reference.Precompute(inputs.mesh, DeformerOptions(), &error)) << error;
   ASSERT_TRUE(reference.SetHandles(inputs.layout, &error)) << error;
   DragAlongOptions drag;
   drag.continue_after_failure = true;
@@ -97,7 +97,7 @@ TEST(EditSessionTest, RunsAnyRegisteredMethodByName) {
     EXPECT_EQ(MethodReadsDeformerRow(name, "backend"), graph);
     EXPECT_TRUE(MethodReadsDeformerRow(name, "lattice.cell_width"));
     EXPECT_TRUE(MethodReadsDeformerRow(name, "num_threads"));
-    EXPECT_EQ(session.deformer() != nullptr, name == std::string("static"));
+    EXPECT_EQ(session.graph_method() != nullptr, name == std::string("static"));
   }
   EditSession session;
   EXPECT_FALSE(session.SetMethod("arap", &error));

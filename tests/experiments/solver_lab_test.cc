@@ -20,6 +20,7 @@
 
 #include "experiments/experiment_scenario.h"
 #include "experiments/tables.h"
+#include "msdeform/methods/graph_method.h"
 #include "msdeform/solvers/deformation_energy.h"
 
 namespace msdeform {
@@ -322,8 +323,8 @@ TEST_F(SolverLabTest, ReportedCostsAreTheEnergy) {
   ASSERT_TRUE(LoadExperimentScenario(CactusEntry(), kQuickFrames, &scenario, &error)) << error;
   for (const SolverVariant& variant : SolverVariants()) {
     const DeformerOptions options = Options(variant, 2);
-    Deformer deformer;
-    ASSERT_TRUE(deformer.Init(scenario.mesh, options, &error)) << error;
+    GraphMethod deformer(options.method);
+    ASSERT_TRUE(deformer.Precompute(scenario.mesh, options, &error)) << error;
     ASSERT_TRUE(deformer.SetHandles(scenario.layout, &error)) << error;
     DragLog log;
     ASSERT_TRUE(DragAlong(&deformer, scenario.path, DragAlongOptions(), &log, &error))

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "msdeform/core/procedural_meshes.h"
+#include "msdeform/methods/graph_method.h"
 #include "msdeform/methods/method_options.h"
 #include "msdeform/methods/registry.h"
 #include "tests/scales/deformer_test_util.h"
@@ -102,8 +103,8 @@ TEST_P(MethodTest, LiftKeepsTheFixedVerticesAndMovesTheHandle) {
   }
   const Eigen::Matrix3Xd& deformed = method->deformed_vertices();
   // The fixed vertices: exactly at rest, but for the static baselines, whose
-  // fixed handle is held by position terms (Deformer::fixed_region_exact).
-  const Deformer* deformer = method->deformer();
+  // fixed handle is held by position terms (GraphMethod::fixed_region_exact).
+  const GraphMethod* deformer = method->graph_method();
   const bool exact = deformer == nullptr || deformer->fixed_region_exact();
   double fixed_moved = 0.0;
   for (int v : bar.layout.fixed) {

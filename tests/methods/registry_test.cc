@@ -132,7 +132,7 @@ TEST(RegistryTest, CreatesEachByItsName) {
     EXPECT_EQ(method->name(), name);
     EXPECT_FALSE(method->precomputed());
     EXPECT_TRUE(IsMethodName(name));
-    EXPECT_EQ(method->deformer() == nullptr, !FindMethod(name)->graph) << name;
+    EXPECT_EQ(method->graph_method() == nullptr, !FindMethod(name)->graph) << name;
   }
 }
 

@@ -22,8 +22,8 @@ case "${mode}" in
   install)
     build_dir="${2:?usage: package_test.sh install BUILD_DIR}"
     cmake --install "${build_dir}" --prefix "${work}/prefix" > "${work}/install.log"
-    [[ -f "${work}/prefix/include/msdeform/scales/deformer.h" ]] \
-      || { echo "package_test: deformer.h not installed under include/msdeform/scales" >&2; exit 1; }
+    [[ -f "${work}/prefix/include/msdeform/scales/handle_setup.h" ]] \
+      || { echo "package_test: handle_setup.h not installed under include/msdeform/scales" >&2; exit 1; }
     configure=(-DCMAKE_PREFIX_PATH="${work}/prefix")
     # The Python module, when the build has it, imports from where it was
     # installed with nothing but PYTHONPATH (README.md, "Python").

@@ -1,6 +1,5 @@
-// Shared by the deformer, stage and method tests (deformer_test.cc,
-// deformer_call_order_test.cc, deformer_robustness_test.cc,
-// precompute/layout/session_test.cc, tests/methods/method_test.cc,
+// Shared by the stage and method tests (precompute/handle_setup/session_test.cc,
+// tests/methods/graph_method*_test.cc, promises_test.cc, method_test.cc,
 // tests/examples/energy_terms/volume_term_test.cc): the methods, small-graph
 // options for small procedural meshes, a bar edit, and a vertex distance.
 
@@ -13,7 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "msdeform/core/procedural_meshes.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/scales/deformer_options.h"
 
 namespace msdeform {
 

@@ -1,6 +1,7 @@
-// The mesh-only stage (scales/precompute.h): refused inputs, the same data the
-// Deformer builds, and layouts made from several threads at once on one
-// precompute (its graph cache and rigidity estimator behind locks).
+// The mesh-only stage (scales/precompute.h): refused inputs, and set-ups made
+// from several threads at once on one precompute (its graph cache and rigidity
+// estimator behind locks). That GraphMethod's Precompute builds the same data:
+// tests/methods/graph_method_test.cc.
 
 #include <memory>
 #include <string>
@@ -10,7 +11,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "msdeform/scales/layout.h"
+#include "msdeform/scales/handle_setup.h"
 #include "msdeform/scales/precompute.h"
 #include "msdeform/scales/session.h"
 #include "tests/scales/deformer_test_util.h"
@@ -30,27 +31,6 @@ TEST(PrecomputeTest, BadOptionsOrMeshAreRefusedWithAMessage) {
   error.clear();
   EXPECT_EQ(Precompute::Create(broken, CylinderOptions(Method::kMultiScale), &error), nullptr);
   EXPECT_FALSE(error.empty());
-}
-
-// What the Deformer's Init reports is the precompute's: it is one.
-TEST(PrecomputeTest, TheDeformersInitIsAPrecompute) {
-  const CylinderLayouts cylinder;
-  for (Method method : kAllMethods) {
-    std::string error;
-    Deformer deformer;
-    ASSERT_TRUE(deformer.Init(cylinder.mesh, CylinderOptions(method), &error)) << error;
-    std::shared_ptr<const Precompute> precompute =
-        Precompute::Create(cylinder.mesh, CylinderOptions(method), &error);
-    ASSERT_NE(precompute, nullptr) << error;
-    EXPECT_EQ(precompute->rest_normals(), deformer.deformed_normals());
-    EXPECT_EQ(precompute->diagonal(), deformer.diagonal());
-    EXPECT_EQ(precompute->lattice().num_particles(), deformer.lattice().num_particles());
-    ASSERT_EQ(precompute->graphs().size(), deformer.graphs().size());
-    for (size_t i = 0; i < deformer.graphs().size(); ++i) {
-      EXPECT_EQ(precompute->graphs()[i].positions, deformer.graphs()[i].positions) << i;
-    }
-    EXPECT_EQ(precompute->static_graph() < 0, method == Method::kMultiScale);
-  }
 }
 
 // Pinned graphs stay connected beyond cached_scales; once the pins are gone
@@ -96,9 +76,9 @@ TEST(PrecomputeTest, LayoutsFromSeveralThreadsMatchSerialOnes) {
   auto drag = [&path](const std::shared_ptr<const Precompute>& precompute,
                       const HandleLayout& handles, Eigen::Matrix3Xd* result) {
     std::string error;
-    std::shared_ptr<const Layout> layout = Layout::Create(precompute, handles, &error);
-    if (layout == nullptr) return;
-    std::unique_ptr<Session> session = Session::Create(layout, &error);
+    std::shared_ptr<const HandleSetup> setup = HandleSetup::Create(precompute, handles, &error);
+    if (setup == nullptr) return;
+    std::unique_ptr<Session> session = Session::Create(setup, &error);
     if (session == nullptr) return;
     for (const Eigen::Affine3d& step : path) {
       if (!session->Drag(step, nullptr, &error)) return;

@@ -1,6 +1,6 @@
-// The per-drag stage (scales/session.h): a session of a layout reproduces the
-// Deformer's Drag bit for bit, sessions of one layout are independent, and a
-// bad frame is refused without losing the last good one.
+// The per-drag stage (scales/session.h): sessions of one set-up are
+// independent, and a bad frame is refused without losing the last good one.
+// That GraphMethod drags as its session: tests/methods/graph_method_test.cc.
 
 #include <limits>
 #include <memory>
@@ -11,7 +11,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "msdeform/scales/layout.h"
+#include "msdeform/scales/handle_setup.h"
 #include "msdeform/scales/precompute.h"
 #include "msdeform/scales/session.h"
 #include "tests/scales/deformer_test_util.h"
@@ -21,9 +21,9 @@ namespace {
 
 // The stages cannot be made but from the one before (no default, no copy).
 static_assert(!std::is_default_constructible<Precompute>::value);
-static_assert(!std::is_default_constructible<Layout>::value);
+static_assert(!std::is_default_constructible<HandleSetup>::value);
 static_assert(!std::is_default_constructible<Session>::value);
-static_assert(!std::is_copy_constructible<Layout>::value);
+static_assert(!std::is_copy_constructible<HandleSetup>::value);
 static_assert(!std::is_copy_constructible<Session>::value);
 
 std::unique_ptr<Session> MakeSession(const Mesh& mesh, const DeformerOptions& options,
@@ -31,50 +31,16 @@ std::unique_ptr<Session> MakeSession(const Mesh& mesh, const DeformerOptions& op
   std::string error;
   std::shared_ptr<const Precompute> precompute = Precompute::Create(mesh, options, &error);
   EXPECT_NE(precompute, nullptr) << error;
-  std::shared_ptr<const Layout> layout = Layout::Create(precompute, handles, &error);
-  EXPECT_NE(layout, nullptr) << error;
-  std::unique_ptr<Session> session = Session::Create(layout, &error);
+  std::shared_ptr<const HandleSetup> setup = HandleSetup::Create(precompute, handles, &error);
+  EXPECT_NE(setup, nullptr) << error;
+  std::unique_ptr<Session> session = Session::Create(setup, &error);
   EXPECT_NE(session, nullptr) << error;
   return session;
 }
 
-// Every method and both warm starts that carry state from frame to frame: a
-// session made by hand and the Deformer give the same vertices, normals,
-// transforms and costs on every frame of a path.
-TEST(SessionTest, ReproducesTheDeformersDragFrameByFrame) {
-  const CylinderLayouts cylinder;
-  const std::vector<Eigen::Affine3d> path = TurnPath(4);
-  for (Method method : kAllMethods) {
-    for (InitialGuess guess : {InitialGuess::kPrevious, InitialGuess::kExtrapolated}) {
-      DeformerOptions options = CylinderOptions(method);
-      options.initial_guess = guess;
-      Deformer deformer;
-      std::string error;
-      ASSERT_TRUE(deformer.Init(cylinder.mesh, options, &error)) << error;
-      ASSERT_TRUE(deformer.SetHandles(cylinder.bottom_fixed, &error)) << error;
-      std::unique_ptr<Session> session = MakeSession(cylinder.mesh, options, cylinder.bottom_fixed);
-      ASSERT_NE(session, nullptr);
-      EXPECT_EQ(session->layout().active_graph(), deformer.active_graph());
-      EXPECT_EQ(session->deformed_vertices(), cylinder.mesh.vertices);
-      for (size_t f = 0; f < path.size(); ++f) {
-        DragStats by_deformer, by_session;
-        ASSERT_TRUE(deformer.Drag(path[f], &by_deformer, &error)) << error;
-        ASSERT_TRUE(session->Drag(path[f], &by_session, &error)) << error;
-        EXPECT_EQ(session->deformed_vertices(), deformer.deformed_vertices()) << f;
-        EXPECT_EQ(session->transforms().rotations, deformer.transforms().rotations) << f;
-        EXPECT_EQ(session->transforms().translations, deformer.transforms().translations) << f;
-        EXPECT_EQ(by_session.final_cost, by_deformer.final_cost) << f;
-        EXPECT_EQ(by_session.iterations, by_deformer.iterations) << f;
-      }
-      EXPECT_EQ(session->deformed_normals(), deformer.deformed_normals());
-      EXPECT_NE(session->deformed_vertices(), cylinder.mesh.vertices);
-    }
-  }
-}
-
-// Two sessions of one layout: the second starts at rest whatever the first
+// Two sessions of one set-up: the second starts at rest whatever the first
 // did, and drags exactly like a session of its own precompute.
-TEST(SessionTest, SessionsOfOneLayoutAreIndependent) {
+TEST(SessionTest, SessionsOfOneSetupAreIndependent) {
   const CylinderLayouts cylinder;
   const DeformerOptions options = CylinderOptions(Method::kMultiScale);
   const std::vector<Eigen::Affine3d> path = TurnPath(3);
@@ -82,13 +48,14 @@ TEST(SessionTest, SessionsOfOneLayoutAreIndependent) {
   std::shared_ptr<const Precompute> precompute =
       Precompute::Create(cylinder.mesh, options, &error);
   ASSERT_NE(precompute, nullptr) << error;
-  std::shared_ptr<const Layout> layout = Layout::Create(precompute, cylinder.bottom_fixed, &error);
-  ASSERT_NE(layout, nullptr) << error;
-  std::unique_ptr<Session> first = Session::Create(layout, &error);
+  std::shared_ptr<const HandleSetup> setup =
+      HandleSetup::Create(precompute, cylinder.bottom_fixed, &error);
+  ASSERT_NE(setup, nullptr) << error;
+  std::unique_ptr<Session> first = Session::Create(setup, &error);
   ASSERT_NE(first, nullptr) << error;
   for (const Eigen::Affine3d& step : path) ASSERT_TRUE(first->Drag(step, nullptr, &error)) << error;
 
-  std::unique_ptr<Session> second = Session::Create(layout, &error);
+  std::unique_ptr<Session> second = Session::Create(setup, &error);
   ASSERT_NE(second, nullptr) << error;
   EXPECT_EQ(second->deformed_vertices(), cylinder.mesh.vertices);
   std::unique_ptr<Session> alone = MakeSession(cylinder.mesh, options, cylinder.bottom_fixed);

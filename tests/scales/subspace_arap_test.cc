@@ -29,7 +29,7 @@ namespace {
 
 // The reduced energy at random transforms and a random handle equals the
 // full-mesh evaluation to 1e-12 relative, for every cluster option and both
-// constraint kinds, on the layouts the Deformer makes (one mesh with a still
+// constraint kinds, on the handle layouts a graph method sets (one mesh with a still
 // second component) and with hand-made node classes that mix Totally Free,
 // Half Free and Fixed nodes (and a length unit that is not the diagonal).
 TEST(SubspaceArapTest, ReducedEnergyEqualsTheFullMeshEvaluation) {
@@ -42,22 +42,22 @@ TEST(SubspaceArapTest, ReducedEnergyEqualsTheFullMeshEvaluation) {
       for (RotationClusters clusters : kAllClusters) {
         for (ArapConstraints constraints : kAllConstraints) {
           const DeformerOptions options = ArapOptionsFor(method, clusters, constraints);
-          const std::unique_ptr<Deformer> deformer = MakeDeformer(*mesh, options, *handles);
-          const Layout& layout = *deformer->layout();
+          const std::unique_ptr<GraphMethod> deformer = MakeDeformer(*mesh, options, *handles);
+          const HandleSetup& setup = *deformer->setup();
           const double diagonal = deformer->diagonal();
-          const std::vector<NodeClass> mixed = MixedClasses(layout.graph().num_nodes());
+          const std::vector<NodeClass> mixed = MixedClasses(setup.graph().num_nodes());
           const std::shared_ptr<const SubspaceArap> hand =
-              BuildWithClasses(layout, mixed, 0.37 * diagonal, options.arap);
+              BuildWithClasses(setup, mixed, 0.37 * diagonal, options.arap);
 
           struct Case {
             const SubspaceArap* arap;
             const std::vector<NodeClass>* classes;
             double unit;
           };
-          for (const Case& c : {Case{FindSubspaceArap(layout.energy()).get(), &layout.node_classes(), diagonal},
+          for (const Case& c : {Case{FindSubspaceArap(setup.energy()).get(), &setup.node_classes(), diagonal},
                                 Case{hand.get(), &mixed, 0.37 * diagonal}}) {
             ASSERT_NE(c.arap, nullptr);
-            const FullMesh full = FullMeshOf(layout, c.unit, options.arap);
+            const FullMesh full = FullMeshOf(setup, c.unit, options.arap);
             for (int trial = 0; trial < 3; ++trial) {
               const NodeTransforms transforms = RandomTransforms(*c.classes, diagonal, &rng);
               const Eigen::Affine3d handle = RandomRigid(diagonal, &rng);
@@ -88,13 +88,13 @@ TEST(SubspaceArapTest, PerVertexClustersGiveTheMetricsArapEnergy) {
     for (ArapConstraints constraints : kAllConstraints) {
       const DeformerOptions options =
           ArapOptionsFor(method, RotationClusters::kVertices, constraints);
-      const std::unique_ptr<Deformer> deformer =
+      const std::unique_ptr<GraphMethod> deformer =
           MakeDeformer(two_bars.mesh, options, two_bars.layout);
-      const Layout& layout = *deformer->layout();
-      const SubspaceArap& arap = *FindSubspaceArap(layout.energy());
+      const HandleSetup& setup = *deformer->setup();
+      const SubspaceArap& arap = *FindSubspaceArap(setup.energy());
       const double unit = deformer->diagonal();
-      const FullMesh full = FullMeshOf(layout, unit, options.arap);
-      const NodeTransforms transforms = RandomTransforms(layout.node_classes(), unit, &rng);
+      const FullMesh full = FullMeshOf(setup, unit, options.arap);
+      const NodeTransforms transforms = RandomTransforms(setup.node_classes(), unit, &rng);
       const Eigen::Affine3d handle = RandomRigid(unit, &rng);
       const Eigen::Matrix3Xd x = full.Positions(transforms, handle);
       double soft = 0.0;
@@ -129,20 +129,20 @@ TEST(SubspaceArapTest, RigidOptimumIsAFixedPointOfTheSolver) {
       for (RotationClusters clusters : kAllClusters) {
         for (ArapConstraints constraints : kAllConstraints) {
           const DeformerOptions options = ArapOptionsFor(method, clusters, constraints);
-          const std::unique_ptr<Deformer> deformer =
+          const std::unique_ptr<GraphMethod> deformer =
               MakeDeformer(*edit.mesh, options, *edit.handles);
-          const Layout& layout = *deformer->layout();
+          const HandleSetup& setup = *deformer->setup();
           ArapLocalGlobalSolver solver(options.stopping);
-          NodeTransforms transforms = RigidTransforms(layout.graph(), layout.node_classes(), h);
+          NodeTransforms transforms = RigidTransforms(setup.graph(), setup.node_classes(), h);
           std::string error;
-          ASSERT_TRUE(solver.Setup(layout.energy(), transforms, &error)) << error;
+          ASSERT_TRUE(solver.Setup(setup.energy(), transforms, &error)) << error;
           const SolveSummary summary = solver.Solve(h, &transforms);
-          const FullMesh full = FullMeshOf(layout, deformer->diagonal(), options.arap);
+          const FullMesh full = FullMeshOf(setup, deformer->diagonal(), options.arap);
           const Eigen::Matrix3Xd x = full.Positions(transforms, h);
           const std::string name = Name(method, clusters, constraints);
           EXPECT_FALSE(summary.failed) << name << ": " << summary.message;
-          EXPECT_LT(full.Energy(x, h, FindSubspaceArap(layout.energy())->cluster_of_vertex()), 1e-20) << name;
-          EXPECT_LE(DistanceFromRigid(layout, x, h), 1e-9) << name;
+          EXPECT_LT(full.Energy(x, h, FindSubspaceArap(setup.energy())->cluster_of_vertex()), 1e-20) << name;
+          EXPECT_LE(DistanceFromRigid(setup, x, h), 1e-9) << name;
           // The reduced energy: 0 up to the rounding of its sums (measured:
           // 1e-16 of their size at most).
           EXPECT_LT(std::abs(summary.final_cost), 1e-14 * full.Magnitude(x, h)) << name;
@@ -152,7 +152,7 @@ TEST(SubspaceArapTest, RigidOptimumIsAFixedPointOfTheSolver) {
   }
 }
 
-// The known optimum through the Deformer: the handle moved rigidly, one
+// The known optimum through a graph method: the handle moved rigidly, one
 // Drag from the rest pose reaches energy 0 and puts every free vertex at
 // H * rest. A translation: the local/global solver's first step (the last
 // frame's rotations, I at rest) is the optimum. A turn of 0.9 rad with a
@@ -189,18 +189,18 @@ TEST(SubspaceArapTest, RigidEditReachesTheOptimumInOneDrag) {
               continue;
             DeformerOptions options = ArapOptionsFor(method, clusters, constraints);
             options.arap.solver = solver;
-            const std::unique_ptr<Deformer> deformer =
+            const std::unique_ptr<GraphMethod> deformer =
                 MakeDeformer(*edit.mesh, options, *edit.handles);
-            const Layout& layout = *deformer->layout();
+            const HandleSetup& setup = *deformer->setup();
             std::string error;
             ASSERT_TRUE(deformer->Drag(h, nullptr, &error)) << error;
-            const FullMesh full = FullMeshOf(layout, deformer->diagonal(), options.arap);
+            const FullMesh full = FullMeshOf(setup, deformer->diagonal(), options.arap);
             const std::string name = Name(method, clusters, constraints) +
                                      (solver == ArapSolver::kGaussNewton ? " turn" : " translation");
             const Eigen::Matrix3Xd& x = deformer->deformed_vertices();
-            EXPECT_LT(full.Energy(x, h, FindSubspaceArap(layout.energy())->cluster_of_vertex()), kRigidEnergy)
+            EXPECT_LT(full.Energy(x, h, FindSubspaceArap(setup.energy())->cluster_of_vertex()), kRigidEnergy)
                 << name;
-            EXPECT_LE(DistanceFromRigid(layout, x, h), kRigidDistance) << name;
+            EXPECT_LE(DistanceFromRigid(setup, x, h), kRigidDistance) << name;
           }
         }
       }
@@ -221,9 +221,9 @@ TEST(SubspaceArapTest, EnergyNeverRisesAndConstraintsHold) {
     for (RotationClusters clusters : kAllClusters) {
       for (ArapConstraints constraints : kAllConstraints) {
         DeformerOptions options = ArapOptionsFor(method, clusters, constraints);
-        const std::unique_ptr<Deformer> deformer = MakeDeformer(bar.mesh, options, bar.layout);
-        const Layout& layout = *deformer->layout();
-        const FullMesh full = FullMeshOf(layout, deformer->diagonal(), options.arap);
+        const std::unique_ptr<GraphMethod> deformer = MakeDeformer(bar.mesh, options, bar.layout);
+        const HandleSetup& setup = *deformer->setup();
+        const FullMesh full = FullMeshOf(setup, deformer->diagonal(), options.arap);
         const std::string name = Name(method, clusters, constraints);
         for (const Eigen::Affine3d& h : path) {
           DragStats stats;
@@ -235,11 +235,11 @@ TEST(SubspaceArapTest, EnergyNeverRisesAndConstraintsHold) {
           }
           const NodeTransforms& transforms = deformer->transforms();
           for (int j = 0; j < transforms.num_nodes(); ++j) {
-            if (layout.node_classes()[j] == NodeClass::kFixed) {
+            if (setup.node_classes()[j] == NodeClass::kFixed) {
               ASSERT_EQ(transforms.rotation(j), Eigen::Matrix3d::Identity()) << name;
               ASSERT_EQ(transforms.translations.col(j), Eigen::Vector3d::Zero()) << name;
             }
-            if (layout.node_classes()[j] == NodeClass::kHalfFree) {
+            if (setup.node_classes()[j] == NodeClass::kHalfFree) {
               ASSERT_EQ(transforms.translations.col(j), Eigen::Vector3d::Zero()) << name;
             }
           }
@@ -252,7 +252,7 @@ TEST(SubspaceArapTest, EnergyNeverRisesAndConstraintsHold) {
           }
           // Equal up to the rounding of the reduced form's sums (measured:
           // 2.4e-16 of their size at most).
-          const double expected = full.Energy(x, h, FindSubspaceArap(layout.energy())->cluster_of_vertex());
+          const double expected = full.Energy(x, h, FindSubspaceArap(setup.energy())->cluster_of_vertex());
           EXPECT_NEAR(stats.final_cost, expected, 1e-14 * full.Magnitude(x, h)) << name;
         }
       }
@@ -269,13 +269,13 @@ TEST(SubspaceArapTest, SolverKeepsTheConstantBlocks) {
   for (RotationClusters clusters : kAllClusters) {
     for (ArapConstraints constraints : kAllConstraints) {
       const DeformerOptions options = ArapOptionsFor(Method::kStatic, clusters, constraints);
-      const std::unique_ptr<Deformer> deformer = MakeDeformer(bar.mesh, options, bar.layout);
-      const Layout& layout = *deformer->layout();
-      const std::vector<NodeClass> mixed = MixedClasses(layout.graph().num_nodes());
+      const std::unique_ptr<GraphMethod> deformer = MakeDeformer(bar.mesh, options, bar.layout);
+      const HandleSetup& setup = *deformer->setup();
+      const std::vector<NodeClass> mixed = MixedClasses(setup.graph().num_nodes());
       DeformationEnergy energy;
       energy.families.push_back(std::make_shared<SubspaceArapTerms>(
-          BuildWithClasses(layout, mixed, deformer->diagonal(), options.arap)));
-      NodeTransforms transforms = NodeTransforms::Identity(layout.graph().num_nodes());
+          BuildWithClasses(setup, mixed, deformer->diagonal(), options.arap)));
+      NodeTransforms transforms = NodeTransforms::Identity(setup.graph().num_nodes());
       for (int j = 0; j < transforms.num_nodes(); ++j) {
         if (mixed[j] != NodeClass::kHalfFree) continue;
         for (int d = 0; d < 3; ++d)
@@ -341,7 +341,7 @@ TEST(SubspaceArapTest, BadOptionsNameTheOption) {
     EXPECT_EQ(options.arap.num_clusters, 5);
     EXPECT_EQ(options.arap.constraints, ArapConstraints::kSoft);
   }
-  // Set in code: the Deformer refuses them with the field's name.
+  // Set in code: the graph method refuses them with the field's name.
   struct Bad {
     void (*set)(ArapOptions*);
     const char* message;
@@ -357,9 +357,9 @@ TEST(SubspaceArapTest, BadOptionsNameTheOption) {
     DeformerOptions options =
         ArapOptionsFor(Method::kMultiScale, RotationClusters::kWeights, ArapConstraints::kExact);
     bad.set(&options.arap);
-    Deformer deformer;
+    GraphMethod deformer(options.method);
     std::string error;
-    EXPECT_FALSE(deformer.Init(BarEdit().mesh, options, &error));
+    EXPECT_FALSE(deformer.Precompute(BarEdit().mesh, options, &error));
     EXPECT_NE(error.find(bad.message), std::string::npos) << error;
     EXPECT_EQ(error.find('\n'), std::string::npos) << error;
   }
@@ -374,29 +374,29 @@ TEST(SubspaceArapTest, ExactVerticesHaveTheirExactNormals) {
   for (Method method : kAllMethods) {
     const DeformerOptions options =
         ArapOptionsFor(method, RotationClusters::kWeights, ArapConstraints::kExact);
-    const std::unique_ptr<Deformer> deformer = MakeDeformer(bar.mesh, options, bar.layout);
+    const std::unique_ptr<GraphMethod> deformer = MakeDeformer(bar.mesh, options, bar.layout);
     Eigen::Affine3d h = Eigen::Affine3d::Identity();
     h.linear() = Eigen::AngleAxisd(0.6, Eigen::Vector3d::UnitY()).toRotationMatrix();
     h.translation() << 0.0, 0.0, 2.0;
     std::string error;
     ASSERT_TRUE(deformer->Drag(h, nullptr, &error)) << error;
     const Eigen::Matrix3Xd& normals = deformer->deformed_normals();
-    const Eigen::Matrix3Xd& rest = deformer->layout()->precompute().rest_normals();
+    const Eigen::Matrix3Xd& rest = deformer->setup()->precompute().rest_normals();
     for (int v : bar.layout.moveable)
       EXPECT_LE((normals.col(v) - h.linear() * rest.col(v)).norm(), 1e-15) << MethodName(method);
     for (int v : bar.layout.fixed) EXPECT_EQ(normals.col(v), rest.col(v)) << MethodName(method);
   }
 }
 
-// A copy of a layout's energy outlives the Deformer: the energy keeps what it
+// A copy of a set-up's energy outlives the method: the energy keeps what it
 // reads (the precompute's mesh and cotangent weights, a pin on its graph).
 // The sanitizer build catches a read of freed memory here.
-TEST(SubspaceArapTest, ACopyOfTheEnergyOutlivesTheDeformer) {
+TEST(SubspaceArapTest, ACopyOfTheEnergyOutlivesTheMethod) {
   const BarEdit bar(12, 4);
   const DeformerOptions options =
       ArapOptionsFor(Method::kStatic, RotationClusters::kWeights, ArapConstraints::kExact);
-  std::unique_ptr<Deformer> deformer = MakeDeformer(bar.mesh, options, bar.layout);
-  const DeformationEnergy energy = deformer->layout()->energy();
+  std::unique_ptr<GraphMethod> deformer = MakeDeformer(bar.mesh, options, bar.layout);
+  const DeformationEnergy energy = deformer->setup()->energy();
   const NodeTransforms identity = NodeTransforms::Identity(FindSubspaceArap(energy)->num_nodes());
   Eigen::Affine3d h = Eigen::Affine3d::Identity();
   h.translation() << 1.0, 0.0, 0.0;
@@ -412,11 +412,11 @@ TEST(SubspaceArapTest, NoActiveVertexGivesAnEmptyEnergy) {
   const BarEdit bar(12, 4);
   const DeformerOptions options =
       ArapOptionsFor(Method::kStatic, RotationClusters::kWeights, ArapConstraints::kSoft);
-  const std::unique_ptr<Deformer> deformer = MakeDeformer(bar.mesh, options, bar.layout);
-  const Layout& layout = *deformer->layout();
-  const std::vector<NodeClass> fixed(layout.graph().num_nodes(), NodeClass::kFixed);
+  const std::unique_ptr<GraphMethod> deformer = MakeDeformer(bar.mesh, options, bar.layout);
+  const HandleSetup& setup = *deformer->setup();
+  const std::vector<NodeClass> fixed(setup.graph().num_nodes(), NodeClass::kFixed);
   const std::shared_ptr<const SubspaceArap> arap =
-      BuildWithClasses(layout, fixed, deformer->diagonal(), options.arap);
+      BuildWithClasses(setup, fixed, deformer->diagonal(), options.arap);
   EXPECT_EQ(arap->num_active_vertices(), 0);
   EXPECT_EQ(arap->num_clusters(), 0);
   EXPECT_EQ(arap->num_variables(), 0);

@@ -18,7 +18,8 @@
 #include <gtest/gtest.h>
 
 #include "msdeform/core/skinning.h"
-#include "msdeform/scales/layout.h"
+#include "msdeform/methods/graph_method.h"
+#include "msdeform/scales/handle_setup.h"
 #include "msdeform/scales/subspace_arap_build.h"
 #include "tests/scales/deformer_test_util.h"
 
@@ -178,11 +179,12 @@ inline DeformerOptions ArapOptionsFor(Method method, RotationClusters clusters,
   return options;
 }
 
-inline std::unique_ptr<Deformer> MakeDeformer(const Mesh& mesh, const DeformerOptions& options,
-                                              const HandleLayout& handles) {
-  auto deformer = std::make_unique<Deformer>();
+// A graph method with its handles set.
+inline std::unique_ptr<GraphMethod> MakeDeformer(const Mesh& mesh, const DeformerOptions& options,
+                                                 const HandleLayout& handles) {
+  auto deformer = std::make_unique<GraphMethod>(options.method);
   std::string error;
-  EXPECT_TRUE(deformer->Init(mesh, options, &error)) << error;
+  EXPECT_TRUE(deformer->Precompute(mesh, options, &error)) << error;
   EXPECT_TRUE(deformer->SetHandles(handles, &error)) << error;
   return deformer;
 }
@@ -202,29 +204,29 @@ inline std::vector<NodeClass> MixedClasses(int num_nodes) {
   return classes;
 }
 
-// The subspace energy of `layout`'s mesh, graph and handles with other node
+// The subspace energy of `setup`'s mesh, graph and handles with other node
 // classes and length unit.
-inline std::shared_ptr<const SubspaceArap> BuildWithClasses(const Layout& layout,
+inline std::shared_ptr<const SubspaceArap> BuildWithClasses(const HandleSetup& setup,
                                                             const std::vector<NodeClass>& classes,
                                                             double unit,
                                                             const ArapOptions& options) {
   SubspaceArapInput input;
-  input.mesh = &layout.precompute().mesh();
-  input.cotangent = &layout.precompute().cotangent();
-  input.graph = &layout.graph();
+  input.mesh = &setup.precompute().mesh();
+  input.cotangent = &setup.precompute().cotangent();
+  input.graph = &setup.graph();
   input.node_class = &classes;
-  input.handles = &layout.handles();
-  input.still_vertices = &layout.still_vertices();
+  input.handles = &setup.handles();
+  input.still_vertices = &setup.still_vertices();
   input.length_unit = unit;
   return BuildSubspaceArap(input, options);
 }
 
-inline FullMesh FullMeshOf(const Layout& layout, double unit, const ArapOptions& options) {
-  return FullMesh{&layout.precompute().mesh(),
-                  &layout.precompute().cotangent(),
-                  &layout.graph(),
-                  &layout.handles(),
-                  &layout.still_vertices(),
+inline FullMesh FullMeshOf(const HandleSetup& setup, double unit, const ArapOptions& options) {
+  return FullMesh{&setup.precompute().mesh(),
+                  &setup.precompute().cotangent(),
+                  &setup.graph(),
+                  &setup.handles(),
+                  &setup.still_vertices(),
                   unit,
                   options};
 }
@@ -262,17 +264,17 @@ inline NodeTransforms RigidTransforms(const DeformationGraph& graph,
 
 // Largest distance of a vertex from H * rest (still vertices: from rest), over
 // the diagonal.
-inline double DistanceFromRigid(const Layout& layout, const Eigen::Matrix3Xd& x,
+inline double DistanceFromRigid(const HandleSetup& setup, const Eigen::Matrix3Xd& x,
                                 const Eigen::Affine3d& h) {
-  const Mesh& mesh = layout.precompute().mesh();
-  const std::vector<char>& still = layout.still_vertices();
+  const Mesh& mesh = setup.precompute().mesh();
+  const std::vector<char>& still = setup.still_vertices();
   double distance = 0.0;
   for (int v = 0; v < mesh.num_vertices(); ++v) {
     const Eigen::Vector3d rest = mesh.vertices.col(v);
     const Eigen::Vector3d target = !still.empty() && still[v] ? rest : Eigen::Vector3d(h * rest);
     distance = std::max(distance, (x.col(v) - target).norm());
   }
-  return distance / layout.precompute().diagonal();
+  return distance / setup.precompute().diagonal();
 }
 
 // The two meshes whose ARAP optimum lies inside every subspace: a bar with

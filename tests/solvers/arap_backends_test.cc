@@ -13,7 +13,7 @@
 #include <Eigen/SVD>
 #include <gtest/gtest.h>
 
-#include "msdeform/scales/layout.h"
+#include "msdeform/scales/handle_setup.h"
 #include "msdeform/scales/precompute.h"
 #include "msdeform/scales/session.h"
 #include "msdeform/solvers/subspace_arap_terms.h"
@@ -47,15 +47,16 @@ DeformerOptions ArapOptionsFor(Backend backend) {
   return options;
 }
 
-std::shared_ptr<const Layout> MakeLayout(const Mesh& mesh, const DeformerOptions& options,
-                                         const HandleLayout& handles) {
+std::shared_ptr<const HandleSetup> MakeHandleSetup(const Mesh& mesh,
+                                                   const DeformerOptions& options,
+                                                   const HandleLayout& handles) {
   std::string error;
   std::shared_ptr<const Precompute> precompute = Precompute::Create(mesh, options, &error);
   EXPECT_NE(precompute, nullptr) << error;
   if (precompute == nullptr) return nullptr;
-  std::shared_ptr<const Layout> layout = Layout::Create(precompute, handles, &error);
-  EXPECT_NE(layout, nullptr) << error;
-  return layout;
+  std::shared_ptr<const HandleSetup> setup = HandleSetup::Create(precompute, handles, &error);
+  EXPECT_NE(setup, nullptr) << error;
+  return setup;
 }
 
 // The energy evaluated spoke by spoke on the deformed mesh (no reduced
@@ -123,12 +124,12 @@ HandleLayout HandleOnly(const BarEdit& bar) {
 // the Gauss-Newton solver steps on), against central differences of Cost.
 TEST(ArapBackendsTest, GradientMatchesFiniteDifferences) {
   const BarEdit bar(8, 3);
-  const std::shared_ptr<const Layout> layout =
-      MakeLayout(bar.mesh, ArapOptionsFor(Backend::kGaussNewton), bar.layout);
-  ASSERT_NE(layout, nullptr);
-  const SubspaceArap& arap = *FindSubspaceArap(layout->energy());
+  const std::shared_ptr<const HandleSetup> setup =
+      MakeHandleSetup(bar.mesh, ArapOptionsFor(Backend::kGaussNewton), bar.layout);
+  ASSERT_NE(setup, nullptr);
+  const SubspaceArap& arap = *FindSubspaceArap(setup->energy());
   ASSERT_GT(arap.num_slot_variables(), 0);
-  NodeTransforms transforms = RigidTransforms(layout->graph(), Bend(0.4));
+  NodeTransforms transforms = RigidTransforms(setup->graph(), Bend(0.4));
   std::srand(7);
   transforms.rotations += 0.05 * Eigen::MatrixXd::Random(9, transforms.num_nodes());
   transforms.translations += 0.05 * Eigen::MatrixXd::Random(3, transforms.num_nodes());
@@ -169,17 +170,17 @@ TEST(ArapBackendsTest, GaussNewtonStepReachesAKnownOptimum) {
   const Eigen::Affine3d motion = Bend(0.5);
   double ratio[2] = {0.0, 0.0};
   for (Backend backend : {Backend::kLocalGlobal, Backend::kGaussNewton}) {
-    const std::shared_ptr<const Layout> layout =
-        MakeLayout(bar.mesh, ArapOptionsFor(backend), handles);
-    ASSERT_NE(layout, nullptr);
+    const std::shared_ptr<const HandleSetup> setup =
+        MakeHandleSetup(bar.mesh, ArapOptionsFor(backend), handles);
+    ASSERT_NE(setup, nullptr);
     StoppingRule one_step;
     one_step.max_iterations = 1;
     std::unique_ptr<FrameSolver> solver = MakeArapSolver(
         backend == Backend::kGaussNewton ? ArapSolver::kGaussNewton : ArapSolver::kLocalGlobal,
         one_step);
-    const NodeTransforms optimum = RigidTransforms(layout->graph(), motion);
+    const NodeTransforms optimum = RigidTransforms(setup->graph(), motion);
     std::string error;
-    ASSERT_TRUE(solver->Setup(layout->energy(), optimum, &error)) << error;
+    ASSERT_TRUE(solver->Setup(setup->energy(), optimum, &error)) << error;
     NodeTransforms start = optimum;
     std::srand(11);
     start.rotations += 1e-3 * Eigen::MatrixXd::Random(9, start.num_nodes());
@@ -213,10 +214,10 @@ TEST(ArapBackendsTest, AndersonReachesThePlainMinimumInFewerIterations) {
     options.stopping.max_iterations = 20000;
     options.stopping.function_tolerance = 1e-14;
     options.stopping.parameter_tolerance = 1e-14;
-    const std::shared_ptr<const Layout> layout = MakeLayout(bar.mesh, options, bar.layout);
-    ASSERT_NE(layout, nullptr);
+    const std::shared_ptr<const HandleSetup> setup = MakeHandleSetup(bar.mesh, options, bar.layout);
+    ASSERT_NE(setup, nullptr);
     std::string error;
-    std::unique_ptr<Session> session = Session::Create(layout, &error);
+    std::unique_ptr<Session> session = Session::Create(setup, &error);
     ASSERT_NE(session, nullptr) << error;
     DragStats& frame = stats[window > 0];
     ASSERT_TRUE(session->Drag(handle, &frame, &error)) << error;
@@ -258,10 +259,10 @@ TEST_P(SameMinimumTest, AllBackendsReachIt) {
     options.stopping.function_tolerance = 1e-16;
     options.stopping.gradient_tolerance = 1e-14;
     options.stopping.parameter_tolerance = 1e-14;
-    const std::shared_ptr<const Layout> layout = MakeLayout(bar.mesh, options, bar.layout);
-    ASSERT_NE(layout, nullptr);
+    const std::shared_ptr<const HandleSetup> setup = MakeHandleSetup(bar.mesh, options, bar.layout);
+    ASSERT_NE(setup, nullptr);
     std::string error;
-    std::unique_ptr<Session> session = Session::Create(layout, &error);
+    std::unique_ptr<Session> session = Session::Create(setup, &error);
     ASSERT_NE(session, nullptr) << Name(backend) << ": " << error;
     DragStats stats;
     ASSERT_TRUE(session->Drag(handle, &stats, &error)) << Name(backend) << ": " << error;
@@ -269,7 +270,7 @@ TEST_P(SameMinimumTest, AllBackendsReachIt) {
     if (GetParam() == ArapConstraints::kExact) {
       // The spokes alone: with soft constraints the energy has position terms too.
       energies.push_back(
-          SpokeEnergy(*FindSubspaceArap(layout->energy()), bar.mesh, session->deformed_vertices()));
+          SpokeEnergy(*FindSubspaceArap(setup->energy()), bar.mesh, session->deformed_vertices()));
       EXPECT_NEAR(stats.final_cost, energies.back(), 1e-9 * energies.back()) << Name(backend);
     } else {
       energies.push_back(stats.final_cost);
@@ -298,14 +299,15 @@ TEST(ArapBackendsTest, RigidMotionCostsNothing) {
     options.stopping.function_tolerance = 1e-16;
     options.stopping.gradient_tolerance = 1e-16;
     options.stopping.parameter_tolerance = 1e-15;
-    const std::shared_ptr<const Layout> layout = MakeLayout(bar.mesh, options, HandleOnly(bar));
-    ASSERT_NE(layout, nullptr);
+    const std::shared_ptr<const HandleSetup> setup =
+        MakeHandleSetup(bar.mesh, options, HandleOnly(bar));
+    ASSERT_NE(setup, nullptr);
     std::string error;
-    std::unique_ptr<Session> session = Session::Create(layout, &error);
+    std::unique_ptr<Session> session = Session::Create(setup, &error);
     ASSERT_NE(session, nullptr) << Name(backend) << ": " << error;
     ASSERT_TRUE(session->Drag(motion, nullptr, &error)) << Name(backend) << ": " << error;
     Eigen::Matrix3Xd expected = motion * bar.mesh.vertices;
-    EXPECT_LT(SpokeEnergy(*FindSubspaceArap(layout->energy()), bar.mesh, session->deformed_vertices()), 1e-20)
+    EXPECT_LT(SpokeEnergy(*FindSubspaceArap(setup->energy()), bar.mesh, session->deformed_vertices()), 1e-20)
         << Name(backend);
     EXPECT_LT(MaxDistance(session->deformed_vertices(), expected), 1e-9 * diagonal)
         << Name(backend);

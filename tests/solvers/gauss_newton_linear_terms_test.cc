@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "msdeform/core/procedural_meshes.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/methods/graph_method.h"
 
 namespace msdeform {
 namespace {
@@ -40,9 +40,9 @@ TEST(GaussNewtonLinearTermsTest, ParallelGroupQrIsTheSameForAnyThreadCount) {
   }
   DeformerOptions options;
   options.num_threads = 1;
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   std::string error;
-  ASSERT_TRUE(deformer.Init(mesh, options, &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(mesh, options, &error)) << error;
   ASSERT_TRUE(deformer.SetHandles(layout, &error)) << error;
   const DeformationEnergy& energy = deformer.energy();
   const NodeTransforms transforms = NodeTransforms::Identity(deformer.active().num_nodes());

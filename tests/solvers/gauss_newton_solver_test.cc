@@ -17,7 +17,7 @@
 #include "msdeform/core/procedural_meshes.h"
 #include "msdeform/energies/gauge_cost.h"
 #include "msdeform/energies/rot_cost.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/methods/graph_method.h"
 #include "msdeform/scales/deformer_options.h"
 #include "tests/solvers/frame_solver_test_util.h"
 
@@ -151,10 +151,10 @@ std::vector<char> SingularRotationNodes(const DeformationEnergy& energy,
 }
 
 Result RunEdit(const Edit& edit, DeformerOptions options) {
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   std::string error;
   Result result;
-  EXPECT_TRUE(deformer.Init(edit.mesh, options, &error)) << error;
+  EXPECT_TRUE(deformer.Precompute(edit.mesh, options, &error)) << error;
   EXPECT_TRUE(deformer.SetHandles(edit.layout, &error)) << error;
   DragStats stats;
   for (const Eigen::Affine3d& frame : edit.path) {
@@ -235,9 +235,9 @@ TEST(GaussNewtonSolverTest, BothBackendsReachTheSameMinimumOnTheCactus) {
 TEST(GaussNewtonSolverTest, GaugeTermsLeaveTheMinimumUnchanged) {
   const Edit edit = CactusEdit(5);
   const DeformerOptions options = CactusConfigurations(Solver::kCeres).back().second;
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   std::string error;
-  ASSERT_TRUE(deformer.Init(edit.mesh, options, &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(edit.mesh, options, &error)) << error;
   ASSERT_TRUE(deformer.SetHandles(edit.layout, &error)) << error;
   const DeformationEnergy& with_gauge = deformer.energy();
   ASSERT_GT(with_gauge.gauge.size(), 0u);
@@ -384,9 +384,9 @@ TEST(GaussNewtonSolverTest, EveryGaussNewtonVariantReachesTheSameMinimum) {
   const Edit edit = BarEdit(3);
   DeformerOptions options = TightOptions(Method::kMultiScale, Solver::kCeres);
   options.graph.nodes_per_scale = 20;
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   std::string error;
-  ASSERT_TRUE(deformer.Init(edit.mesh, options, &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(edit.mesh, options, &error)) << error;
   ASSERT_TRUE(deformer.SetHandles(edit.layout, &error)) << error;
   const DeformationEnergy& energy = deformer.energy();
   ASSERT_GT(energy.num_variables(), 0);
@@ -426,7 +426,7 @@ TEST(GaussNewtonSolverTest, EveryGaussNewtonVariantReachesTheSameMinimum) {
     std::unique_ptr<FrameSolver> solver =
         std::make_unique<GaussNewtonSolver>(gn, kTightStopping);
     ASSERT_TRUE(solver->Setup(energy, transforms, &error)) << error;
-    EXPECT_EQ(solver->num_variables(), deformer.num_variables());
+    EXPECT_EQ(solver->num_variables(), deformer.variables());
     SolveSummary summary;
     for (const Eigen::Affine3d& frame : edit.path) summary = solver->Solve(frame, &transforms);
     EXPECT_TRUE(summary.converged) << what << ": " << summary.message;
@@ -454,9 +454,9 @@ TEST(GaussNewtonSolverTest, CeresCostIsTheEnergy) {
   const Edit edit = BarEdit(3);
   DeformerOptions options = TightOptions(Method::kMultiScale, Solver::kCeres);
   options.graph.nodes_per_scale = 20;
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   std::string error;
-  ASSERT_TRUE(deformer.Init(edit.mesh, options, &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(edit.mesh, options, &error)) << error;
   ASSERT_TRUE(deformer.SetHandles(edit.layout, &error)) << error;
   for (bool grouped : {true, false}) {
     CeresOptions ceres;
@@ -608,10 +608,10 @@ TEST(GaussNewtonSolverTest, SupernodalCholeskyTakesTheStepsOfEigensLLT) {
   ASSERT_EQ(options.gauss_newton.cholesky, GaussNewtonOptions::Cholesky::kSupernodal);
   DeformerOptions eigen = options;
   eigen.gauss_newton.cholesky = GaussNewtonOptions::Cholesky::kEigenLLT;
-  Deformer a, b;
+  GraphMethod a(options.method), b(eigen.method);
   std::string error;
-  ASSERT_TRUE(a.Init(edit.mesh, options, &error)) << error;
-  ASSERT_TRUE(b.Init(edit.mesh, eigen, &error)) << error;
+  ASSERT_TRUE(a.Precompute(edit.mesh, options, &error)) << error;
+  ASSERT_TRUE(b.Precompute(edit.mesh, eigen, &error)) << error;
   ASSERT_TRUE(a.SetHandles(edit.layout, &error)) << error;
   ASSERT_TRUE(b.SetHandles(edit.layout, &error)) << error;
   for (const Eigen::Affine3d& frame : edit.path) {
@@ -622,7 +622,7 @@ TEST(GaussNewtonSolverTest, SupernodalCholeskyTakesTheStepsOfEigensLLT) {
     EXPECT_EQ(sa.factorizations, sb.factorizations);
     EXPECT_NEAR(sa.final_cost, sb.final_cost, 1e-12 * sb.final_cost);
   }
-  EXPECT_GT(a.num_variables(), 100);
+  EXPECT_GT(a.variables(), 100);
   const Eigen::Matrix3Xd& va = a.deformed_vertices();
   const Eigen::Matrix3Xd& vb = b.deformed_vertices();
   EXPECT_LE((va - vb).cwiseAbs().maxCoeff(), 1e-12 * a.diagonal());
@@ -637,9 +637,9 @@ TEST(GaussNewtonSolverTest, ChunkedRotAssemblyIsTheSameForAnyThreadCount) {
   const Edit edit = BarEdit(4);
   DeformerOptions options;
   options.num_threads = 1;
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   std::string error;
-  ASSERT_TRUE(deformer.Init(edit.mesh, options, &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(edit.mesh, options, &error)) << error;
   ASSERT_TRUE(deformer.SetHandles(edit.layout, &error)) << error;
   const DeformationEnergy& energy = deformer.energy();
   ASSERT_GT(energy.rot_nodes.size(), 8u);

@@ -11,7 +11,7 @@
 #include <gflags/gflags.h>
 #include <gtest/gtest.h>
 
-#include "msdeform/scales/deformer.h"
+#include "msdeform/scales/deformer_options.h"
 
 namespace msdeform {
 namespace {

@@ -14,7 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "examples/energy_terms/rest_pose_term.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/methods/graph_method.h"
 #include "msdeform/solvers/ceres_solver.h"
 #include "msdeform/solvers/gauss_newton_solver.h"
 #include "tests/energies/cost_test_util.h"
@@ -283,9 +283,9 @@ TEST(VolumeTermTest, DeformerRunsTheTermThroughEitherBackend) {
     options.add_energy_terms = [](const DeformationGraph&, DeformationEnergy* energy) {
       AddVolumeTerms(3.0, energy);
     };
-    Deformer deformer;
+    GraphMethod deformer(options.method);
     std::string error;
-    ASSERT_TRUE(deformer.Init(bar.mesh, options, &error)) << error;
+    ASSERT_TRUE(deformer.Precompute(bar.mesh, options, &error)) << error;
     ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
     int free_nodes = 0;
     for (NodeClass c : deformer.node_classes()) free_nodes += c != NodeClass::kFixed;

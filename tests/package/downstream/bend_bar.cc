@@ -1,17 +1,19 @@
 // The smallest program built on msdeform: deform a procedural bar with the
-// multi-scale method. It checks two answers known without the solver:
+// multi-scale method's three stages (msdeform::scales). It checks two answers known without the solver:
 // dragging the whole bar as the handle moves it rigidly, and an identity
 // drag with one end fixed leaves it at rest. Exits 0 when both hold.
 #include <cstdio>
+#include <memory>
 #include <string>
 
 #include <msdeform/core/drag_path.h>
 #include <msdeform/core/procedural_meshes.h>
-#include <msdeform/scales/deformer.h>
+#include <msdeform/scales/handle_setup.h>
+#include <msdeform/scales/precompute.h>
+#include <msdeform/scales/session.h>
 
 namespace {
 
-using msdeform::Deformer;
 using msdeform::HandleLayout;
 
 double MaxDistance(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {
@@ -20,21 +22,25 @@ double MaxDistance(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {
 
 bool Deform(const msdeform::Mesh& bar, const HandleLayout& layout,
             const Eigen::Affine3d& motion, Eigen::Matrix3Xd* deformed) {
-  Deformer deformer;
   std::string error;
-  if (!deformer.Init(bar, msdeform::DeformerOptions(), &error) ||
-      !deformer.SetHandles(layout, &error)) {
+  std::shared_ptr<const msdeform::Precompute> precompute =
+      msdeform::Precompute::Create(bar, msdeform::DeformerOptions(), &error);
+  std::shared_ptr<const msdeform::HandleSetup> setup =
+      precompute ? msdeform::HandleSetup::Create(precompute, layout, &error) : nullptr;
+  std::unique_ptr<msdeform::Session> session =
+      setup ? msdeform::Session::Create(setup, &error) : nullptr;
+  if (session == nullptr) {
     std::fprintf(stderr, "bend_bar: %s\n", error.c_str());
     return false;
   }
   for (const Eigen::Affine3d& frame :
        msdeform::InterpolateDragPath(motion, bar.vertices.rowwise().mean(), 4)) {
-    if (!deformer.Drag(frame, nullptr, &error)) {
+    if (!session->Drag(frame, nullptr, &error)) {
       std::fprintf(stderr, "bend_bar: %s\n", error.c_str());
       return false;
     }
   }
-  *deformed = deformer.deformed_vertices();
+  *deformed = session->deformed_vertices();
   return true;
 }
 

@@ -16,7 +16,7 @@
 
 #include "msdeform/core/handles.h"
 #include "msdeform/core/procedural_meshes.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/methods/graph_method.h"
 #include "tests/scales/deformer_test_util.h"
 #include "tests/test_util.h"
 
@@ -26,30 +26,30 @@ namespace {
 // The deformed mesh of a fresh Deformer: Init, SetHandles, Drag(Lift(z)).
 Eigen::Matrix3Xd FreshResult(const Mesh& mesh, const DeformerOptions& options,
                              const HandleLayout& layout, double z) {
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   std::string error;
-  EXPECT_TRUE(deformer.Init(mesh, options, &error)) << error;
+  EXPECT_TRUE(deformer.Precompute(mesh, options, &error)) << error;
   EXPECT_TRUE(deformer.SetHandles(layout, &error)) << error;
   EXPECT_TRUE(deformer.Drag(Lift(z), nullptr, &error)) << error;
   return deformer.deformed_vertices();
 }
 
-TEST(DeformerCallOrderTest, CallsBeforeInitAreRefused) {
+TEST(GraphMethodCallOrderTest, CallsBeforePrecomputeAreRefused) {
   const BarEdit bar(8, 2);
-  Deformer deformer;
+  GraphMethod deformer(Method::kMultiScale);
   std::string error;
   EXPECT_FALSE(deformer.SetHandles(bar.layout, &error));
-  EXPECT_NE(error.find("Init"), std::string::npos) << error;
+  EXPECT_NE(error.find("Precompute"), std::string::npos) << error;
   error.clear();
   EXPECT_FALSE(deformer.Drag(Lift(1.0), nullptr, &error));
-  EXPECT_NE(error.find("Init"), std::string::npos) << error;
+  EXPECT_NE(error.find("SetHandles"), std::string::npos) << error;
 }
 
-TEST(DeformerCallOrderTest, DragBeforeSetHandlesIsRefused) {
+TEST(GraphMethodCallOrderTest, DragBeforeSetHandlesIsRefused) {
   const BarEdit bar(8, 2);
-  Deformer deformer;
+  GraphMethod deformer(Method::kMultiScale);
   std::string error;
-  ASSERT_TRUE(deformer.Init(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
   EXPECT_FALSE(deformer.Drag(Lift(1.0), nullptr, &error));
   EXPECT_NE(error.find("SetHandles"), std::string::npos) << error;
   EXPECT_EQ(deformer.deformed_vertices(), bar.mesh.vertices);
@@ -58,7 +58,7 @@ TEST(DeformerCallOrderTest, DragBeforeSetHandlesIsRefused) {
 // Init, SetHandles, Init again (another mesh, another method), Drag: the
 // second Init drops the layout, so Drag is refused; after SetHandles the
 // result is a fresh Deformer's, bit for bit.
-TEST(DeformerCallOrderTest, ReInitDropsTheLayout) {
+TEST(GraphMethodCallOrderTest, RePrecomputeDropsTheLayout) {
   const BarEdit bar(8, 2);
   const Mesh longer = MakeBar(12, 1.0, 2);
   HandleLayout longer_layout;
@@ -67,16 +67,22 @@ TEST(DeformerCallOrderTest, ReInitDropsTheLayout) {
     if (longer.vertices(0, v) >= 11.0) longer_layout.moveable.push_back(v);
   }
   for (Method first : kAllMethods) {
-    for (Method second : kAllMethods) {
-      Deformer deformer;
+    // A method is fixed when it is made: another method's options are
+    // refused with one line, its own on another mesh start over.
+    for (Method second : {first}) {
+      GraphMethod deformer(first);
       std::string error;
-      ASSERT_TRUE(deformer.Init(bar.mesh, OptionsFor(first), &error)) << error;
+      DeformerOptions other = OptionsFor(first == Method::kStatic ? Method::kMultiScale
+                                                                  : Method::kStatic);
+      EXPECT_FALSE(deformer.Precompute(bar.mesh, other, &error));
+      EXPECT_NE(error.find("the options name the method"), std::string::npos) << error;
+      ASSERT_TRUE(deformer.Precompute(bar.mesh, OptionsFor(first), &error)) << error;
       ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
       ASSERT_TRUE(deformer.Drag(Lift(1.0), nullptr, &error)) << error;
-      ASSERT_TRUE(deformer.Init(longer, OptionsFor(second), &error)) << error;
+      ASSERT_TRUE(deformer.Precompute(longer, OptionsFor(second), &error)) << error;
       EXPECT_EQ(deformer.deformed_vertices(), longer.vertices);
       EXPECT_TRUE(deformer.node_classes().empty());
-      EXPECT_EQ(deformer.num_variables(), 0);
+      EXPECT_EQ(deformer.variables(), 0);
       EXPECT_FALSE(deformer.Drag(Lift(2.0), nullptr, &error)) << MethodName(second);
       ASSERT_TRUE(deformer.SetHandles(longer_layout, &error)) << error;
       ASSERT_TRUE(deformer.Drag(Lift(2.0), nullptr, &error)) << error;
@@ -89,7 +95,7 @@ TEST(DeformerCallOrderTest, ReInitDropsTheLayout) {
 
 // w_con = 0 left the handle where it was and reported success; 100000
 // threads crashed the skinning pool. Both are refused by Check.
-TEST(DeformerCallOrderTest, OptionsRefuseAZeroHandleWeightAndTooManyThreads) {
+TEST(GraphMethodCallOrderTest, OptionsRefuseAZeroHandleWeightAndTooManyThreads) {
   std::string error;
   DeformerOptions options;
   options.w_con = 0.0;
@@ -103,39 +109,38 @@ TEST(DeformerCallOrderTest, OptionsRefuseAZeroHandleWeightAndTooManyThreads) {
   EXPECT_EQ(error, "num_threads=1025: expected an integer in 1..1024");
 }
 
-// Invalid options leave the object as it was (the layout too); a failure
-// past the checks (the lattice) leaves it empty.
-TEST(DeformerCallOrderTest, FailedInitLeavesTheObjectAsItWasOrEmpty) {
+// A failed Precompute, invalid options or a failure past the checks (the
+// lattice), leaves the method empty: only Precompute is accepted.
+TEST(GraphMethodCallOrderTest, FailedPrecomputeLeavesTheMethodEmpty) {
   const BarEdit bar(8, 2);
-  Deformer deformer;
+  GraphMethod deformer(Method::kMultiScale);
   std::string error;
-  ASSERT_TRUE(deformer.Init(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
   ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
   ASSERT_TRUE(deformer.Drag(Lift(1.0), nullptr, &error)) << error;
 
-  DeformerOptions invalid = OptionsFor(Method::kStatic);
+  DeformerOptions invalid = OptionsFor(Method::kMultiScale);
   invalid.w_con = -1.0;
-  EXPECT_FALSE(deformer.Init(MakeBar(12, 1.0, 2), invalid, &error));
-  EXPECT_EQ(deformer.options().method, Method::kMultiScale);
-  EXPECT_EQ(deformer.rest_mesh().num_vertices(), bar.mesh.num_vertices());
-  ASSERT_TRUE(deformer.Drag(Lift(2.0), nullptr, &error)) << error;
-  Deformer reference;
-  ASSERT_TRUE(reference.Init(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
-  ASSERT_TRUE(reference.SetHandles(bar.layout, &error)) << error;
-  ASSERT_TRUE(reference.Drag(Lift(1.0), nullptr, &error)) << error;
-  ASSERT_TRUE(reference.Drag(Lift(2.0), nullptr, &error)) << error;
-  EXPECT_EQ(deformer.deformed_vertices(), reference.deformed_vertices());
+  EXPECT_FALSE(deformer.Precompute(MakeBar(12, 1.0, 2), invalid, &error));
+  EXPECT_NE(error.find("w_con"), std::string::npos) << error;
+  EXPECT_EQ(deformer.rest_mesh().num_vertices(), 0);
+  EXPECT_EQ(deformer.precompute(), nullptr);
+  error.clear();
+  EXPECT_FALSE(deformer.Drag(Lift(2.0), nullptr, &error));
+  EXPECT_NE(error.find("SetHandles"), std::string::npos) << error;
+  EXPECT_FALSE(deformer.SetHandles(bar.layout, &error));
+  EXPECT_NE(error.find("Precompute"), std::string::npos) << error;
 
   // A lattice of more cells than allowed fails in Lattice::Build.
   DeformerOptions too_fine = OptionsFor(Method::kMultiScale);
   too_fine.lattice.cells_per_diagonal = 200;
   too_fine.lattice.max_grid_cells = 1000;
-  EXPECT_FALSE(deformer.Init(bar.mesh, too_fine, &error));
+  EXPECT_FALSE(deformer.Precompute(bar.mesh, too_fine, &error));
   error.clear();
   EXPECT_FALSE(deformer.SetHandles(bar.layout, &error));
-  EXPECT_NE(error.find("Init"), std::string::npos) << error;
+  EXPECT_NE(error.find("Precompute"), std::string::npos) << error;
   EXPECT_FALSE(deformer.Drag(Lift(1.0), nullptr, &error));
-  ASSERT_TRUE(deformer.Init(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
   ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
   ASSERT_TRUE(deformer.Drag(Lift(1.0), nullptr, &error)) << error;
   EXPECT_EQ(deformer.deformed_vertices(),
@@ -145,21 +150,21 @@ TEST(DeformerCallOrderTest, FailedInitLeavesTheObjectAsItWasOrEmpty) {
 // A layout that fails after validation (a fixed and a moveable vertex in one
 // lattice cell) leaves no layout: the next Drag is refused instead of solving
 // the old one.
-TEST(DeformerCallOrderTest, FailedSetHandlesIsNotFollowedByAStaleDrag) {
+TEST(GraphMethodCallOrderTest, FailedSetHandlesIsNotFollowedByAStaleDrag) {
   const BarEdit bar(8, 2);
   HandleLayout conflicting = bar.layout;
   // A handle vertex that shares its lattice cell with another handle vertex
   // (cells of about one voxel), made fixed.
   DeformerOptions options = OptionsFor(Method::kMultiScale);
   options.lattice.cells_per_diagonal = 8.0;
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   std::string error;
-  ASSERT_TRUE(deformer.Init(bar.mesh, options, &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(bar.mesh, options, &error)) << error;
   const int handle_vertex = bar.layout.moveable.front();
-  const int cell = deformer.lattice().particle_of_vertex(handle_vertex);
+  const int cell = deformer.lattice()->particle_of_vertex(handle_vertex);
   int neighbour = -1;
   for (int v = 0; v < bar.mesh.num_vertices() && neighbour < 0; ++v) {
-    if (v != handle_vertex && deformer.lattice().particle_of_vertex(v) == cell) neighbour = v;
+    if (v != handle_vertex && deformer.lattice()->particle_of_vertex(v) == cell) neighbour = v;
   }
   ASSERT_GE(neighbour, 0);
   conflicting.moveable.erase(
@@ -175,19 +180,20 @@ TEST(DeformerCallOrderTest, FailedSetHandlesIsNotFollowedByAStaleDrag) {
   EXPECT_FALSE(deformer.Drag(Lift(2.0), nullptr, &error));
   EXPECT_NE(error.find("SetHandles"), std::string::npos) << error;
   EXPECT_EQ(deformer.deformed_vertices(), bar.mesh.vertices);
-  // An invalid layout (a vertex out of range) is refused before anything
-  // changes: the layout before it stays.
+  // An invalid layout (a vertex out of range) leaves no layout either.
   ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
   HandleLayout out_of_range = bar.layout;
   out_of_range.moveable.push_back(bar.mesh.num_vertices());
   EXPECT_FALSE(deformer.SetHandles(out_of_range, &error));
+  EXPECT_FALSE(deformer.Drag(Lift(1.0), nullptr, &error));
+  ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
   ASSERT_TRUE(deformer.Drag(Lift(1.0), nullptr, &error)) << error;
   EXPECT_EQ(deformer.deformed_vertices(), FreshResult(bar.mesh, options, bar.layout, 1.0));
 }
 
 // Every combination of the backends' enums runs, or is refused by Check with
 // one line (never a crash in Ceres's own option check).
-TEST(DeformerCallOrderTest, EveryBackendOptionCombinationRunsOrIsRefusedByCheck) {
+TEST(GraphMethodCallOrderTest, EveryBackendOptionCombinationRunsOrIsRefusedByCheck) {
   BarEdit bar(8, 2);  // a coarse lattice: 186 Inits
   bar.mesh = MakeBar(8, 1.0, 1);
   bar.layout = HandleLayout();
@@ -198,12 +204,12 @@ TEST(DeformerCallOrderTest, EveryBackendOptionCombinationRunsOrIsRefusedByCheck)
   int ran = 0, refused = 0;
   double reference_cost = 0.0;
   {
-    Deformer deformer;
+    GraphMethod deformer(Method::kMultiScale);
     std::string error;
     DeformerOptions options = OptionsFor(Method::kMultiScale);
     options.lattice.cells_per_diagonal = 16.0;
     DragStats stats;
-    ASSERT_TRUE(deformer.Init(bar.mesh, options, &error)) << error;
+    ASSERT_TRUE(deformer.Precompute(bar.mesh, options, &error)) << error;
     ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
     ASSERT_TRUE(deformer.Drag(Lift(1.0), &stats, &error)) << error;
     reference_cost = stats.final_cost;
@@ -214,17 +220,17 @@ TEST(DeformerCallOrderTest, EveryBackendOptionCombinationRunsOrIsRefusedByCheck)
     if (!options.Check(&error)) {
       EXPECT_FALSE(error.empty()) << name;
       EXPECT_EQ(error.find('\n'), std::string::npos) << name << ": " << error;
-      Deformer deformer;
+      GraphMethod deformer(options.method);
       std::string init_error;
-      EXPECT_FALSE(deformer.Init(bar.mesh, options, &init_error)) << name;
+      EXPECT_FALSE(deformer.Precompute(bar.mesh, options, &init_error)) << name;
       EXPECT_EQ(init_error, error) << name;
       ++refused;
       return;
     }
-    Deformer deformer;
+    GraphMethod deformer(options.method);
     DeformerOptions coarse = options;
     coarse.lattice.cells_per_diagonal = 16.0;
-    ASSERT_TRUE(deformer.Init(bar.mesh, coarse, &error)) << name << ": " << error;
+    ASSERT_TRUE(deformer.Precompute(bar.mesh, coarse, &error)) << name << ": " << error;
     ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << name << ": " << error;
     DragStats stats;
     ASSERT_TRUE(deformer.Drag(Lift(1.0), &stats, &error)) << name << ": " << error;
@@ -289,7 +295,7 @@ TEST(DeformerCallOrderTest, EveryBackendOptionCombinationRunsOrIsRefusedByCheck)
 // components, the still component's nodes are Fixed in selection() as in
 // node_classes(), and no coherence term to a non-Totally-Free node carries
 // an alpha other than 1.
-TEST(DeformerCallOrderTest, StillComponentNodesAreFixedBeforeTheAlphaWeights) {
+TEST(GraphMethodCallOrderTest, StillComponentNodesAreFixedBeforeTheAlphaWeights) {
   // One voxel apart, and cells of about a voxel: the two bars' cells touch,
   // so graph edges join the components.
   const Mesh mesh = MakeTwoBars(8, 1, 1.0, 2);
@@ -307,9 +313,9 @@ TEST(DeformerCallOrderTest, StillComponentNodesAreFixedBeforeTheAlphaWeights) {
       DeformerOptions options = OptionsFor(Method::kMultiScale);
       options.selection.border = border;
       options.lattice.cells_per_diagonal = cells_per_diagonal;
-      Deformer deformer;
+      GraphMethod deformer(options.method);
       std::string error;
-      ASSERT_TRUE(deformer.Init(mesh, options, &error)) << error;
+      ASSERT_TRUE(deformer.Precompute(mesh, options, &error)) << error;
       ASSERT_TRUE(deformer.SetHandles(layout, &error)) << error;
       const ScaleSelection& selection = deformer.selection();
       EXPECT_EQ(selection.node_class, deformer.node_classes()) << name;
@@ -324,7 +330,7 @@ TEST(DeformerCallOrderTest, StillComponentNodesAreFixedBeforeTheAlphaWeights) {
       }
       EXPECT_GT(second_bar_nodes, 0) << name;
       EXPECT_EQ(selection.num_fixed, fixed) << name;
-      EXPECT_EQ(selection.num_variables(), deformer.num_variables()) << name;
+      EXPECT_EQ(selection.num_variables(), deformer.variables()) << name;
       // Alpha is 1 on every coherence term that touches a non-Totally-Free node.
       const double unit_alpha_weight = std::sqrt(options.w_coh) / deformer.diagonal();
       for (const DeformationEnergy::Coherence& term : deformer.energy().coherence) {
@@ -342,15 +348,15 @@ TEST(DeformerCallOrderTest, StillComponentNodesAreFixedBeforeTheAlphaWeights) {
 // Under the harmonic estimate every fixed particle has e' = u = 0, so Eq. 7's
 // inner max is 0: T is the floor 0.1 with a fixed handle and 0.5 without one
 // (docs/method.md §4).
-TEST(DeformerCallOrderTest, HarmonicThresholdIsConstant) {
+TEST(GraphMethodCallOrderTest, HarmonicThresholdIsConstant) {
   const BarEdit bar(8, 2);
-  Deformer deformer;
+  GraphMethod deformer(Method::kMultiScale);
   std::string error;
-  ASSERT_TRUE(deformer.Init(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
   ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
   EXPECT_EQ(deformer.selection().threshold, 0.1);
   for (int v : bar.layout.fixed) {
-    EXPECT_EQ(deformer.rigidity().relative_extent[deformer.lattice().particle_of_vertex(v)], 0.0);
+    EXPECT_EQ(deformer.rigidity().relative_extent[deformer.lattice()->particle_of_vertex(v)], 0.0);
   }
   HandleLayout moveable_only;
   moveable_only.moveable = bar.layout.moveable;
@@ -361,7 +367,7 @@ TEST(DeformerCallOrderTest, HarmonicThresholdIsConstant) {
 // Two Deformers dragging in two threads give what each gives alone, and
 // const readers of one Deformer (normals skinned on first use) may run
 // concurrently.
-TEST(DeformerCallOrderTest, DeformersInParallelThreadsMatchSerialRuns) {
+TEST(GraphMethodCallOrderTest, DeformersInParallelThreadsMatchSerialRuns) {
   const BarEdit bar(8, 2);
   const DeformerOptions multiscale = OptionsFor(Method::kMultiScale);
   const DeformerOptions dense = OptionsFor(Method::kStaticDense);
@@ -375,17 +381,17 @@ TEST(DeformerCallOrderTest, DeformersInParallelThreadsMatchSerialRuns) {
   EXPECT_EQ(parallel_a, serial_a);
   EXPECT_EQ(parallel_b, serial_b);
 
-  Deformer deformer;
+  GraphMethod deformer(multiscale.method);
   std::string error;
-  ASSERT_TRUE(deformer.Init(bar.mesh, multiscale, &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(bar.mesh, multiscale, &error)) << error;
   ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
   ASSERT_TRUE(deformer.Drag(Lift(1.0), nullptr, &error)) << error;
-  Deformer reference;
-  ASSERT_TRUE(reference.Init(bar.mesh, multiscale, &error)) << error;
+  GraphMethod reference(multiscale.method);
+  ASSERT_TRUE(reference.Precompute(bar.mesh, multiscale, &error)) << error;
   ASSERT_TRUE(reference.SetHandles(bar.layout, &error)) << error;
   ASSERT_TRUE(reference.Drag(Lift(1.0), nullptr, &error)) << error;
   const Eigen::Matrix3Xd expected = reference.deformed_normals();
-  const Deformer& reader = deformer;
+  const GraphMethod& reader = deformer;
   std::vector<Eigen::Matrix3Xd> read(4);
   std::vector<std::thread> readers;
   for (int t = 0; t < 4; ++t) readers.emplace_back([&, t] { read[t] = reader.deformed_normals(); });
@@ -397,28 +403,28 @@ TEST(DeformerCallOrderTest, DeformersInParallelThreadsMatchSerialRuns) {
 // once its call succeeded, a failed SetHandles drops the layout and the
 // session but keeps the precompute, and a stage made by hand from the
 // facade's precompute drags exactly as the facade does.
-TEST(DeformerCallOrderTest, TheFacadesStagesExistOnlyOnceMade) {
+TEST(GraphMethodCallOrderTest, TheFacadesStagesExistOnlyOnceMade) {
   const BarEdit bar(8, 2);
-  Deformer deformer;
+  GraphMethod deformer(Method::kMultiScale);
   std::string error;
   EXPECT_EQ(deformer.precompute(), nullptr);
-  EXPECT_EQ(deformer.layout(), nullptr);
+  EXPECT_EQ(deformer.setup(), nullptr);
   EXPECT_EQ(deformer.session(), nullptr);
   DeformerOptions coarse = OptionsFor(Method::kMultiScale);
   coarse.lattice.cells_per_diagonal = 8.0;  // cells of about a voxel
-  ASSERT_TRUE(deformer.Init(bar.mesh, coarse, &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(bar.mesh, coarse, &error)) << error;
   const std::shared_ptr<const Precompute> precompute = deformer.precompute();
   ASSERT_NE(precompute, nullptr);
-  EXPECT_EQ(deformer.layout(), nullptr);
+  EXPECT_EQ(deformer.setup(), nullptr);
   EXPECT_EQ(deformer.session(), nullptr);
   ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
-  ASSERT_NE(deformer.layout(), nullptr);
+  ASSERT_NE(deformer.setup(), nullptr);
   ASSERT_NE(deformer.session(), nullptr);
-  EXPECT_EQ(&deformer.layout()->precompute(), precompute.get());
+  EXPECT_EQ(&deformer.setup()->precompute(), precompute.get());
 
-  std::shared_ptr<const Layout> layout = Layout::Create(precompute, bar.layout, &error);
-  ASSERT_NE(layout, nullptr) << error;
-  std::unique_ptr<Session> session = Session::Create(layout, &error);
+  std::shared_ptr<const HandleSetup> setup = HandleSetup::Create(precompute, bar.layout, &error);
+  ASSERT_NE(setup, nullptr) << error;
+  std::unique_ptr<Session> session = Session::Create(setup, &error);
   ASSERT_NE(session, nullptr) << error;
   ASSERT_TRUE(deformer.Drag(Lift(1.0), nullptr, &error)) << error;
   ASSERT_TRUE(session->Drag(Lift(1.0), nullptr, &error)) << error;
@@ -437,16 +443,16 @@ TEST(DeformerCallOrderTest, TheFacadesStagesExistOnlyOnceMade) {
   ASSERT_LT(conflict.fixed.size(), bar.layout.fixed.size()) << "no two fixed vertices share a cell";
   EXPECT_FALSE(deformer.SetHandles(conflict, &error));
   EXPECT_NE(error.find("lattice cell"), std::string::npos) << error;
-  EXPECT_EQ(deformer.layout(), nullptr);
+  EXPECT_EQ(deformer.setup(), nullptr);
   EXPECT_EQ(deformer.session(), nullptr);
   EXPECT_EQ(deformer.precompute(), precompute);
   EXPECT_EQ(deformer.deformed_vertices(), bar.mesh.vertices);
   // The hand-made session lives on, its layout unaffected.
   ASSERT_TRUE(session->Drag(Lift(2.0), nullptr, &error)) << error;
 
-  ASSERT_TRUE(deformer.Init(bar.mesh, OptionsFor(Method::kStatic), &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
   EXPECT_NE(deformer.precompute(), precompute);
-  EXPECT_EQ(deformer.layout(), nullptr);
+  EXPECT_EQ(deformer.setup(), nullptr);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // Stage 2 of 3 of an edit (scales/precompute.h; docs/extending.md, "The stages of an edit"):
-// everything that depends on the handle layout. Immutable once built.
+// the set-up of one handle layout (core/handles.h's HandleLayout): everything
+// that depends on which vertices are handles. Immutable once built.
 //
 // Multi-scale (docs/method.md §2-5): rigidity (by default the harmonic
 // estimate; the paper's lattice shape matching with
@@ -15,8 +16,8 @@
 // results depend neither on the mesh's units nor on the cell width
 // (docs/decisions/length-unit.md).
 
-#ifndef MSDEFORM_SCALES_LAYOUT_H_
-#define MSDEFORM_SCALES_LAYOUT_H_
+#ifndef MSDEFORM_SCALES_HANDLE_SETUP_H_
+#define MSDEFORM_SCALES_HANDLE_SETUP_H_
 
 #include <memory>
 #include <string>
@@ -31,18 +32,19 @@
 
 namespace msdeform {
 
-class Layout {
+class HandleSetup {
  public:
-  // The layout of `handles` on `precompute` (not null). nullptr with a
-  // message on an invalid layout, handles that share a lattice cell, or a
+  // The set-up of `handles` on `precompute` (not null). nullptr with a
+  // message on an invalid handle layout, handles that share a lattice cell, or a
   // moveable vertex that no free node skins. Connects the coarse graphs
   // scale selection tries (Precompute::ConnectedGraph) and keeps the selected
-  // one connected for the layout's life.
-  static std::shared_ptr<const Layout> Create(std::shared_ptr<const Precompute> precompute,
-                                              const HandleLayout& handles, std::string* error);
+  // one connected for the set-up's life.
+  static std::shared_ptr<const HandleSetup> Create(std::shared_ptr<const Precompute> precompute,
+                                                   const HandleLayout& handles,
+                                                   std::string* error);
 
-  Layout(const Layout&) = delete;
-  Layout& operator=(const Layout&) = delete;
+  HandleSetup(const HandleSetup&) = delete;
+  HandleSetup& operator=(const HandleSetup&) = delete;
 
   const Precompute& precompute() const { return *precompute_; }
   const HandleLayout& handles() const { return handles_; }
@@ -81,7 +83,7 @@ class Layout {
   const StageTimes& stages() const { return stages_; }
 
  private:
-  explicit Layout(std::shared_ptr<const Precompute> precompute);
+  explicit HandleSetup(std::shared_ptr<const Precompute> precompute);
   bool Build(const HandleLayout& handles, std::string* error);
   void BuildEnergy();
   bool FindSkinnedVertices(std::string* error);
@@ -110,4 +112,4 @@ class Layout {
 
 }  // namespace msdeform
 
-#endif  // MSDEFORM_SCALES_LAYOUT_H_
+#endif  // MSDEFORM_SCALES_HANDLE_SETUP_H_

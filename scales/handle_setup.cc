@@ -1,4 +1,4 @@
-#include "msdeform/scales/layout.h"
+#include "msdeform/scales/handle_setup.h"
 
 #include <chrono>
 #include <cmath>
@@ -24,19 +24,20 @@ std::vector<int> Indices(const std::vector<char>& flags) {
 
 }  // namespace
 
-Layout::Layout(std::shared_ptr<const Precompute> precompute)
+HandleSetup::HandleSetup(std::shared_ptr<const Precompute> precompute)
     : precompute_(std::move(precompute)) {}
 
-std::shared_ptr<const Layout> Layout::Create(std::shared_ptr<const Precompute> precompute,
-                                             const HandleLayout& handles, std::string* error) {
+std::shared_ptr<const HandleSetup> HandleSetup::Create(
+    std::shared_ptr<const Precompute> precompute, const HandleLayout& handles,
+    std::string* error) {
   CHECK(precompute != nullptr);
   if (!ValidateHandles(handles, precompute->mesh().num_vertices(), error)) return nullptr;
-  std::shared_ptr<Layout> layout(new Layout(std::move(precompute)));
-  if (!layout->Build(handles, error)) return nullptr;
-  return layout;
+  std::shared_ptr<HandleSetup> setup(new HandleSetup(std::move(precompute)));
+  if (!setup->Build(handles, error)) return nullptr;
+  return setup;
 }
 
-bool Layout::Build(const HandleLayout& handles, std::string* error) {
+bool HandleSetup::Build(const HandleLayout& handles, std::string* error) {
   const Precompute& pre = *precompute_;
   const DeformerOptions& options = pre.options();
   handles_ = handles;
@@ -57,7 +58,7 @@ bool Layout::Build(const HandleLayout& handles, std::string* error) {
     ScaleSelectionOptions selection_options = options.selection;
     if (options.fix_fixed_handle_nodes) selection_options.half_free = HalfFreeRule::kNone;
     // The scales tried stay connected until the selection is done, whatever
-    // other layouts do with the cache meanwhile.
+    // other set-ups do with the cache meanwhile.
     std::vector<Precompute::GraphPin> tried;
     // Connecting a scale (its nearest nodes and weights) is the skinning data
     // stage, the rest of SelectScale the scale selection.
@@ -111,7 +112,7 @@ bool Layout::Build(const HandleLayout& handles, std::string* error) {
   return true;
 }
 
-std::vector<int> Layout::FixedVerticesWithAFreeNode() const {
+std::vector<int> HandleSetup::FixedVerticesWithAFreeNode() const {
   const std::vector<int>& fixed = handles_.fixed;
   const std::vector<int> positions =
       SelectIndices(static_cast<int>(fixed.size()), precompute_->options().num_threads,
@@ -125,7 +126,7 @@ std::vector<int> Layout::FixedVerticesWithAFreeNode() const {
   return vertices;
 }
 
-int Layout::num_variables() const {
+int HandleSetup::num_variables() const {
   int variables = 0;
   for (NodeClass node_class : node_classes_) {
     variables += node_class == NodeClass::kTotallyFree ? 12
@@ -135,7 +136,7 @@ int Layout::num_variables() const {
   return variables;
 }
 
-bool Layout::FindSkinnedVertices(std::string* error) {
+bool HandleSetup::FindSkinnedVertices(std::string* error) {
   // Only vertices with a non-Fixed node of non-zero weight can move; the rest
   // stay at rest bit for bit (a Fixed node is the identity). So do the
   // vertices of still components, also where a coarse node spans two
@@ -166,7 +167,7 @@ bool Layout::FindSkinnedVertices(std::string* error) {
   return true;
 }
 
-void Layout::BuildEnergy() {
+void HandleSetup::BuildEnergy() {
   const DeformerOptions& options = precompute_->options();
   const Mesh& mesh = precompute_->mesh();
   const DeformationGraph& graph = this->graph();

@@ -8,7 +8,7 @@
 //   every multi-scale variant, every fixed vertex is at its rest position
 //   after every frame.
 // The Fig. 4 case (group 1 along the whole limb) is
-// DeformerTest.CylinderBendsOverItsWholeLength in deformer_test.cc.
+// GraphMethodTest.CylinderBendsOverItsWholeLength in graph_method_test.cc.
 //
 // The scenarios use the real meshes (data/fetch_meshes.sh); without them the
 // scenario tests fail, naming the script.
@@ -30,7 +30,7 @@
 #include "msdeform/core/mesh_io.h"
 #include "msdeform/core/procedural_meshes.h"
 #include "msdeform/core/scenario.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/methods/graph_method.h"
 
 namespace msdeform {
 namespace {
@@ -87,9 +87,9 @@ TEST(PromisesTest, ForkProngsShareALatticeCellAtDefaultOptions) {
 
 TEST(PromisesTest, DraggingOneProngLeavesTheOtherAtRest) {
   const ForkEdit fork;
-  Deformer deformer;
+  GraphMethod deformer(Method::kMultiScale);
   std::string error;
-  ASSERT_TRUE(deformer.Init(fork.mesh, DeformerOptions(), &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(fork.mesh, DeformerOptions(), &error)) << error;
   ASSERT_TRUE(deformer.SetHandles(fork.layout, &error)) << error;
   const std::vector<Eigen::Affine3d> path = InterpolateDragPath(fork.target, fork.tip_centroid, 3);
   for (size_t frame = 0; frame < path.size(); ++frame) {
@@ -201,8 +201,8 @@ TEST_P(FixedRegionTest, FixedVerticesStayAtRest) {
   ASSERT_FALSE(layout.fixed.empty()) << scenario.name << " fixes nothing";
   const double diagonal = BoundingBoxDiagonal(mesh);
   for (const Variant& variant : FixedHandleVariants()) {
-    Deformer deformer;
-    ASSERT_TRUE(deformer.Init(mesh, variant.options, &error)) << variant.name << ": " << error;
+    GraphMethod deformer(variant.options.method);
+    ASSERT_TRUE(deformer.Precompute(mesh, variant.options, &error)) << variant.name << ": " << error;
     ASSERT_TRUE(deformer.SetHandles(layout, &error)) << variant.name << ": " << error;
     double drift = 0.0;
     int worst_frame = 0, worst_vertex = -1;

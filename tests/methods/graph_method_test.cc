@@ -1,4 +1,8 @@
-#include "msdeform/scales/deformer.h"
+#include "msdeform/methods/graph_method.h"
+
+#include <memory>
+#include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
@@ -9,22 +13,25 @@
 #include "msdeform/core/mesh_io.h"
 #include "msdeform/core/procedural_meshes.h"
 #include "msdeform/core/scenario.h"
+#include "msdeform/scales/handle_setup.h"
+#include "msdeform/scales/precompute.h"
+#include "msdeform/scales/session.h"
 #include "tests/scales/deformer_test_util.h"
 
 namespace msdeform {
 namespace {
 
-void InitOrDie(Deformer* deformer, const Mesh& mesh, const DeformerOptions& options,
+void InitOrDie(GraphMethod* deformer, const Mesh& mesh, const DeformerOptions& options,
                const HandleLayout& layout) {
   std::string error;
-  ASSERT_TRUE(deformer->Init(mesh, options, &error)) << error;
+  ASSERT_TRUE(deformer->Precompute(mesh, options, &error)) << error;
   ASSERT_TRUE(deformer->SetHandles(layout, &error)) << error;
 }
 
-TEST(DeformerTest, IdentityTargetLeavesTheMeshUnchanged) {
+TEST(GraphMethodTest, IdentityTargetLeavesTheMeshUnchanged) {
   const BarEdit bar;
   for (Method method : kAllMethods) {
-    Deformer deformer;
+    GraphMethod deformer(method);
     InitOrDie(&deformer, bar.mesh, OptionsFor(method), bar.layout);
     std::string error;
     ASSERT_TRUE(deformer.Drag(Eigen::Affine3d::Identity(), nullptr, &error)) << error;
@@ -33,7 +40,7 @@ TEST(DeformerTest, IdentityTargetLeavesTheMeshUnchanged) {
   }
 }
 
-TEST(DeformerTest, RigidMotionOfAWholeMeshHandleMovesTheMeshRigidly) {
+TEST(GraphMethodTest, RigidMotionOfAWholeMeshHandleMovesTheMeshRigidly) {
   const BarEdit bar;
   HandleLayout everything;
   for (int v = 0; v < bar.mesh.num_vertices(); ++v) everything.moveable.push_back(v);
@@ -44,7 +51,7 @@ TEST(DeformerTest, RigidMotionOfAWholeMeshHandleMovesTheMeshRigidly) {
   rotation.pretranslate(Eigen::Vector3d(1, 0, 0));
   for (Method method : kAllMethods) {
     for (const Eigen::Affine3d& motion : {translation, rotation}) {
-      Deformer deformer;
+      GraphMethod deformer(method);
       InitOrDie(&deformer, bar.mesh, OptionsFor(method), everything);
       std::string error;
       for (const Eigen::Affine3d& frame :
@@ -70,9 +77,9 @@ DeformerOptions UnpinnedOptions() {
   return options;
 }
 
-TEST(DeformerTest, ClassesAreParameterBlockFixing) {
+TEST(GraphMethodTest, ClassesAreParameterBlockFixing) {
   const BarEdit bar;
-  Deformer deformer;
+  GraphMethod deformer(UnpinnedOptions().method);
   InitOrDie(&deformer, bar.mesh, UnpinnedOptions(), bar.layout);
   const ScaleSelection& selection = deformer.selection();
   int m = 0, q = 0;
@@ -84,7 +91,7 @@ TEST(DeformerTest, ClassesAreParameterBlockFixing) {
   EXPECT_GT(q, 0);
   EXPECT_EQ(m, selection.num_totally_free);
   EXPECT_EQ(q, selection.num_half_free);
-  EXPECT_EQ(deformer.num_variables(), 12 * m + 9 * q);
+  EXPECT_EQ(deformer.variables(), 12 * m + 9 * q);
   // After a drag the Fixed nodes are still the identity and the Half Free
   // nodes still have t = 0.
   std::string error;
@@ -110,7 +117,7 @@ TEST(DeformerTest, ClassesAreParameterBlockFixing) {
 
 // Directed edges (j, k) of the active graph with j Half Free and k Half Free
 // or Fixed: the terms docs/method.md §5 leaves out.
-int LeftOutTerms(const Deformer& deformer) {
+int LeftOutTerms(const GraphMethod& deformer) {
   int count = 0;
   const auto& classes = deformer.node_classes();
   for (const auto& [a, b] : deformer.active().edges) {
@@ -121,9 +128,9 @@ int LeftOutTerms(const Deformer& deformer) {
   return count;
 }
 
-TEST(DeformerTest, LeftOutTermsAreAbsentAndBackUnderTheAblation) {
+TEST(GraphMethodTest, LeftOutTermsAreAbsentAndBackUnderTheAblation) {
   const BarEdit bar;
-  Deformer deformer;
+  GraphMethod deformer(UnpinnedOptions().method);
   InitOrDie(&deformer, bar.mesh, UnpinnedOptions(), bar.layout);
   int expected = 0;
   const auto& classes = deformer.node_classes();
@@ -138,7 +145,7 @@ TEST(DeformerTest, LeftOutTermsAreAbsentAndBackUnderTheAblation) {
 
   DeformerOptions ablation = UnpinnedOptions();
   ablation.keep_left_out_terms = true;
-  Deformer with_terms;
+  GraphMethod with_terms(ablation.method);
   InitOrDie(&with_terms, bar.mesh, ablation, bar.layout);
   EXPECT_EQ(with_terms.node_classes(), deformer.node_classes());
   EXPECT_EQ(with_terms.num_coherence_terms(), expected + left_out);
@@ -146,20 +153,20 @@ TEST(DeformerTest, LeftOutTermsAreAbsentAndBackUnderTheAblation) {
   // The other ablation: fixed-handle nodes lose their rotation.
   ablation = UnpinnedOptions();
   ablation.fix_fixed_handle_nodes = true;
-  Deformer fixed_nodes;
+  GraphMethod fixed_nodes(ablation.method);
   InitOrDie(&fixed_nodes, bar.mesh, ablation, bar.layout);
   for (NodeClass c : fixed_nodes.node_classes()) EXPECT_NE(c, NodeClass::kHalfFree);
-  EXPECT_LT(fixed_nodes.num_variables(), deformer.num_variables());
+  EXPECT_LT(fixed_nodes.variables(), deformer.variables());
 }
 
-TEST(DeformerTest, StaticBaselinesFreeEveryNodeOfTheirGraph) {
+TEST(GraphMethodTest, StaticBaselinesFreeEveryNodeOfTheirGraph) {
   const BarEdit bar;
   for (Method method : {Method::kStatic, Method::kStaticDense}) {
-    Deformer deformer;
+    GraphMethod deformer(method);
     InitOrDie(&deformer, bar.mesh, OptionsFor(method), bar.layout);
     const int n = deformer.active().num_nodes();
     EXPECT_EQ(n, method == Method::kStatic ? 40 : deformer.graphs()[0].num_nodes());
-    EXPECT_EQ(deformer.num_variables(), 12 * n);
+    EXPECT_EQ(deformer.variables(), 12 * n);
     EXPECT_EQ(deformer.num_coherence_terms(), 2 * static_cast<int>(deformer.active().edges.size()));
     EXPECT_EQ(deformer.num_position_terms(), static_cast<int>(bar.layout.moveable.size()));
   }
@@ -185,7 +192,7 @@ std::pair<double, double> CactusErrors(Method method, Solver backend,
   options.method = method;
   options.backend = backend;
   options.num_threads = 1;
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   InitOrDie(&deformer, mesh, options, layout);
   for (const Eigen::Affine3d& frame : InterpolateDragPath(target, centroid, 30)) {
     EXPECT_TRUE(deformer.Drag(frame, nullptr, &error)) << error;
@@ -202,7 +209,7 @@ std::pair<double, double> CactusErrors(Method method, Solver backend,
           fixed_max / deformer.diagonal()};
 }
 
-TEST(DeformerTest, BotschSorkineCactusReachesItsTarget) {
+TEST(GraphMethodTest, BotschSorkineCactusReachesItsTarget) {
   // The handle travels about 0.6 diagonals and turns 70 degrees. The
   // harmonic estimate frees the whole trunk (scale 5 of 5), and the handle
   // comes within 1.13% of the diagonal; but at that scale the cactus's
@@ -275,13 +282,13 @@ struct CylinderBend {
   }
 };
 
-TEST(DeformerTest, CylinderBendsOverItsWholeLength) {
+TEST(GraphMethodTest, CylinderBendsOverItsWholeLength) {
   const CylinderBend bend;
   const double third = (CylinderBend::kFreeTop - CylinderBend::kFreeBottom) / 3.0;
   DeformerOptions options;
   options.backend = Solver::kGaussNewton;
   options.num_threads = 1;
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   InitOrDie(&deformer, bend.mesh, options, bend.layout);
   // Group 1 reaches from the handle down into the lowest quarter of the free
   // length (e' falls off linearly along a prism; T = 0.1).
@@ -316,13 +323,13 @@ TEST(DeformerTest, CylinderBendsOverItsWholeLength) {
 // The multi-scale Init connects DG1 only; SetHandles connects the scale it
 // selects, the same graph an eager build makes, and a bounded cache keeps the
 // others. A scale dropped and connected again gives the same drag bit for bit.
-TEST(DeformerTest, CoarseScalesAreConnectedWhenUsedAndCachedBounded) {
+TEST(GraphMethodTest, CoarseScalesAreConnectedWhenUsedAndCachedBounded) {
   const CylinderBend bend;
   DeformerOptions options = OptionsFor(Method::kMultiScale);
   options.cached_scales = 2;
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   std::string error;
-  ASSERT_TRUE(deformer.Init(bend.mesh, options, &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(bend.mesh, options, &error)) << error;
   const int num_graphs = static_cast<int>(deformer.graphs().size());
   ASSERT_GE(num_graphs, 5);
   EXPECT_TRUE(deformer.graphs()[0].is_connected());
@@ -332,7 +339,7 @@ TEST(DeformerTest, CoarseScalesAreConnectedWhenUsedAndCachedBounded) {
   const int active = deformer.active_graph();
   ASSERT_GT(active, 0) << "the bend should select a coarse scale";
   std::vector<DeformationGraph> eager;
-  ASSERT_TRUE(BuildMultiScaleGraphs(bend.mesh, deformer.lattice(), options.graph, &eager, &error))
+  ASSERT_TRUE(BuildMultiScaleGraphs(bend.mesh, *deformer.lattice(), options.graph, &eager, &error))
       << error;
   const DeformationGraph& lazy = deformer.graphs()[active];
   ASSERT_TRUE(lazy.is_connected());
@@ -353,8 +360,8 @@ TEST(DeformerTest, CoarseScalesAreConnectedWhenUsedAndCachedBounded) {
   }
   // A scale connected, dropped and connected again drags identically.
   options.cached_scales = 1;
-  Deformer again;
-  ASSERT_TRUE(again.Init(bend.mesh, options, &error)) << error;
+  GraphMethod again(options.method);
+  ASSERT_TRUE(again.Precompute(bend.mesh, options, &error)) << error;
   again.ConnectedGraph(active);
   for (int i = 1; i < num_graphs; ++i) {
     if (i != active) again.ConnectedGraph(i);
@@ -366,7 +373,7 @@ TEST(DeformerTest, CoarseScalesAreConnectedWhenUsedAndCachedBounded) {
   EXPECT_EQ(again.deformed_vertices(), first);
 }
 
-TEST(DeformerTest, LargeFixedRegionGetsHalfFreeNodesOnlyAtItsBorder) {
+TEST(GraphMethodTest, LargeFixedRegionGetsHalfFreeNodesOnlyAtItsBorder) {
   // The cylinder fixed up to z = 7 (70% of it), its top dragged sideways.
   CylinderBend bend;
   bend.layout.fixed.clear();
@@ -376,7 +383,7 @@ TEST(DeformerTest, LargeFixedRegionGetsHalfFreeNodesOnlyAtItsBorder) {
   DeformerOptions options;
   options.num_threads = 1;
   options.selection.pin_fixed_region = false;  // Half Free nodes hold fixed vertices
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   InitOrDie(&deformer, bend.mesh, options, bend.layout);
   const DeformationGraph& graph = deformer.active();
   const std::vector<NodeClass>& classes = deformer.node_classes();
@@ -392,13 +399,13 @@ TEST(DeformerTest, LargeFixedRegionGetsHalfFreeNodesOnlyAtItsBorder) {
   }
   EXPECT_GT(half_free, 0);
   // The paper's rule makes every node of the fixed part Half Free.
-  Deformer paper;
+  GraphMethod paper(PaperProcedure(options).method);
   InitOrDie(&paper, bend.mesh, PaperProcedure(options), bend.layout);
   EXPECT_GT(paper.selection().num_half_free, 3 * half_free);
-  EXPECT_LT(deformer.num_variables(), paper.num_variables());
+  EXPECT_LT(deformer.variables(), paper.variables());
 }
 
-TEST(DeformerTest, LargeArmadilloEditKeepsOptimisedNodesNearP) {
+TEST(GraphMethodTest, LargeArmadilloEditKeepsOptimisedNodesNearP) {
   Scenario scenario;
   Mesh mesh;
   HandleLayout layout;
@@ -410,14 +417,83 @@ TEST(DeformerTest, LargeArmadilloEditKeepsOptimisedNodesNearP) {
   ASSERT_TRUE(ResolveScenario(scenario, mesh, &layout, &watch, &target, &error)) << error;
   DeformerOptions options;
   options.num_threads = 1;
-  Deformer deformer;
+  GraphMethod deformer(options.method);
   InitOrDie(&deformer, mesh, options, layout);
   const ScaleSelection& selection = deformer.selection();
   EXPECT_GT(selection.group1_size, options.graph.nodes_per_scale);
   EXPECT_GT(selection.scale, 1);
   EXPECT_LE(selection.num_totally_free, 2 * options.graph.nodes_per_scale);
   EXPECT_GE(selection.num_totally_free, options.graph.nodes_per_scale / 2);
-  EXPECT_LT(deformer.num_variables(), 12 * deformer.graphs()[0].num_nodes() / 5);
+  EXPECT_LT(deformer.variables(), 12 * deformer.graphs()[0].num_nodes() / 5);
+}
+
+// A session made by hand from the three stages.
+std::unique_ptr<Session> MakeSession(const Mesh& mesh, const DeformerOptions& options,
+                                     const HandleLayout& handles) {
+  std::string error;
+  std::shared_ptr<const msdeform::Precompute> precompute =
+      msdeform::Precompute::Create(mesh, options, &error);
+  EXPECT_NE(precompute, nullptr) << error;
+  std::shared_ptr<const HandleSetup> setup = HandleSetup::Create(precompute, handles, &error);
+  EXPECT_NE(setup, nullptr) << error;
+  std::unique_ptr<Session> session = Session::Create(setup, &error);
+  EXPECT_NE(session, nullptr) << error;
+  return session;
+}
+
+// What the method's Precompute reports is the precompute's: it is one.
+TEST(GraphMethodTest, ItsPrecomputeIsAPrecompute) {
+  const CylinderLayouts cylinder;
+  for (Method method : kAllMethods) {
+    std::string error;
+    GraphMethod deformer(method);
+    ASSERT_TRUE(deformer.Precompute(cylinder.mesh, CylinderOptions(method), &error)) << error;
+    std::shared_ptr<const msdeform::Precompute> precompute =
+        msdeform::Precompute::Create(cylinder.mesh, CylinderOptions(method), &error);
+    ASSERT_NE(precompute, nullptr) << error;
+    EXPECT_EQ(precompute->rest_normals(), deformer.deformed_normals());
+    EXPECT_EQ(precompute->diagonal(), deformer.diagonal());
+    EXPECT_EQ(precompute->lattice().num_particles(), deformer.lattice()->num_particles());
+    ASSERT_EQ(precompute->graphs().size(), deformer.graphs().size());
+    for (size_t i = 0; i < deformer.graphs().size(); ++i) {
+      EXPECT_EQ(precompute->graphs()[i].positions, deformer.graphs()[i].positions) << i;
+    }
+    EXPECT_EQ(precompute->static_graph() < 0, method == Method::kMultiScale);
+  }
+}
+
+// Every method and both warm starts that carry state from frame to frame: a
+// session made by hand and the method give the same vertices, normals,
+// transforms and costs on every frame of a path.
+TEST(GraphMethodTest, DragsAsASessionMadeByHand) {
+  const CylinderLayouts cylinder;
+  const std::vector<Eigen::Affine3d> path = TurnPath(4);
+  for (Method method : kAllMethods) {
+    for (InitialGuess guess : {InitialGuess::kPrevious, InitialGuess::kExtrapolated}) {
+      DeformerOptions options = CylinderOptions(method);
+      options.initial_guess = guess;
+      GraphMethod deformer(options.method);
+      std::string error;
+      ASSERT_TRUE(deformer.Precompute(cylinder.mesh, options, &error)) << error;
+      ASSERT_TRUE(deformer.SetHandles(cylinder.bottom_fixed, &error)) << error;
+      std::unique_ptr<Session> session = MakeSession(cylinder.mesh, options, cylinder.bottom_fixed);
+      ASSERT_NE(session, nullptr);
+      EXPECT_EQ(session->setup().active_graph(), deformer.active_graph());
+      EXPECT_EQ(session->deformed_vertices(), cylinder.mesh.vertices);
+      for (size_t f = 0; f < path.size(); ++f) {
+        DragStats by_deformer, by_session;
+        ASSERT_TRUE(deformer.Drag(path[f], &by_deformer, &error)) << error;
+        ASSERT_TRUE(session->Drag(path[f], &by_session, &error)) << error;
+        EXPECT_EQ(session->deformed_vertices(), deformer.deformed_vertices()) << f;
+        EXPECT_EQ(session->transforms().rotations, deformer.transforms().rotations) << f;
+        EXPECT_EQ(session->transforms().translations, deformer.transforms().translations) << f;
+        EXPECT_EQ(by_session.final_cost, by_deformer.final_cost) << f;
+        EXPECT_EQ(by_session.iterations, by_deformer.iterations) << f;
+      }
+      EXPECT_EQ(session->deformed_normals(), deformer.deformed_normals());
+      EXPECT_NE(session->deformed_vertices(), cylinder.mesh.vertices);
+    }
+  }
 }
 
 }  // namespace

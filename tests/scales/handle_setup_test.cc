@@ -1,7 +1,7 @@
-// The per-layout stage (scales/layout.h): layouts made from one precompute
-// give what separate Deformers give, the graph a layout solves on stays
-// connected however the precompute's cache is used meanwhile, and a layout
-// that cannot be made is refused with a message.
+// The per-handle-layout stage (scales/handle_setup.h): set-ups made from one
+// precompute give what separate precomputes give, the graph a set-up solves on
+// stays connected however the precompute's cache is used meanwhile, and a
+// set-up that cannot be made is refused with a message.
 
 #include <algorithm>
 #include <memory>
@@ -11,7 +11,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "msdeform/scales/layout.h"
+#include "msdeform/scales/handle_setup.h"
 #include "msdeform/scales/precompute.h"
 #include "msdeform/scales/session.h"
 #include "tests/scales/deformer_test_util.h"
@@ -19,29 +19,33 @@
 namespace msdeform {
 namespace {
 
-// The Deformer's result for one layout and path: vertices after each frame.
-std::vector<Eigen::Matrix3Xd> DeformerFrames(const Mesh& mesh, const DeformerOptions& options,
-                                             const HandleLayout& handles,
-                                             const std::vector<Eigen::Affine3d>& path,
-                                             int* active_graph) {
-  Deformer deformer;
+// The frames of one handle layout and path on a precompute of its own:
+// vertices after each frame.
+std::vector<Eigen::Matrix3Xd> FramesAlone(const Mesh& mesh, const DeformerOptions& options,
+                                          const HandleLayout& handles,
+                                          const std::vector<Eigen::Affine3d>& path,
+                                          int* active_graph) {
   std::string error;
-  EXPECT_TRUE(deformer.Init(mesh, options, &error)) << error;
-  EXPECT_TRUE(deformer.SetHandles(handles, &error)) << error;
-  *active_graph = deformer.active_graph();
+  std::shared_ptr<const Precompute> precompute = Precompute::Create(mesh, options, &error);
+  EXPECT_NE(precompute, nullptr) << error;
+  std::shared_ptr<const HandleSetup> setup = HandleSetup::Create(precompute, handles, &error);
+  EXPECT_NE(setup, nullptr) << error;
+  *active_graph = setup->active_graph();
+  std::unique_ptr<Session> session = Session::Create(setup, &error);
+  EXPECT_NE(session, nullptr) << error;
   std::vector<Eigen::Matrix3Xd> frames;
   for (const Eigen::Affine3d& step : path) {
-    EXPECT_TRUE(deformer.Drag(step, nullptr, &error)) << error;
-    frames.push_back(deformer.deformed_vertices());
+    EXPECT_TRUE(session->Drag(step, nullptr, &error)) << error;
+    frames.push_back(session->deformed_vertices());
   }
   return frames;
 }
 
-// Two layouts of one precompute, both alive and dragged in turns, give the
-// frames of two Deformers, bit for bit, for every method. With one cached
+// Two handle layouts of one precompute, both alive and dragged in turns, give
+// the frames of two precomputes of their own, bit for bit, for every method. With one cached
 // coarse scale, the second layout's scale selection connects other graphs:
 // the first layout's graph stays connected (pinned) all the same.
-TEST(LayoutTest, TwoLayoutsOfOnePrecomputeMatchTwoDeformers) {
+TEST(HandleSetupTest, TwoLayoutsOfOnePrecomputeMatchTwoPrecomputes) {
   const CylinderLayouts cylinder;
   const std::vector<Eigen::Affine3d> path = TurnPath(3);
   for (Method method : kAllMethods) {
@@ -49,18 +53,19 @@ TEST(LayoutTest, TwoLayoutsOfOnePrecomputeMatchTwoDeformers) {
     options.cached_scales = 1;
     int bottom_graph = -1, top_graph = -1;
     const std::vector<Eigen::Matrix3Xd> bottom =
-        DeformerFrames(cylinder.mesh, options, cylinder.bottom_fixed, path, &bottom_graph);
+        FramesAlone(cylinder.mesh, options, cylinder.bottom_fixed, path, &bottom_graph);
     const std::vector<Eigen::Matrix3Xd> top =
-        DeformerFrames(cylinder.mesh, options, cylinder.top_fixed, path, &top_graph);
+        FramesAlone(cylinder.mesh, options, cylinder.top_fixed, path, &top_graph);
 
     std::string error;
     std::shared_ptr<const Precompute> precompute =
         Precompute::Create(cylinder.mesh, options, &error);
     ASSERT_NE(precompute, nullptr) << error;
-    std::shared_ptr<const Layout> first =
-        Layout::Create(precompute, cylinder.bottom_fixed, &error);
+    std::shared_ptr<const HandleSetup> first =
+        HandleSetup::Create(precompute, cylinder.bottom_fixed, &error);
     ASSERT_NE(first, nullptr) << error;
-    std::shared_ptr<const Layout> second = Layout::Create(precompute, cylinder.top_fixed, &error);
+    std::shared_ptr<const HandleSetup> second =
+        HandleSetup::Create(precompute, cylinder.top_fixed, &error);
     ASSERT_NE(second, nullptr) << error;
     EXPECT_EQ(first->active_graph(), bottom_graph);
     EXPECT_EQ(second->active_graph(), top_graph);
@@ -86,7 +91,7 @@ TEST(LayoutTest, TwoLayoutsOfOnePrecomputeMatchTwoDeformers) {
 
 // The multi-scale selection picks a coarse scale for both cylinder layouts,
 // so the pin in the test above guards a graph the cache could drop.
-TEST(LayoutTest, CylinderLayoutsSelectCoarseScales) {
+TEST(HandleSetupTest, CylinderLayoutsSelectCoarseScales) {
   const CylinderLayouts cylinder;
   std::string error;
   DeformerOptions options = CylinderOptions(Method::kMultiScale);
@@ -94,32 +99,33 @@ TEST(LayoutTest, CylinderLayoutsSelectCoarseScales) {
   std::shared_ptr<const Precompute> precompute =
       Precompute::Create(cylinder.mesh, options, &error);
   ASSERT_NE(precompute, nullptr) << error;
-  std::shared_ptr<const Layout> layout = Layout::Create(precompute, cylinder.bottom_fixed, &error);
-  ASSERT_NE(layout, nullptr) << error;
-  const int active = layout->active_graph();
+  std::shared_ptr<const HandleSetup> setup =
+      HandleSetup::Create(precompute, cylinder.bottom_fixed, &error);
+  ASSERT_NE(setup, nullptr) << error;
+  const int active = setup->active_graph();
   ASSERT_GT(active, 0);
   // The scales the selection tried were pinned only while it ran: the cache
-  // is back within its bound, the layout's graph in it.
+  // is back within its bound, the set-up's graph in it.
   int connected = 0;
   for (size_t i = 1; i < precompute->graphs().size(); ++i) {
     connected += precompute->graphs()[i].is_connected();
   }
   EXPECT_EQ(connected, 1);
-  EXPECT_TRUE(layout->graph().is_connected());
+  EXPECT_TRUE(setup->graph().is_connected());
   const int other = active == 1 ? 2 : 1;
-  // Pinned while the layout lives: another coarse scale does not evict it.
+  // Pinned while the set-up lives: another coarse scale does not evict it.
   precompute->ConnectedGraph(other);
   EXPECT_TRUE(precompute->graphs()[active].is_connected());
-  // Unpinned once the layout is gone: the next use of the cache evicts it.
-  layout.reset();
+  // Unpinned once the set-up is gone: the next use of the cache evicts it.
+  setup.reset();
   precompute->ConnectedGraph(other);
   EXPECT_FALSE(precompute->graphs()[active].is_connected());
 }
 
-// The layout's own checks: a vertex out of range, a fixed and a moveable
+// The set-up's own checks: a vertex out of range, a fixed and a moveable
 // vertex in one lattice cell; each is refused with a message, and the
-// precompute serves the next layout as before.
-TEST(LayoutTest, BadLayoutsAreRefusedWithAMessage) {
+// precompute serves the next set-up as before.
+TEST(HandleSetupTest, BadLayoutsAreRefusedWithAMessage) {
   const CylinderLayouts cylinder;
   std::string error;
   std::shared_ptr<const Precompute> precompute =
@@ -127,7 +133,7 @@ TEST(LayoutTest, BadLayoutsAreRefusedWithAMessage) {
   ASSERT_NE(precompute, nullptr) << error;
   HandleLayout out_of_range = cylinder.bottom_fixed;
   out_of_range.moveable.push_back(cylinder.mesh.num_vertices());
-  EXPECT_EQ(Layout::Create(precompute, out_of_range, &error), nullptr);
+  EXPECT_EQ(HandleSetup::Create(precompute, out_of_range, &error), nullptr);
   EXPECT_FALSE(error.empty());
   // A fixed vertex made moveable: in one lattice cell with fixed ones.
   HandleLayout shared_cell = cylinder.bottom_fixed;
@@ -142,9 +148,9 @@ TEST(LayoutTest, BadLayoutsAreRefusedWithAMessage) {
   }
   ASSERT_LT(shared_cell.fixed.size(), cylinder.bottom_fixed.fixed.size());
   error.clear();
-  EXPECT_EQ(Layout::Create(precompute, shared_cell, &error), nullptr);
+  EXPECT_EQ(HandleSetup::Create(precompute, shared_cell, &error), nullptr);
   EXPECT_NE(error.find("lattice cell"), std::string::npos) << error;
-  EXPECT_NE(Layout::Create(precompute, cylinder.bottom_fixed, &error), nullptr) << error;
+  EXPECT_NE(HandleSetup::Create(precompute, cylinder.bottom_fixed, &error), nullptr) << error;
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // Robustness of the deformer (issue 9): meshes with several components,
 // singular systems, failed solves, random rigid motions, determinism. Kept
-// apart from deformer_test.cc, which checks the method itself.
+// apart from graph_method_test.cc, which checks the method itself.
 
 #include <random>
 
@@ -10,7 +10,7 @@
 #include "msdeform/core/drag_path.h"
 #include "msdeform/core/handles.h"
 #include "msdeform/core/procedural_meshes.h"
-#include "msdeform/scales/deformer.h"
+#include "msdeform/methods/graph_method.h"
 #include "tests/scales/deformer_test_util.h"
 
 namespace msdeform {
@@ -36,16 +36,16 @@ struct TwoBars {
   }
 };
 
-TEST(DeformerRobustnessTest, ComponentWithoutHandleStaysAndHasNoVariables) {
+TEST(GraphMethodRobustnessTest, ComponentWithoutHandleStaysAndHasNoVariables) {
   const TwoBars bars;
   ASSERT_GT(bars.second_bar.size(), 0u);
   Eigen::Affine3d lift = Eigen::Affine3d::Identity();
   lift.translation() << 0.0, 0.0, 2.0;
   lift.rotate(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX()));
   for (Method method : kAllMethods) {
-    Deformer deformer;
+    GraphMethod deformer(method);
     std::string error;
-    ASSERT_TRUE(deformer.Init(bars.mesh, OptionsFor(method), &error)) << error;
+    ASSERT_TRUE(deformer.Precompute(bars.mesh, OptionsFor(method), &error)) << error;
     ASSERT_TRUE(deformer.SetHandles(bars.layout, &error)) << error;
     const Eigen::Vector3d handle_centre(7.5, 0.5, 0.5);
     for (const Eigen::Affine3d& frame : InterpolateDragPath(lift, handle_centre, 3)) {
@@ -72,16 +72,16 @@ TEST(DeformerRobustnessTest, ComponentWithoutHandleStaysAndHasNoVariables) {
 // A static graph of one node spans both bars (edge collapse merges across
 // components once no edge is left): the node moves with the handle, and the
 // second bar still stays at rest, bit for bit.
-TEST(DeformerRobustnessTest, ComponentWithoutHandleStaysWhenANodeSpansBothComponents) {
+TEST(GraphMethodRobustnessTest, ComponentWithoutHandleStaysWhenANodeSpansBothComponents) {
   const TwoBars bars;
   Eigen::Affine3d lift = Eigen::Affine3d::Identity();
   lift.translation() << 0.0, 0.0, 2.0;
   for (int static_nodes : {1, 2, 3}) {
     DeformerOptions options = OptionsFor(Method::kStatic);
     options.static_nodes = static_nodes;
-    Deformer deformer;
+    GraphMethod deformer(options.method);
     std::string error;
-    ASSERT_TRUE(deformer.Init(bars.mesh, options, &error)) << error;
+    ASSERT_TRUE(deformer.Precompute(bars.mesh, options, &error)) << error;
     ASSERT_TRUE(deformer.SetHandles(bars.layout, &error)) << error;
     ASSERT_TRUE(deformer.Drag(lift, nullptr, &error)) << error;
     const Eigen::Matrix3Xd& deformed = deformer.deformed_vertices();
@@ -94,7 +94,7 @@ TEST(DeformerRobustnessTest, ComponentWithoutHandleStaysWhenANodeSpansBothCompon
 
 // An isolated vertex (in no face) is a mesh component of its own: without a
 // moveable-handle vertex it stays at rest, even inside the dragged end.
-TEST(DeformerRobustnessTest, IsolatedVertexIsAComponentOfItsOwn) {
+TEST(GraphMethodRobustnessTest, IsolatedVertexIsAComponentOfItsOwn) {
   TwoBars bars;
   Mesh& mesh = bars.mesh;
   const int isolated = mesh.num_vertices();
@@ -103,9 +103,9 @@ TEST(DeformerRobustnessTest, IsolatedVertexIsAComponentOfItsOwn) {
   Eigen::Affine3d lift = Eigen::Affine3d::Identity();
   lift.translation() << 0.0, 0.0, 2.0;
   for (Method method : kAllMethods) {
-    Deformer deformer;
+    GraphMethod deformer(method);
     std::string error;
-    ASSERT_TRUE(deformer.Init(mesh, OptionsFor(method), &error)) << error;
+    ASSERT_TRUE(deformer.Precompute(mesh, OptionsFor(method), &error)) << error;
     ASSERT_TRUE(deformer.SetHandles(bars.layout, &error)) << error;
     ASSERT_TRUE(deformer.Drag(lift, nullptr, &error)) << error;
     const Eigen::Matrix3Xd& deformed = deformer.deformed_vertices();
@@ -117,11 +117,11 @@ TEST(DeformerRobustnessTest, IsolatedVertexIsAComponentOfItsOwn) {
   }
 }
 
-TEST(DeformerRobustnessTest, FailedSolveKeepsTheLastGoodFrame) {
+TEST(GraphMethodRobustnessTest, FailedSolveKeepsTheLastGoodFrame) {
   const TwoBars bars;
-  Deformer deformer;
+  GraphMethod deformer(Method::kMultiScale);
   std::string error;
-  ASSERT_TRUE(deformer.Init(bars.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
+  ASSERT_TRUE(deformer.Precompute(bars.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
   ASSERT_TRUE(deformer.SetHandles(bars.layout, &error)) << error;
   Eigen::Affine3d good = Eigen::Affine3d::Identity();
   good.translation() << 0.0, 0.0, 1.0;
@@ -150,16 +150,16 @@ TEST(DeformerRobustnessTest, FailedSolveKeepsTheLastGoodFrame) {
   EXPECT_TRUE(deformer.deformed_vertices().allFinite());
 }
 
-TEST(DeformerRobustnessTest, RandomRigidMotionsOfAWholeMeshHandleAreRigid) {
+TEST(GraphMethodRobustnessTest, RandomRigidMotionsOfAWholeMeshHandleAreRigid) {
   const Mesh mesh = MakeBar(8, 1.0, 2);
   HandleLayout everything;
   for (int v = 0; v < mesh.num_vertices(); ++v) everything.moveable.push_back(v);
   std::mt19937 random(20080101);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   for (Method method : kAllMethods) {
-    Deformer deformer;
+    GraphMethod deformer(method);
     std::string error;
-    ASSERT_TRUE(deformer.Init(mesh, OptionsFor(method), &error)) << error;
+    ASSERT_TRUE(deformer.Precompute(mesh, OptionsFor(method), &error)) << error;
     for (int trial = 0; trial < 3; ++trial) {
       ASSERT_TRUE(deformer.SetHandles(everything, &error)) << error;
       const Eigen::Vector3d axis =
@@ -177,17 +177,17 @@ TEST(DeformerRobustnessTest, RandomRigidMotionsOfAWholeMeshHandleAreRigid) {
   }
 }
 
-TEST(DeformerRobustnessTest, SameInputsGiveBitIdenticalResults) {
+TEST(GraphMethodRobustnessTest, SameInputsGiveBitIdenticalResults) {
   const TwoBars bars;
   Eigen::Affine3d lift = Eigen::Affine3d::Identity();
   lift.translation() << 0.0, 0.5, 1.0;
   Eigen::Matrix3Xd first;
   for (int run = 0; run < 2; ++run) {
-    Deformer deformer;
+    GraphMethod deformer(Method::kMultiScale);
     std::string error;
     DeformerOptions options = OptionsFor(Method::kMultiScale);
     options.num_threads = 2;
-    ASSERT_TRUE(deformer.Init(bars.mesh, options, &error)) << error;
+    ASSERT_TRUE(deformer.Precompute(bars.mesh, options, &error)) << error;
     ASSERT_TRUE(deformer.SetHandles(bars.layout, &error)) << error;
     ASSERT_TRUE(deformer.Drag(lift, nullptr, &error)) << error;
     if (run == 0) {
