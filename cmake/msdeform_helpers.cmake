@@ -28,10 +28,12 @@ function(msdeform_library target export_name)
   set_property(TARGET ${target} PROPERTY MSDEFORM_FOLDER ${folder})
 endfunction()
 
-# The folders whose tests are the libraries' own (label "library"): the
-# sanitizer pass of scripts/run_tests.sh builds and runs only these
-# (target msdeform_library_tests; docs/decisions/robustness.md).
-set(MSDEFORM_LIBRARY_TEST_FOLDERS core energies solvers scales methods fuzz examples docs)
+# The folders whose C++ tests are the libraries' own (label "library"; apps:
+# the flags library's, tests/apps/flags): the sanitizer pass of
+# scripts/run_tests.sh builds and runs only these (target
+# msdeform_library_tests; docs/decisions/robustness.md). The experiments'
+# tests run the table and lab programs' code at length and stay out.
+set(MSDEFORM_LIBRARY_TEST_FOLDERS core energies solvers scales methods fuzz examples docs apps)
 
 # msdeform_test(<folder>/<name>_test) adds tests/<folder>/<name>_test.cc as one
 # executable and one ctest named "<folder>/<name>_test", linked with the shared

@@ -7,7 +7,8 @@
 //              plain local/global against Anderson acceleration of windows
 //              3, 5 and 10 (there is no Gauss-Newton solver for it).
 //   subspace   the subspace ARAP energy of --energy=arap
-//              (solvers/arap_solver.h): its local/global solver against its
+//              (solvers/arap_solver.h): its local/global solver, plain and
+//              with the Anderson windows (arap.anderson_window), against its
 //              Gauss-Newton solver, run through GraphMethod.
 //
 // full_arap, per scenario: a reference run (Anderson 5, relative tolerance
@@ -22,9 +23,9 @@
 // subspace, per scenario: the solver lab's reference (experiments/
 // solver_lab.h ReferenceOptions: Gauss-Newton, tolerances 1e-14) gives E*_f;
 // each variant drags through every frame warm-started from its own previous
-// frame (the Deformer keeps its own state; each frame runs to the cap with
-// tolerances 0, so the previous frame is converged wherever the variant
-// converges) and the measured frames' traces are read as above.
+// frame (the GraphMethod keeps its own state; each frame runs to the cap or
+// to function and parameter tolerances of 1e-12, so the previous frame is
+// converged wherever the variant converges) and the measured frames' traces are read as above.
 //
 //   ArapLabOptions options;
 //   options.scenario_dir = "experiments/scenarios";
@@ -86,7 +87,7 @@ struct ArapLabOptions {
   // Subspace: iterations per frame at most, local/global and Gauss-Newton.
   int subspace_local_global_iterations = 2000;
   int subspace_gauss_newton_iterations = 100;
-  // Threads of the local/global steps and the Deformer, per scenario.
+  // Threads of the local/global steps and the GraphMethod, per scenario.
   int threads = 1;
   // Scenarios measured at the same time (each on its own thread(s); the
   // timings then share the machine's memory bandwidth).

@@ -54,7 +54,7 @@ struct PyMethod {
   // RuntimeError "<name>: no handle layout: call set_handles ..." unless a
   // layout is set.
   void RequireHandles() const;
-  // The graph method's Deformer; AttributeError naming `member` and the
+  // The GraphMethod of a graph method; AttributeError naming `member` and the
   // method for a method that is not a deformation graph.
   const GraphMethod& Graph(const char* member) const;
 };

@@ -1,6 +1,7 @@
-// The options of the Deformer (methods/graph_method.h): the method, the method's
-// parts (lattice, graphs, rigidity, scale selection), the weights of Eq. 17
-// and the per-frame solve, with their names as reports and flags spell them.
+// The options of the graph methods (GraphMethod, methods/graph_method.h):
+// the method, the method's parts (lattice, graphs, rigidity, scale
+// selection), the weights of Eq. 17 and the per-frame solve, with their names
+// as reports and flags spell them.
 
 #ifndef MSDEFORM_SCALES_DEFORMER_OPTIONS_H_
 #define MSDEFORM_SCALES_DEFORMER_OPTIONS_H_
@@ -129,7 +130,7 @@ struct DeformerOptions {
   bool Check(std::string* error) const;
 };
 
-// Every option of the Deformer, declared once (core/option_table.h): name as
+// Every option of the graph methods, declared once (core/option_table.h): name as
 // the struct spells it ("stopping.max_iterations"), type, help, range, enum
 // names, the command-line topic and the legacy flag spellings ("solver" for
 // backend, "cell_width" for lattice.cell_width), which every front end

@@ -149,7 +149,6 @@ class ArapGaussNewtonSolver : public FrameSolver {
 
   GaussNewtonOptions options_;
   StoppingRule stopping_;
-  int anderson_window_ = 0;
   std::shared_ptr<const SubspaceArap> arap_;
   double noise_floor_ = 0.0;
   // 3 nv by 3 nv, variable (slot p, coordinate d) at 3 p + d; full symmetric.

@@ -11,7 +11,7 @@
 // every backend runs; node classes make blocks constant (Ceres's
 // SetParameterBlockConstant).
 //
-// The Deformer builds a DeformationEnergy once per handle layout
+// HandleSetup builds a DeformationEnergy once per handle layout
 // (GraphMethod::SetHandles); a backend turns it into its own problem.
 // Lengths are already scaled into the sqrt weights (docs/decisions/length-unit.md,
 // "Length unit"). Costs are 1/2 sum of squared residuals, as Ceres reports.

@@ -1,4 +1,4 @@
-// The seam between the Deformer and the backends that minimise Eq. 17 each
+// The seam between the stages (scales/) and the backends that minimise Eq. 17 each
 // frame (solvers/deformation_energy.h): the Gauss-Newton solver
 // (solvers/gauss_newton_solver.h) and Ceres (solvers/ceres_solver.h).
 //

@@ -94,7 +94,7 @@ bool SameRow(const TableFlag& a, const TableFlag& b) {
   return a.group == b.group && a.row == b.row;
 }
 
-// The Deformer's rows, registered before main parses argv. --method takes
+// The graph methods' rows (DeformerOptionTable()), registered before main parses argv. --method takes
 // every registered method's name (methods/registry.h): its help lists them.
 std::vector<FlagRow> DeformerFlagRows() {
   std::vector<FlagRow> rows = FlagRowsOf(DeformerOptionTable(), DeformerOptions());
@@ -199,7 +199,7 @@ bool DeformerOptionsFromFlags(DeformerOptions* options, std::string* error,
   options->graph.seed = FLAGS_seed;
   options->rigidity.seed = FLAGS_seed;
   // --threads (or --num_threads) given sets the graphs' count too; left out,
-  // graph.num_threads stays 0, which the Deformer reads as num_threads (as
+  // graph.num_threads stays 0, which the graph method reads as num_threads (as
   // DeformerOptions() has it).
   if (!IsDefault("threads") || !IsDefault("num_threads")) {
     options->graph.num_threads = options->num_threads;

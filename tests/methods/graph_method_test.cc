@@ -427,20 +427,6 @@ TEST(GraphMethodTest, LargeArmadilloEditKeepsOptimisedNodesNearP) {
   EXPECT_LT(deformer.variables(), 12 * deformer.graphs()[0].num_nodes() / 5);
 }
 
-// A session made by hand from the three stages.
-std::unique_ptr<Session> MakeSession(const Mesh& mesh, const DeformerOptions& options,
-                                     const HandleLayout& handles) {
-  std::string error;
-  std::shared_ptr<const msdeform::Precompute> precompute =
-      msdeform::Precompute::Create(mesh, options, &error);
-  EXPECT_NE(precompute, nullptr) << error;
-  std::shared_ptr<const HandleSetup> setup = HandleSetup::Create(precompute, handles, &error);
-  EXPECT_NE(setup, nullptr) << error;
-  std::unique_ptr<Session> session = Session::Create(setup, &error);
-  EXPECT_NE(session, nullptr) << error;
-  return session;
-}
-
 // What the method's Precompute reports is the precompute's: it is one.
 TEST(GraphMethodTest, ItsPrecomputeIsAPrecompute) {
   const CylinderLayouts cylinder;

@@ -1,18 +1,25 @@
 // Shared by the stage and method tests (precompute/handle_setup/session_test.cc,
 // tests/methods/graph_method*_test.cc, promises_test.cc, method_test.cc,
-// tests/examples/energy_terms/volume_term_test.cc): the methods, small-graph
-// options for small procedural meshes, a bar edit, and a vertex distance.
+// tests/examples/energy_terms/volume_term_test.cc, tests/solvers/arap_backends_test.cc):
+// the methods, small-graph options for small procedural meshes, a bar edit,
+// a vertex distance, and the stages made by hand.
 
 #ifndef MSDEFORM_TESTS_SCALES_DEFORMER_TEST_UTIL_H_
 #define MSDEFORM_TESTS_SCALES_DEFORMER_TEST_UTIL_H_
 
+#include <memory>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <gtest/gtest.h>
 
 #include "msdeform/core/procedural_meshes.h"
 #include "msdeform/scales/deformer_options.h"
+#include "msdeform/scales/handle_setup.h"
+#include "msdeform/scales/precompute.h"
+#include "msdeform/scales/session.h"
 
 namespace msdeform {
 
@@ -88,6 +95,31 @@ inline std::vector<Eigen::Affine3d> TurnPath(int frames) {
     path.push_back(step);
   }
   return path;
+}
+
+// The set-up of `handles` on a precompute of its own (a failed stage fails
+// the test and gives nullptr).
+inline std::shared_ptr<const HandleSetup> MakeHandleSetup(const Mesh& mesh,
+                                                          const DeformerOptions& options,
+                                                          const HandleLayout& handles) {
+  std::string error;
+  std::shared_ptr<const Precompute> precompute = Precompute::Create(mesh, options, &error);
+  EXPECT_NE(precompute, nullptr) << error;
+  if (precompute == nullptr) return nullptr;
+  std::shared_ptr<const HandleSetup> setup = HandleSetup::Create(precompute, handles, &error);
+  EXPECT_NE(setup, nullptr) << error;
+  return setup;
+}
+
+// A session made by hand from the three stages.
+inline std::unique_ptr<Session> MakeSession(const Mesh& mesh, const DeformerOptions& options,
+                                            const HandleLayout& handles) {
+  std::shared_ptr<const HandleSetup> setup = MakeHandleSetup(mesh, options, handles);
+  if (setup == nullptr) return nullptr;
+  std::string error;
+  std::unique_ptr<Session> session = Session::Create(setup, &error);
+  EXPECT_NE(session, nullptr) << error;
+  return session;
 }
 
 }  // namespace msdeform

@@ -26,18 +26,6 @@ static_assert(!std::is_default_constructible<Session>::value);
 static_assert(!std::is_copy_constructible<HandleSetup>::value);
 static_assert(!std::is_copy_constructible<Session>::value);
 
-std::unique_ptr<Session> MakeSession(const Mesh& mesh, const DeformerOptions& options,
-                                     const HandleLayout& handles) {
-  std::string error;
-  std::shared_ptr<const Precompute> precompute = Precompute::Create(mesh, options, &error);
-  EXPECT_NE(precompute, nullptr) << error;
-  std::shared_ptr<const HandleSetup> setup = HandleSetup::Create(precompute, handles, &error);
-  EXPECT_NE(setup, nullptr) << error;
-  std::unique_ptr<Session> session = Session::Create(setup, &error);
-  EXPECT_NE(session, nullptr) << error;
-  return session;
-}
-
 // Two sessions of one set-up: the second starts at rest whatever the first
 // did, and drags exactly like a session of its own precompute.
 TEST(SessionTest, SessionsOfOneSetupAreIndependent) {

@@ -47,18 +47,6 @@ DeformerOptions ArapOptionsFor(Backend backend) {
   return options;
 }
 
-std::shared_ptr<const HandleSetup> MakeHandleSetup(const Mesh& mesh,
-                                                   const DeformerOptions& options,
-                                                   const HandleLayout& handles) {
-  std::string error;
-  std::shared_ptr<const Precompute> precompute = Precompute::Create(mesh, options, &error);
-  EXPECT_NE(precompute, nullptr) << error;
-  if (precompute == nullptr) return nullptr;
-  std::shared_ptr<const HandleSetup> setup = HandleSetup::Create(precompute, handles, &error);
-  EXPECT_NE(setup, nullptr) << error;
-  return setup;
-}
-
 // The energy evaluated spoke by spoke on the deformed mesh (no reduced
 // matrices, no cancellation): each cluster's best rotation from its spokes.
 double SpokeEnergy(const SubspaceArap& arap, const Mesh& mesh, const Eigen::Matrix3Xd& deformed) {
