@@ -25,14 +25,13 @@ std::vector<Eigen::Matrix3Xd> FramesAlone(const Mesh& mesh, const DeformerOption
                                           const HandleLayout& handles,
                                           const std::vector<Eigen::Affine3d>& path,
                                           int* active_graph) {
-  std::string error;
-  std::shared_ptr<const Precompute> precompute = Precompute::Create(mesh, options, &error);
-  EXPECT_NE(precompute, nullptr) << error;
-  std::shared_ptr<const HandleSetup> setup = HandleSetup::Create(precompute, handles, &error);
-  EXPECT_NE(setup, nullptr) << error;
+  std::shared_ptr<const HandleSetup> setup = MakeHandleSetup(mesh, options, handles);
+  if (setup == nullptr) return {};
   *active_graph = setup->active_graph();
+  std::string error;
   std::unique_ptr<Session> session = Session::Create(setup, &error);
   EXPECT_NE(session, nullptr) << error;
+  if (session == nullptr) return {};
   std::vector<Eigen::Matrix3Xd> frames;
   for (const Eigen::Affine3d& step : path) {
     EXPECT_TRUE(session->Drag(step, nullptr, &error)) << error;
