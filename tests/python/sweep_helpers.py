@@ -155,6 +155,16 @@ def tls_flags(ca, cert, key):
     return ["--tls-ca-file", ca, "--tls-cert", cert, "--tls-key", key]
 
 
+def read_scheduler_address(path):
+    """The address in a Dask scheduler file, or None while the file is missing or half
+    written (dask-scheduler opens it before it writes the JSON)."""
+    try:
+        with open(path) as file:
+            return json.load(file).get("address")
+    except (FileNotFoundError, json.JSONDecodeError):
+        return None
+
+
 class DaskCluster:
     """A real Dask cluster on 127.0.0.1: `dask-scheduler` and `workers` `dask-worker`
     processes (one process, one thread each, no nanny: killing one kills that worker), all
@@ -193,13 +203,13 @@ class DaskCluster:
                 (["--protocol", "tls"] + security if self.tls else []),
                 env=env, stdout=subprocess.DEVNULL, stderr=self._log("scheduler"),
                 start_new_session=True)
-            wait_until(lambda: os.path.exists(scheduler_file) or self.scheduler.poll() is not None,
-                       60, "the scheduler file")
+            # The scheduler creates its file, then writes it: wait for a whole JSON document.
+            wait_until(lambda: read_scheduler_address(scheduler_file) or
+                       self.scheduler.poll() is not None, 60, "the scheduler file")
             if self.scheduler.poll() is not None:
                 raise RuntimeError(f"dask-scheduler exited {self.scheduler.returncode}; see "
                                    f"{self.folder}/scheduler.log")
-            with open(scheduler_file) as file:
-                self.address = json.load(file)["address"]
+            self.address = read_scheduler_address(scheduler_file)
             for i in range(self.count):
                 self.workers.append(subprocess.Popen(
                     [dask_command("dask-worker"), self.address, "--nworkers", "1",
