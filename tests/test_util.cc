@@ -2,14 +2,25 @@
 
 #include <stdlib.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <system_error>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 namespace msdeform {
+namespace {
+
+// The folders FreshFolder made that RemoveFreshFolders has not handled yet.
+std::vector<std::string>& FreshFolders() {
+  static std::vector<std::string> folders;
+  return folders;
+}
+
+}  // namespace
 
 std::string FreshFolder() {
   const testing::TestInfo* test = testing::UnitTest::GetInstance()->current_test_info();
@@ -18,8 +29,23 @@ std::string FreshFolder() {
     if (c == '/') c = '_';  // parameterised suites are named "Prefix/Suite"
   }
   std::string pattern = testing::TempDir() + "/" + name + "_XXXXXX";
-  EXPECT_NE(::mkdtemp(pattern.data()), nullptr) << pattern;
+  const bool made = ::mkdtemp(pattern.data()) != nullptr;
+  EXPECT_TRUE(made) << pattern;
+  if (made) FreshFolders().push_back(pattern);
   return pattern;
+}
+
+void RemoveFreshFolders(bool keep) {
+  for (const std::string& folder : FreshFolders()) {
+    if (keep) {
+      std::printf("test_util: kept %s (the test failed)\n", folder.c_str());
+      continue;
+    }
+    std::error_code error;
+    std::filesystem::remove_all(folder, error);
+    if (error) std::printf("test_util: cannot remove %s: %s\n", folder.c_str(), error.message().c_str());
+  }
+  FreshFolders().clear();
 }
 
 std::string WriteText(const std::string& path, const std::string& text) {

@@ -17,8 +17,15 @@
 namespace msdeform {
 
 // A new, empty folder under testing::TempDir(), named after the running test
-// suite; a failed test expectation if it cannot be made.
+// suite; a failed test expectation if it cannot be made. It is removed when
+// the test that made it ends, unless the test failed: then its path is
+// printed and the folder kept to look at (RemoveFreshFolders).
 std::string FreshFolder();
+
+// Removes the folders FreshFolder made since the last call, or prints their
+// paths if `keep`; test_main.cc calls it after each test (and once at the
+// end, for folders made outside a test).
+void RemoveFreshFolders(bool keep);
 
 // Writes `text` to `path` byte for byte (binary mode), making the parent
 // folders first; a failed test expectation if it cannot. Returns `path`.
