@@ -92,6 +92,16 @@ bool DeformerOptions::Check(std::string* error) const {
   // caller gets the command line's one line ("rigidity.damping=1: expected a
   // number in [0, 1)"), and a range is written only in its row.
   if (!DeformerOptionTable().CheckRanges(*this, error)) return false;
+  // Anderson acceleration is a part of the local/global iteration only: a
+  // window given to another solve would be silently unused.
+  if (arap.anderson_window > 0 &&
+      (energy != Energy::kArap || backend != Solver::kGaussNewton ||
+       arap.solver != ArapSolver::kLocalGlobal)) {
+    *error = "arap.anderson_window=" + std::to_string(arap.anderson_window) +
+             ": read only by energy=arap with backend=gauss_newton and "
+             "arap.solver=local_global (0 turns it off)";
+    return false;
+  }
   // What a row cannot say: relations between fields and the embedded
   // structs' own checks (core's lattice and graph, the solvers').
   return lattice.Check(error) && graph.Check(error) && rigidity.Check(error) &&

@@ -360,7 +360,7 @@ bool EditSession::ready() const { return !busy() && method_ != nullptr && config
 
 bool EditSession::Drag(const Eigen::Affine3d& deformed_from_rest, std::string* error) {
   if (!ready()) {
-    *error = busy() ? "the deformer is being set up" : "no moveable handle set up";
+    *error = busy() ? "the method is being set up" : "no moveable handle set up";
     return false;
   }
   CancelPolish();

@@ -204,18 +204,18 @@ void EditorApp::UpdateColors() {
 }
 
 void EditorApp::UpdateGraph() {
-  const GraphMethod* deformer = session_->graph_method();
-  if (deformer == nullptr || !session_->ready()) return;
-  renderer_->SetGraph(DeformedNodePositions(*deformer), NodeColors(*deformer),
-                      deformer->active().edges);
+  const GraphMethod* graph_method = session_->graph_method();
+  if (graph_method == nullptr || !session_->ready()) return;
+  renderer_->SetGraph(DeformedNodePositions(*graph_method), NodeColors(*graph_method),
+                      graph_method->active().edges);
   // A sphere a quarter of the mean edge length, at most 1.2% of the diagonal.
-  const DeformationGraph& graph = deformer->active();
+  const DeformationGraph& graph = graph_method->active();
   double total = 0.0;
   for (const auto& [a, b] : graph.edges) {
     total += (graph.positions.col(a) - graph.positions.col(b)).norm();
   }
-  const double mean = graph.edges.empty() ? deformer->diagonal() : total / graph.edges.size();
-  node_radius_ = std::min(0.25 * mean, 0.012 * deformer->diagonal());
+  const double mean = graph.edges.empty() ? graph_method->diagonal() : total / graph.edges.size();
+  node_radius_ = std::min(0.25 * mean, 0.012 * graph_method->diagonal());
   graph_uploaded_ = true;
 }
 
@@ -224,9 +224,9 @@ void EditorApp::SyncGpu() {
   const bool new_job = jobs != uploaded_jobs_;
   if (new_job) {
     uploaded_jobs_ = jobs;
-    const GraphMethod* deformer = session_->graph_method();
-    vertex_rigidity_ =
-        deformer != nullptr && session_->ready() ? VertexRigidity(*deformer) : Eigen::VectorXd();
+    const GraphMethod* graph_method = session_->graph_method();
+    vertex_rigidity_ = graph_method != nullptr && session_->ready() ? VertexRigidity(*graph_method)
+                                                                    : Eigen::VectorXd();
   }
   if (session_->geometry_version() != uploaded_geometry_) {
     uploaded_geometry_ = session_->geometry_version();

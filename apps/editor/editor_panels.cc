@@ -267,40 +267,40 @@ void EditorApp::DrawViewPanel() {
 
 void EditorApp::DrawStatePanel() {
   if (!ImGui::CollapsingHeader("Scale and classes", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  const GraphMethod* deformer = session_->ready() ? session_->graph_method() : nullptr;
+  const GraphMethod* graph_method = session_->ready() ? session_->graph_method() : nullptr;
   const EditingMethod* method = session_->ready() ? session_->method() : nullptr;
-  if (deformer == nullptr && method != nullptr) {
+  if (graph_method == nullptr && method != nullptr) {
     // Not a graph method: no scales or node classes.
     ImGui::Text("%s: %d variables", session_->method_name().c_str(), method->variables());
     ImGui::TextDisabled("not a deformation graph: no scales or node classes");
     return;
   }
-  if (deformer == nullptr) {
+  if (graph_method == nullptr) {
     ImGui::TextDisabled(session_->busy() ? "setting up the layout..." : "no layout set up");
     return;
   }
-  const bool multiscale = deformer->options().method == Method::kMultiScale;
-  const ScaleSelection& selection = deformer->selection();
+  const bool multiscale = graph_method->options().method == Method::kMultiScale;
+  const ScaleSelection& selection = graph_method->selection();
   if (multiscale) {
-    ImGui::Text("scale %d of %zu (Eq. 6 gives %d)%s", deformer->active_graph() + 1,
-                deformer->graphs().size(), selection.eq6_scale,
+    ImGui::Text("scale %d of %zu (Eq. 6 gives %d)%s", graph_method->active_graph() + 1,
+                graph_method->graphs().size(), selection.eq6_scale,
                 selection.local_detail_edit ? ", local detail edit" : "");
     ImGui::Text("threshold T = %.3f (Eq. 7), group 1: %d nodes", selection.threshold,
                 selection.group1_size);
   } else {
-    ImGui::Text("static graph: %d nodes (%s)", deformer->active().num_nodes(),
-                MethodName(deformer->options().method));
+    ImGui::Text("static graph: %d nodes (%s)", graph_method->active().num_nodes(),
+                MethodName(graph_method->options().method));
   }
-  const std::array<int, 3> counts = CountNodeClasses(*deformer);
+  const std::array<int, 3> counts = CountNodeClasses(*graph_method);
   ImGui::TextColored(Color(kTotallyFreeColor), "Totally Free %d", counts[0]);
   ImGui::SameLine();
   ImGui::TextColored(Color(kHalfFreeColor), "Half Free %d", counts[1]);
   ImGui::SameLine();
   ImGui::TextColored(Color(kFixedNodeColor), "Fixed %d", counts[2]);
-  ImGui::Text("variables %d = 12 x %d + 9 x %d", deformer->variables(), counts[0], counts[1]);
-  ImGui::Text("coherence terms %d, position terms %d", deformer->num_coherence_terms(),
-              deformer->num_position_terms());
-  ImGui::Text("skinned vertices %d of %d", deformer->num_skinned_vertices(),
+  ImGui::Text("variables %d = 12 x %d + 9 x %d", graph_method->variables(), counts[0], counts[1]);
+  ImGui::Text("coherence terms %d, position terms %d", graph_method->num_coherence_terms(),
+              graph_method->num_position_terms());
+  ImGui::Text("skinned vertices %d of %d", graph_method->num_skinned_vertices(),
               session_->mesh().num_vertices());
 }
 
@@ -380,9 +380,9 @@ void EditorApp::DrawColorBar() {
                   IM_COL32(0, 0, 0, 255));
     draw->AddText(ImVec2(origin.x + width + 6, y - 7), IM_COL32(0, 0, 0, 255), label);
   }
-  const GraphMethod* deformer = session_->graph_method();
-  if (deformer != nullptr && session_->ready()) {
-    const double threshold = std::clamp(deformer->selection().threshold, 0.0, 1.0);
+  const GraphMethod* graph_method = session_->graph_method();
+  if (graph_method != nullptr && session_->ready()) {
+    const double threshold = std::clamp(graph_method->selection().threshold, 0.0, 1.0);
     const float y = origin.y + static_cast<float>((1.0 - threshold) * height);
     draw->AddLine(ImVec2(origin.x - 3, y), ImVec2(origin.x + width + 3, y),
                   IM_COL32(230, 30, 30, 255), 2.0f);

@@ -47,10 +47,10 @@ Rgb RigidityColor(double e_prime) {
   return color;
 }
 
-Eigen::VectorXd VertexRigidity(const GraphMethod& deformer) {
-  const RigidityEstimate& rigidity = deformer.rigidity();
-  if (deformer.graphs().empty() || rigidity.relative_extent.size() == 0) return {};
-  const DeformationGraph& dg1 = deformer.graphs()[0];
+Eigen::VectorXd VertexRigidity(const GraphMethod& graph_method) {
+  const RigidityEstimate& rigidity = graph_method.rigidity();
+  if (graph_method.graphs().empty() || rigidity.relative_extent.size() == 0) return {};
+  const DeformationGraph& dg1 = graph_method.graphs()[0];
   if (rigidity.relative_extent.size() < dg1.num_nodes()) return {};
   const SkinningWeights& weights = dg1.weights;
   Eigen::VectorXd per_vertex = Eigen::VectorXd::Zero(weights.num_vertices());
@@ -73,23 +73,24 @@ std::vector<Rgb> VertexColors(const std::vector<VertexLabel>& labels,
   return colors;
 }
 
-Eigen::Matrix3Xd DeformedNodePositions(const GraphMethod& deformer) {
-  const DeformationGraph& graph = deformer.active();
-  const NodeTransforms& transforms = deformer.transforms();
+Eigen::Matrix3Xd DeformedNodePositions(const GraphMethod& graph_method) {
+  const DeformationGraph& graph = graph_method.active();
+  const NodeTransforms& transforms = graph_method.transforms();
   Eigen::Matrix3Xd positions = graph.positions;
   if (transforms.num_nodes() == graph.num_nodes()) positions += transforms.translations;
   return positions;
 }
 
-std::vector<Rgb> NodeColors(const GraphMethod& deformer) {
+std::vector<Rgb> NodeColors(const GraphMethod& graph_method) {
   std::vector<Rgb> colors;
-  for (NodeClass node_class : deformer.node_classes()) colors.push_back(NodeClassColor(node_class));
+  for (NodeClass node_class : graph_method.node_classes())
+    colors.push_back(NodeClassColor(node_class));
   return colors;
 }
 
-std::array<int, 3> CountNodeClasses(const GraphMethod& deformer) {
+std::array<int, 3> CountNodeClasses(const GraphMethod& graph_method) {
   std::array<int, 3> counts = {0, 0, 0};
-  for (NodeClass c : deformer.node_classes()) {
+  for (NodeClass c : graph_method.node_classes()) {
     counts[c == NodeClass::kTotallyFree ? 0 : c == NodeClass::kHalfFree ? 1 : 2]++;
   }
   return counts;

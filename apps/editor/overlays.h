@@ -41,9 +41,9 @@ Rgb RigidityColor(double e_prime);
 
 // e' per mesh vertex, interpolated from the DG1 nodes (the lattice's surface
 // particles) with DG1's skinning weights, as the deformation itself blends
-// the nodes. Empty when the deformer has no rigidity estimate (the static
+// the nodes. Empty when the graph method has no rigidity estimate (the static
 // baselines, or no layout yet). #V.
-Eigen::VectorXd VertexRigidity(const GraphMethod& deformer);
+Eigen::VectorXd VertexRigidity(const GraphMethod& graph_method);
 
 // Per-vertex colours (3 by #V bytes): by label; with `rigidity` (#V), the
 // free vertices by e' and the fixed and handle vertices still blue and red, so
@@ -53,11 +53,11 @@ std::vector<Rgb> VertexColors(const std::vector<VertexLabel>& labels,
 
 // Node centres of the active graph in the current pose, g_j + t_j (3 by
 // #nodes), and their class colours.
-Eigen::Matrix3Xd DeformedNodePositions(const GraphMethod& deformer);
-std::vector<Rgb> NodeColors(const GraphMethod& deformer);
+Eigen::Matrix3Xd DeformedNodePositions(const GraphMethod& graph_method);
+std::vector<Rgb> NodeColors(const GraphMethod& graph_method);
 
 // Counts per class of the active graph: {Totally Free, Half Free, Fixed}.
-std::array<int, 3> CountNodeClasses(const GraphMethod& deformer);
+std::array<int, 3> CountNodeClasses(const GraphMethod& graph_method);
 
 }  // namespace editor
 }  // namespace msdeform

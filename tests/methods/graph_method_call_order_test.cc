@@ -1,4 +1,4 @@
-// The Deformer's contract with its caller (issue 26): calls out of order are
+// GraphMethod's contract with its caller: calls out of order are
 // refused with a message, a failed call leaves the object as it was or with
 // no layout (never a stale one), every combination of the backends' enum
 // options either runs or is refused by Check, the node classes are decided
@@ -23,41 +23,41 @@
 namespace msdeform {
 namespace {
 
-// The deformed mesh of a fresh Deformer: Init, SetHandles, Drag(Lift(z)).
+// The deformed mesh of a fresh GraphMethod: Init, SetHandles, Drag(Lift(z)).
 Eigen::Matrix3Xd FreshResult(const Mesh& mesh, const DeformerOptions& options,
                              const HandleLayout& layout, double z) {
-  GraphMethod deformer(options.method);
+  GraphMethod graph_method(options.method);
   std::string error;
-  EXPECT_TRUE(deformer.Precompute(mesh, options, &error)) << error;
-  EXPECT_TRUE(deformer.SetHandles(layout, &error)) << error;
-  EXPECT_TRUE(deformer.Drag(Lift(z), nullptr, &error)) << error;
-  return deformer.deformed_vertices();
+  EXPECT_TRUE(graph_method.Precompute(mesh, options, &error)) << error;
+  EXPECT_TRUE(graph_method.SetHandles(layout, &error)) << error;
+  EXPECT_TRUE(graph_method.Drag(Lift(z), nullptr, &error)) << error;
+  return graph_method.deformed_vertices();
 }
 
 TEST(GraphMethodCallOrderTest, CallsBeforePrecomputeAreRefused) {
   const BarEdit bar(8, 2);
-  GraphMethod deformer(Method::kMultiScale);
+  GraphMethod graph_method(Method::kMultiScale);
   std::string error;
-  EXPECT_FALSE(deformer.SetHandles(bar.layout, &error));
+  EXPECT_FALSE(graph_method.SetHandles(bar.layout, &error));
   EXPECT_NE(error.find("Precompute"), std::string::npos) << error;
   error.clear();
-  EXPECT_FALSE(deformer.Drag(Lift(1.0), nullptr, &error));
+  EXPECT_FALSE(graph_method.Drag(Lift(1.0), nullptr, &error));
   EXPECT_NE(error.find("SetHandles"), std::string::npos) << error;
 }
 
 TEST(GraphMethodCallOrderTest, DragBeforeSetHandlesIsRefused) {
   const BarEdit bar(8, 2);
-  GraphMethod deformer(Method::kMultiScale);
+  GraphMethod graph_method(Method::kMultiScale);
   std::string error;
-  ASSERT_TRUE(deformer.Precompute(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
-  EXPECT_FALSE(deformer.Drag(Lift(1.0), nullptr, &error));
+  ASSERT_TRUE(graph_method.Precompute(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
+  EXPECT_FALSE(graph_method.Drag(Lift(1.0), nullptr, &error));
   EXPECT_NE(error.find("SetHandles"), std::string::npos) << error;
-  EXPECT_EQ(deformer.deformed_vertices(), bar.mesh.vertices);
+  EXPECT_EQ(graph_method.deformed_vertices(), bar.mesh.vertices);
 }
 
 // Init, SetHandles, Init again (another mesh, another method), Drag: the
 // second Init drops the layout, so Drag is refused; after SetHandles the
-// result is a fresh Deformer's, bit for bit.
+// result is a fresh GraphMethod's, bit for bit.
 TEST(GraphMethodCallOrderTest, RePrecomputeDropsTheLayout) {
   const BarEdit bar(8, 2);
   const Mesh longer = MakeBar(12, 1.0, 2);
@@ -70,23 +70,23 @@ TEST(GraphMethodCallOrderTest, RePrecomputeDropsTheLayout) {
     // A method is fixed when it is made: another method's options are
     // refused with one line, its own on another mesh start over.
     for (Method second : {first}) {
-      GraphMethod deformer(first);
+      GraphMethod graph_method(first);
       std::string error;
       DeformerOptions other = OptionsFor(first == Method::kStatic ? Method::kMultiScale
                                                                   : Method::kStatic);
-      EXPECT_FALSE(deformer.Precompute(bar.mesh, other, &error));
+      EXPECT_FALSE(graph_method.Precompute(bar.mesh, other, &error));
       EXPECT_NE(error.find("the options name the method"), std::string::npos) << error;
-      ASSERT_TRUE(deformer.Precompute(bar.mesh, OptionsFor(first), &error)) << error;
-      ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
-      ASSERT_TRUE(deformer.Drag(Lift(1.0), nullptr, &error)) << error;
-      ASSERT_TRUE(deformer.Precompute(longer, OptionsFor(second), &error)) << error;
-      EXPECT_EQ(deformer.deformed_vertices(), longer.vertices);
-      EXPECT_TRUE(deformer.node_classes().empty());
-      EXPECT_EQ(deformer.variables(), 0);
-      EXPECT_FALSE(deformer.Drag(Lift(2.0), nullptr, &error)) << MethodName(second);
-      ASSERT_TRUE(deformer.SetHandles(longer_layout, &error)) << error;
-      ASSERT_TRUE(deformer.Drag(Lift(2.0), nullptr, &error)) << error;
-      EXPECT_EQ(deformer.deformed_vertices(),
+      ASSERT_TRUE(graph_method.Precompute(bar.mesh, OptionsFor(first), &error)) << error;
+      ASSERT_TRUE(graph_method.SetHandles(bar.layout, &error)) << error;
+      ASSERT_TRUE(graph_method.Drag(Lift(1.0), nullptr, &error)) << error;
+      ASSERT_TRUE(graph_method.Precompute(longer, OptionsFor(second), &error)) << error;
+      EXPECT_EQ(graph_method.deformed_vertices(), longer.vertices);
+      EXPECT_TRUE(graph_method.node_classes().empty());
+      EXPECT_EQ(graph_method.variables(), 0);
+      EXPECT_FALSE(graph_method.Drag(Lift(2.0), nullptr, &error)) << MethodName(second);
+      ASSERT_TRUE(graph_method.SetHandles(longer_layout, &error)) << error;
+      ASSERT_TRUE(graph_method.Drag(Lift(2.0), nullptr, &error)) << error;
+      EXPECT_EQ(graph_method.deformed_vertices(),
                 FreshResult(longer, OptionsFor(second), longer_layout, 2.0))
           << MethodName(first) << " then " << MethodName(second);
     }
@@ -100,7 +100,8 @@ TEST(GraphMethodCallOrderTest, OptionsRefuseAZeroHandleWeightAndTooManyThreads) 
   DeformerOptions options;
   options.w_con = 0.0;
   EXPECT_FALSE(options.Check(&error));
-  EXPECT_EQ(error, "w_con=0: expected a finite weight > 0 (at 0 the handle would not follow its target)");
+  EXPECT_EQ(error,
+            "w_con=0: expected a finite weight > 0 (at 0 the handle would not follow its target)");
   options = DeformerOptions();
   options.num_threads = kMaxThreads;
   EXPECT_TRUE(options.Check(&error)) << error;
@@ -113,37 +114,37 @@ TEST(GraphMethodCallOrderTest, OptionsRefuseAZeroHandleWeightAndTooManyThreads) 
 // lattice), leaves the method empty: only Precompute is accepted.
 TEST(GraphMethodCallOrderTest, FailedPrecomputeLeavesTheMethodEmpty) {
   const BarEdit bar(8, 2);
-  GraphMethod deformer(Method::kMultiScale);
+  GraphMethod graph_method(Method::kMultiScale);
   std::string error;
-  ASSERT_TRUE(deformer.Precompute(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
-  ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
-  ASSERT_TRUE(deformer.Drag(Lift(1.0), nullptr, &error)) << error;
+  ASSERT_TRUE(graph_method.Precompute(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
+  ASSERT_TRUE(graph_method.SetHandles(bar.layout, &error)) << error;
+  ASSERT_TRUE(graph_method.Drag(Lift(1.0), nullptr, &error)) << error;
 
   DeformerOptions invalid = OptionsFor(Method::kMultiScale);
   invalid.w_con = -1.0;
-  EXPECT_FALSE(deformer.Precompute(MakeBar(12, 1.0, 2), invalid, &error));
+  EXPECT_FALSE(graph_method.Precompute(MakeBar(12, 1.0, 2), invalid, &error));
   EXPECT_NE(error.find("w_con"), std::string::npos) << error;
-  EXPECT_EQ(deformer.rest_mesh().num_vertices(), 0);
-  EXPECT_EQ(deformer.precompute(), nullptr);
+  EXPECT_EQ(graph_method.rest_mesh().num_vertices(), 0);
+  EXPECT_EQ(graph_method.precompute(), nullptr);
   error.clear();
-  EXPECT_FALSE(deformer.Drag(Lift(2.0), nullptr, &error));
+  EXPECT_FALSE(graph_method.Drag(Lift(2.0), nullptr, &error));
   EXPECT_NE(error.find("SetHandles"), std::string::npos) << error;
-  EXPECT_FALSE(deformer.SetHandles(bar.layout, &error));
+  EXPECT_FALSE(graph_method.SetHandles(bar.layout, &error));
   EXPECT_NE(error.find("Precompute"), std::string::npos) << error;
 
   // A lattice of more cells than allowed fails in Lattice::Build.
   DeformerOptions too_fine = OptionsFor(Method::kMultiScale);
   too_fine.lattice.cells_per_diagonal = 200;
   too_fine.lattice.max_grid_cells = 1000;
-  EXPECT_FALSE(deformer.Precompute(bar.mesh, too_fine, &error));
+  EXPECT_FALSE(graph_method.Precompute(bar.mesh, too_fine, &error));
   error.clear();
-  EXPECT_FALSE(deformer.SetHandles(bar.layout, &error));
+  EXPECT_FALSE(graph_method.SetHandles(bar.layout, &error));
   EXPECT_NE(error.find("Precompute"), std::string::npos) << error;
-  EXPECT_FALSE(deformer.Drag(Lift(1.0), nullptr, &error));
-  ASSERT_TRUE(deformer.Precompute(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
-  ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
-  ASSERT_TRUE(deformer.Drag(Lift(1.0), nullptr, &error)) << error;
-  EXPECT_EQ(deformer.deformed_vertices(),
+  EXPECT_FALSE(graph_method.Drag(Lift(1.0), nullptr, &error));
+  ASSERT_TRUE(graph_method.Precompute(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
+  ASSERT_TRUE(graph_method.SetHandles(bar.layout, &error)) << error;
+  ASSERT_TRUE(graph_method.Drag(Lift(1.0), nullptr, &error)) << error;
+  EXPECT_EQ(graph_method.deformed_vertices(),
             FreshResult(bar.mesh, OptionsFor(Method::kMultiScale), bar.layout, 1.0));
 }
 
@@ -157,14 +158,14 @@ TEST(GraphMethodCallOrderTest, FailedSetHandlesIsNotFollowedByAStaleDrag) {
   // (cells of about one voxel), made fixed.
   DeformerOptions options = OptionsFor(Method::kMultiScale);
   options.lattice.cells_per_diagonal = 8.0;
-  GraphMethod deformer(options.method);
+  GraphMethod graph_method(options.method);
   std::string error;
-  ASSERT_TRUE(deformer.Precompute(bar.mesh, options, &error)) << error;
+  ASSERT_TRUE(graph_method.Precompute(bar.mesh, options, &error)) << error;
   const int handle_vertex = bar.layout.moveable.front();
-  const int cell = deformer.lattice()->particle_of_vertex(handle_vertex);
+  const int cell = graph_method.lattice()->particle_of_vertex(handle_vertex);
   int neighbour = -1;
   for (int v = 0; v < bar.mesh.num_vertices() && neighbour < 0; ++v) {
-    if (v != handle_vertex && deformer.lattice()->particle_of_vertex(v) == cell) neighbour = v;
+    if (v != handle_vertex && graph_method.lattice()->particle_of_vertex(v) == cell) neighbour = v;
   }
   ASSERT_GE(neighbour, 0);
   conflicting.moveable.erase(
@@ -172,23 +173,23 @@ TEST(GraphMethodCallOrderTest, FailedSetHandlesIsNotFollowedByAStaleDrag) {
   conflicting.fixed.push_back(neighbour);
   std::sort(conflicting.fixed.begin(), conflicting.fixed.end());
 
-  ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
-  ASSERT_TRUE(deformer.Drag(Lift(1.0), nullptr, &error)) << error;
-  EXPECT_FALSE(deformer.SetHandles(conflicting, &error));
+  ASSERT_TRUE(graph_method.SetHandles(bar.layout, &error)) << error;
+  ASSERT_TRUE(graph_method.Drag(Lift(1.0), nullptr, &error)) << error;
+  EXPECT_FALSE(graph_method.SetHandles(conflicting, &error));
   EXPECT_NE(error.find("lattice cell"), std::string::npos) << error;
   error.clear();
-  EXPECT_FALSE(deformer.Drag(Lift(2.0), nullptr, &error));
+  EXPECT_FALSE(graph_method.Drag(Lift(2.0), nullptr, &error));
   EXPECT_NE(error.find("SetHandles"), std::string::npos) << error;
-  EXPECT_EQ(deformer.deformed_vertices(), bar.mesh.vertices);
+  EXPECT_EQ(graph_method.deformed_vertices(), bar.mesh.vertices);
   // An invalid layout (a vertex out of range) leaves no layout either.
-  ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
+  ASSERT_TRUE(graph_method.SetHandles(bar.layout, &error)) << error;
   HandleLayout out_of_range = bar.layout;
   out_of_range.moveable.push_back(bar.mesh.num_vertices());
-  EXPECT_FALSE(deformer.SetHandles(out_of_range, &error));
-  EXPECT_FALSE(deformer.Drag(Lift(1.0), nullptr, &error));
-  ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
-  ASSERT_TRUE(deformer.Drag(Lift(1.0), nullptr, &error)) << error;
-  EXPECT_EQ(deformer.deformed_vertices(), FreshResult(bar.mesh, options, bar.layout, 1.0));
+  EXPECT_FALSE(graph_method.SetHandles(out_of_range, &error));
+  EXPECT_FALSE(graph_method.Drag(Lift(1.0), nullptr, &error));
+  ASSERT_TRUE(graph_method.SetHandles(bar.layout, &error)) << error;
+  ASSERT_TRUE(graph_method.Drag(Lift(1.0), nullptr, &error)) << error;
+  EXPECT_EQ(graph_method.deformed_vertices(), FreshResult(bar.mesh, options, bar.layout, 1.0));
 }
 
 // Every combination of the backends' enums runs, or is refused by Check with
@@ -204,14 +205,14 @@ TEST(GraphMethodCallOrderTest, EveryBackendOptionCombinationRunsOrIsRefusedByChe
   int ran = 0, refused = 0;
   double reference_cost = 0.0;
   {
-    GraphMethod deformer(Method::kMultiScale);
+    GraphMethod graph_method(Method::kMultiScale);
     std::string error;
     DeformerOptions options = OptionsFor(Method::kMultiScale);
     options.lattice.cells_per_diagonal = 16.0;
     DragStats stats;
-    ASSERT_TRUE(deformer.Precompute(bar.mesh, options, &error)) << error;
-    ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
-    ASSERT_TRUE(deformer.Drag(Lift(1.0), &stats, &error)) << error;
+    ASSERT_TRUE(graph_method.Precompute(bar.mesh, options, &error)) << error;
+    ASSERT_TRUE(graph_method.SetHandles(bar.layout, &error)) << error;
+    ASSERT_TRUE(graph_method.Drag(Lift(1.0), &stats, &error)) << error;
     reference_cost = stats.final_cost;
     ASSERT_GT(reference_cost, 0.0);
   }
@@ -220,24 +221,24 @@ TEST(GraphMethodCallOrderTest, EveryBackendOptionCombinationRunsOrIsRefusedByChe
     if (!options.Check(&error)) {
       EXPECT_FALSE(error.empty()) << name;
       EXPECT_EQ(error.find('\n'), std::string::npos) << name << ": " << error;
-      GraphMethod deformer(options.method);
+      GraphMethod graph_method(options.method);
       std::string init_error;
-      EXPECT_FALSE(deformer.Precompute(bar.mesh, options, &init_error)) << name;
+      EXPECT_FALSE(graph_method.Precompute(bar.mesh, options, &init_error)) << name;
       EXPECT_EQ(init_error, error) << name;
       ++refused;
       return;
     }
-    GraphMethod deformer(options.method);
+    GraphMethod graph_method(options.method);
     DeformerOptions coarse = options;
     coarse.lattice.cells_per_diagonal = 16.0;
-    ASSERT_TRUE(deformer.Precompute(bar.mesh, coarse, &error)) << name << ": " << error;
-    ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << name << ": " << error;
+    ASSERT_TRUE(graph_method.Precompute(bar.mesh, coarse, &error)) << name << ": " << error;
+    ASSERT_TRUE(graph_method.SetHandles(bar.layout, &error)) << name << ": " << error;
     DragStats stats;
-    ASSERT_TRUE(deformer.Drag(Lift(1.0), &stats, &error)) << name << ": " << error;
+    ASSERT_TRUE(graph_method.Drag(Lift(1.0), &stats, &error)) << name << ": " << error;
     // Every backend minimises the same energy: the same minimum as the
     // default's (inexact PCG and CGNR steps stop a little above it).
     EXPECT_NEAR(stats.final_cost, reference_cost, 1e-4 * reference_cost) << name;
-    EXPECT_TRUE(deformer.deformed_vertices().allFinite()) << name;
+    EXPECT_TRUE(graph_method.deformed_vertices().allFinite()) << name;
     ++ran;
   };
   for (auto trust_region : {ceres::LEVENBERG_MARQUARDT, ceres::DOGLEG}) {
@@ -313,16 +314,16 @@ TEST(GraphMethodCallOrderTest, StillComponentNodesAreFixedBeforeTheAlphaWeights)
       DeformerOptions options = OptionsFor(Method::kMultiScale);
       options.selection.border = border;
       options.lattice.cells_per_diagonal = cells_per_diagonal;
-      GraphMethod deformer(options.method);
+      GraphMethod graph_method(options.method);
       std::string error;
-      ASSERT_TRUE(deformer.Precompute(mesh, options, &error)) << error;
-      ASSERT_TRUE(deformer.SetHandles(layout, &error)) << error;
-      const ScaleSelection& selection = deformer.selection();
-      EXPECT_EQ(selection.node_class, deformer.node_classes()) << name;
-      const DeformationGraph& graph = deformer.active();
+      ASSERT_TRUE(graph_method.Precompute(mesh, options, &error)) << error;
+      ASSERT_TRUE(graph_method.SetHandles(layout, &error)) << error;
+      const ScaleSelection& selection = graph_method.selection();
+      EXPECT_EQ(selection.node_class, graph_method.node_classes()) << name;
+      const DeformationGraph& graph = graph_method.active();
       int fixed = 0, second_bar_nodes = 0;
       for (int j = 0; j < graph.num_nodes(); ++j) {
-        fixed += deformer.node_classes()[j] == NodeClass::kFixed;
+        fixed += graph_method.node_classes()[j] == NodeClass::kFixed;
         if (mesh.vertices(1, graph.node_vertex[j]) > 1.5) {
           ++second_bar_nodes;
           EXPECT_EQ(selection.node_class[j], NodeClass::kFixed) << name << " node " << j;
@@ -330,12 +331,12 @@ TEST(GraphMethodCallOrderTest, StillComponentNodesAreFixedBeforeTheAlphaWeights)
       }
       EXPECT_GT(second_bar_nodes, 0) << name;
       EXPECT_EQ(selection.num_fixed, fixed) << name;
-      EXPECT_EQ(selection.num_variables(), deformer.variables()) << name;
+      EXPECT_EQ(selection.num_variables(), graph_method.variables()) << name;
       // Alpha is 1 on every coherence term that touches a non-Totally-Free node.
-      const double unit_alpha_weight = std::sqrt(options.w_coh) / deformer.diagonal();
-      for (const DeformationEnergy::Coherence& term : deformer.energy().coherence) {
-        if (deformer.node_classes()[term.j] == NodeClass::kTotallyFree &&
-            deformer.node_classes()[term.k] == NodeClass::kTotallyFree) {
+      const double unit_alpha_weight = std::sqrt(options.w_coh) / graph_method.diagonal();
+      for (const DeformationEnergy::Coherence& term : graph_method.energy().coherence) {
+        if (graph_method.node_classes()[term.j] == NodeClass::kTotallyFree &&
+            graph_method.node_classes()[term.k] == NodeClass::kTotallyFree) {
           continue;
         }
         EXPECT_DOUBLE_EQ(term.sqrt_weight, unit_alpha_weight) << name << " edge " << term.j
@@ -350,24 +351,26 @@ TEST(GraphMethodCallOrderTest, StillComponentNodesAreFixedBeforeTheAlphaWeights)
 // (docs/method.md §4).
 TEST(GraphMethodCallOrderTest, HarmonicThresholdIsConstant) {
   const BarEdit bar(8, 2);
-  GraphMethod deformer(Method::kMultiScale);
+  GraphMethod graph_method(Method::kMultiScale);
   std::string error;
-  ASSERT_TRUE(deformer.Precompute(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
-  ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
-  EXPECT_EQ(deformer.selection().threshold, 0.1);
+  ASSERT_TRUE(graph_method.Precompute(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
+  ASSERT_TRUE(graph_method.SetHandles(bar.layout, &error)) << error;
+  EXPECT_EQ(graph_method.selection().threshold, 0.1);
   for (int v : bar.layout.fixed) {
-    EXPECT_EQ(deformer.rigidity().relative_extent[deformer.lattice()->particle_of_vertex(v)], 0.0);
+    EXPECT_EQ(
+        graph_method.rigidity().relative_extent[graph_method.lattice()->particle_of_vertex(v)],
+        0.0);
   }
   HandleLayout moveable_only;
   moveable_only.moveable = bar.layout.moveable;
-  ASSERT_TRUE(deformer.SetHandles(moveable_only, &error)) << error;
-  EXPECT_EQ(deformer.selection().threshold, 0.5);
+  ASSERT_TRUE(graph_method.SetHandles(moveable_only, &error)) << error;
+  EXPECT_EQ(graph_method.selection().threshold, 0.5);
 }
 
-// Two Deformers dragging in two threads give what each gives alone, and
-// const readers of one Deformer (normals skinned on first use) may run
+// Two GraphMethods dragging in two threads give what each gives alone, and
+// const readers of one GraphMethod (normals skinned on first use) may run
 // concurrently.
-TEST(GraphMethodCallOrderTest, DeformersInParallelThreadsMatchSerialRuns) {
+TEST(GraphMethodCallOrderTest, MethodsInParallelThreadsMatchSerialRuns) {
   const BarEdit bar(8, 2);
   const DeformerOptions multiscale = OptionsFor(Method::kMultiScale);
   const DeformerOptions dense = OptionsFor(Method::kStaticDense);
@@ -381,17 +384,17 @@ TEST(GraphMethodCallOrderTest, DeformersInParallelThreadsMatchSerialRuns) {
   EXPECT_EQ(parallel_a, serial_a);
   EXPECT_EQ(parallel_b, serial_b);
 
-  GraphMethod deformer(multiscale.method);
+  GraphMethod graph_method(multiscale.method);
   std::string error;
-  ASSERT_TRUE(deformer.Precompute(bar.mesh, multiscale, &error)) << error;
-  ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
-  ASSERT_TRUE(deformer.Drag(Lift(1.0), nullptr, &error)) << error;
+  ASSERT_TRUE(graph_method.Precompute(bar.mesh, multiscale, &error)) << error;
+  ASSERT_TRUE(graph_method.SetHandles(bar.layout, &error)) << error;
+  ASSERT_TRUE(graph_method.Drag(Lift(1.0), nullptr, &error)) << error;
   GraphMethod reference(multiscale.method);
   ASSERT_TRUE(reference.Precompute(bar.mesh, multiscale, &error)) << error;
   ASSERT_TRUE(reference.SetHandles(bar.layout, &error)) << error;
   ASSERT_TRUE(reference.Drag(Lift(1.0), nullptr, &error)) << error;
   const Eigen::Matrix3Xd expected = reference.deformed_normals();
-  const GraphMethod& reader = deformer;
+  const GraphMethod& reader = graph_method;
   std::vector<Eigen::Matrix3Xd> read(4);
   std::vector<std::thread> readers;
   for (int t = 0; t < 4; ++t) readers.emplace_back([&, t] { read[t] = reader.deformed_normals(); });
@@ -399,36 +402,36 @@ TEST(GraphMethodCallOrderTest, DeformersInParallelThreadsMatchSerialRuns) {
   for (int t = 0; t < 4; ++t) EXPECT_EQ(read[t], expected) << "thread " << t;
 }
 
-// The facade holds the three stages (scales/precompute.h): each exists only
+// The method holds the three stages (scales/precompute.h): each exists only
 // once its call succeeded, a failed SetHandles drops the layout and the
 // session but keeps the precompute, and a stage made by hand from the
-// facade's precompute drags exactly as the facade does.
-TEST(GraphMethodCallOrderTest, TheFacadesStagesExistOnlyOnceMade) {
+// method's precompute drags exactly as the method does.
+TEST(GraphMethodCallOrderTest, TheMethodsStagesExistOnlyOnceMade) {
   const BarEdit bar(8, 2);
-  GraphMethod deformer(Method::kMultiScale);
+  GraphMethod graph_method(Method::kMultiScale);
   std::string error;
-  EXPECT_EQ(deformer.precompute(), nullptr);
-  EXPECT_EQ(deformer.setup(), nullptr);
-  EXPECT_EQ(deformer.session(), nullptr);
+  EXPECT_EQ(graph_method.precompute(), nullptr);
+  EXPECT_EQ(graph_method.setup(), nullptr);
+  EXPECT_EQ(graph_method.session(), nullptr);
   DeformerOptions coarse = OptionsFor(Method::kMultiScale);
   coarse.lattice.cells_per_diagonal = 8.0;  // cells of about a voxel
-  ASSERT_TRUE(deformer.Precompute(bar.mesh, coarse, &error)) << error;
-  const std::shared_ptr<const Precompute> precompute = deformer.precompute();
+  ASSERT_TRUE(graph_method.Precompute(bar.mesh, coarse, &error)) << error;
+  const std::shared_ptr<const Precompute> precompute = graph_method.precompute();
   ASSERT_NE(precompute, nullptr);
-  EXPECT_EQ(deformer.setup(), nullptr);
-  EXPECT_EQ(deformer.session(), nullptr);
-  ASSERT_TRUE(deformer.SetHandles(bar.layout, &error)) << error;
-  ASSERT_NE(deformer.setup(), nullptr);
-  ASSERT_NE(deformer.session(), nullptr);
-  EXPECT_EQ(&deformer.setup()->precompute(), precompute.get());
+  EXPECT_EQ(graph_method.setup(), nullptr);
+  EXPECT_EQ(graph_method.session(), nullptr);
+  ASSERT_TRUE(graph_method.SetHandles(bar.layout, &error)) << error;
+  ASSERT_NE(graph_method.setup(), nullptr);
+  ASSERT_NE(graph_method.session(), nullptr);
+  EXPECT_EQ(&graph_method.setup()->precompute(), precompute.get());
 
   std::shared_ptr<const HandleSetup> setup = HandleSetup::Create(precompute, bar.layout, &error);
   ASSERT_NE(setup, nullptr) << error;
   std::unique_ptr<Session> session = Session::Create(setup, &error);
   ASSERT_NE(session, nullptr) << error;
-  ASSERT_TRUE(deformer.Drag(Lift(1.0), nullptr, &error)) << error;
+  ASSERT_TRUE(graph_method.Drag(Lift(1.0), nullptr, &error)) << error;
   ASSERT_TRUE(session->Drag(Lift(1.0), nullptr, &error)) << error;
-  EXPECT_EQ(session->deformed_vertices(), deformer.deformed_vertices());
+  EXPECT_EQ(session->deformed_vertices(), graph_method.deformed_vertices());
 
   // A fixed vertex made moveable: in one lattice cell with fixed ones.
   HandleLayout conflict = bar.layout;
@@ -441,18 +444,18 @@ TEST(GraphMethodCallOrderTest, TheFacadesStagesExistOnlyOnceMade) {
     break;
   }
   ASSERT_LT(conflict.fixed.size(), bar.layout.fixed.size()) << "no two fixed vertices share a cell";
-  EXPECT_FALSE(deformer.SetHandles(conflict, &error));
+  EXPECT_FALSE(graph_method.SetHandles(conflict, &error));
   EXPECT_NE(error.find("lattice cell"), std::string::npos) << error;
-  EXPECT_EQ(deformer.setup(), nullptr);
-  EXPECT_EQ(deformer.session(), nullptr);
-  EXPECT_EQ(deformer.precompute(), precompute);
-  EXPECT_EQ(deformer.deformed_vertices(), bar.mesh.vertices);
+  EXPECT_EQ(graph_method.setup(), nullptr);
+  EXPECT_EQ(graph_method.session(), nullptr);
+  EXPECT_EQ(graph_method.precompute(), precompute);
+  EXPECT_EQ(graph_method.deformed_vertices(), bar.mesh.vertices);
   // The hand-made session lives on, its layout unaffected.
   ASSERT_TRUE(session->Drag(Lift(2.0), nullptr, &error)) << error;
 
-  ASSERT_TRUE(deformer.Precompute(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
-  EXPECT_NE(deformer.precompute(), precompute);
-  EXPECT_EQ(deformer.setup(), nullptr);
+  ASSERT_TRUE(graph_method.Precompute(bar.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
+  EXPECT_NE(graph_method.precompute(), precompute);
+  EXPECT_EQ(graph_method.setup(), nullptr);
 }
 
 }  // namespace

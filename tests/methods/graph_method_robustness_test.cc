@@ -1,4 +1,4 @@
-// Robustness of the deformer (issue 9): meshes with several components,
+// Robustness of the graph_method (issue 9): meshes with several components,
 // singular systems, failed solves, random rigid motions, determinism. Kept
 // apart from graph_method_test.cc, which checks the method itself.
 
@@ -43,15 +43,15 @@ TEST(GraphMethodRobustnessTest, ComponentWithoutHandleStaysAndHasNoVariables) {
   lift.translation() << 0.0, 0.0, 2.0;
   lift.rotate(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX()));
   for (Method method : kAllMethods) {
-    GraphMethod deformer(method);
+    GraphMethod graph_method(method);
     std::string error;
-    ASSERT_TRUE(deformer.Precompute(bars.mesh, OptionsFor(method), &error)) << error;
-    ASSERT_TRUE(deformer.SetHandles(bars.layout, &error)) << error;
+    ASSERT_TRUE(graph_method.Precompute(bars.mesh, OptionsFor(method), &error)) << error;
+    ASSERT_TRUE(graph_method.SetHandles(bars.layout, &error)) << error;
     const Eigen::Vector3d handle_centre(7.5, 0.5, 0.5);
     for (const Eigen::Affine3d& frame : InterpolateDragPath(lift, handle_centre, 3)) {
-      ASSERT_TRUE(deformer.Drag(frame, nullptr, &error)) << error;
+      ASSERT_TRUE(graph_method.Drag(frame, nullptr, &error)) << error;
     }
-    const Eigen::Matrix3Xd& deformed = deformer.deformed_vertices();
+    const Eigen::Matrix3Xd& deformed = graph_method.deformed_vertices();
     ASSERT_TRUE(deformed.allFinite()) << MethodName(method);
     for (int v : bars.second_bar) {
       ASSERT_EQ(deformed.col(v), bars.mesh.vertices.col(v))
@@ -60,10 +60,11 @@ TEST(GraphMethodRobustnessTest, ComponentWithoutHandleStaysAndHasNoVariables) {
     // The handle did move.
     EXPECT_GT(MaxDistance(deformed, bars.mesh.vertices), 1.0) << MethodName(method);
     // Every node of the second bar is Fixed: its node sits on a second-bar vertex.
-    const DeformationGraph& graph = deformer.active();
+    const DeformationGraph& graph = graph_method.active();
     for (int j = 0; j < graph.num_nodes(); ++j) {
       if (bars.mesh.vertices(1, graph.node_vertex[j]) > 1.5) {
-        EXPECT_EQ(deformer.node_classes()[j], NodeClass::kFixed) << MethodName(method) << " " << j;
+        EXPECT_EQ(graph_method.node_classes()[j], NodeClass::kFixed)
+            << MethodName(method) << " " << j;
       }
     }
   }
@@ -79,12 +80,12 @@ TEST(GraphMethodRobustnessTest, ComponentWithoutHandleStaysWhenANodeSpansBothCom
   for (int static_nodes : {1, 2, 3}) {
     DeformerOptions options = OptionsFor(Method::kStatic);
     options.static_nodes = static_nodes;
-    GraphMethod deformer(options.method);
+    GraphMethod graph_method(options.method);
     std::string error;
-    ASSERT_TRUE(deformer.Precompute(bars.mesh, options, &error)) << error;
-    ASSERT_TRUE(deformer.SetHandles(bars.layout, &error)) << error;
-    ASSERT_TRUE(deformer.Drag(lift, nullptr, &error)) << error;
-    const Eigen::Matrix3Xd& deformed = deformer.deformed_vertices();
+    ASSERT_TRUE(graph_method.Precompute(bars.mesh, options, &error)) << error;
+    ASSERT_TRUE(graph_method.SetHandles(bars.layout, &error)) << error;
+    ASSERT_TRUE(graph_method.Drag(lift, nullptr, &error)) << error;
+    const Eigen::Matrix3Xd& deformed = graph_method.deformed_vertices();
     for (int v : bars.second_bar) {
       ASSERT_EQ(deformed.col(v), bars.mesh.vertices.col(v)) << static_nodes << " vertex " << v;
     }
@@ -103,12 +104,12 @@ TEST(GraphMethodRobustnessTest, IsolatedVertexIsAComponentOfItsOwn) {
   Eigen::Affine3d lift = Eigen::Affine3d::Identity();
   lift.translation() << 0.0, 0.0, 2.0;
   for (Method method : kAllMethods) {
-    GraphMethod deformer(method);
+    GraphMethod graph_method(method);
     std::string error;
-    ASSERT_TRUE(deformer.Precompute(mesh, OptionsFor(method), &error)) << error;
-    ASSERT_TRUE(deformer.SetHandles(bars.layout, &error)) << error;
-    ASSERT_TRUE(deformer.Drag(lift, nullptr, &error)) << error;
-    const Eigen::Matrix3Xd& deformed = deformer.deformed_vertices();
+    ASSERT_TRUE(graph_method.Precompute(mesh, OptionsFor(method), &error)) << error;
+    ASSERT_TRUE(graph_method.SetHandles(bars.layout, &error)) << error;
+    ASSERT_TRUE(graph_method.Drag(lift, nullptr, &error)) << error;
+    const Eigen::Matrix3Xd& deformed = graph_method.deformed_vertices();
     EXPECT_EQ(deformed.col(isolated), mesh.vertices.col(isolated)) << MethodName(method);
     EXPECT_GT(MaxDistance(deformed, mesh.vertices), 1.0) << MethodName(method);
     for (int v : bars.second_bar) {
@@ -119,35 +120,35 @@ TEST(GraphMethodRobustnessTest, IsolatedVertexIsAComponentOfItsOwn) {
 
 TEST(GraphMethodRobustnessTest, FailedSolveKeepsTheLastGoodFrame) {
   const TwoBars bars;
-  GraphMethod deformer(Method::kMultiScale);
+  GraphMethod graph_method(Method::kMultiScale);
   std::string error;
-  ASSERT_TRUE(deformer.Precompute(bars.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
-  ASSERT_TRUE(deformer.SetHandles(bars.layout, &error)) << error;
+  ASSERT_TRUE(graph_method.Precompute(bars.mesh, OptionsFor(Method::kMultiScale), &error)) << error;
+  ASSERT_TRUE(graph_method.SetHandles(bars.layout, &error)) << error;
   Eigen::Affine3d good = Eigen::Affine3d::Identity();
   good.translation() << 0.0, 0.0, 1.0;
-  ASSERT_TRUE(deformer.Drag(good, nullptr, &error)) << error;
-  const Eigen::Matrix3Xd good_vertices = deformer.deformed_vertices();
+  ASSERT_TRUE(graph_method.Drag(good, nullptr, &error)) << error;
+  const Eigen::Matrix3Xd good_vertices = graph_method.deformed_vertices();
 
   // A finite but absurd target overflows the cost: the solve fails.
   Eigen::Affine3d absurd = Eigen::Affine3d::Identity();
   absurd.translation() << 1e300, 1e300, 0.0;
-  EXPECT_FALSE(deformer.Drag(absurd, nullptr, &error));
+  EXPECT_FALSE(graph_method.Drag(absurd, nullptr, &error));
   EXPECT_NE(error.find("kept the last good frame"), std::string::npos) << error;
-  EXPECT_EQ(deformer.deformed_vertices(), good_vertices);
-  EXPECT_TRUE(deformer.transforms().rotations.allFinite());
-  EXPECT_TRUE(deformer.transforms().translations.allFinite());
+  EXPECT_EQ(graph_method.deformed_vertices(), good_vertices);
+  EXPECT_TRUE(graph_method.transforms().rotations.allFinite());
+  EXPECT_TRUE(graph_method.transforms().translations.allFinite());
 
   // A non-finite target is refused before solving.
   Eigen::Affine3d nan_target = Eigen::Affine3d::Identity();
   nan_target.translation().x() = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_FALSE(deformer.Drag(nan_target, nullptr, &error));
-  EXPECT_EQ(deformer.deformed_vertices(), good_vertices);
+  EXPECT_FALSE(graph_method.Drag(nan_target, nullptr, &error));
+  EXPECT_EQ(graph_method.deformed_vertices(), good_vertices);
 
   // And the drag goes on from the last good frame.
   Eigen::Affine3d next = good;
   next.translation().z() = 1.5;
-  ASSERT_TRUE(deformer.Drag(next, nullptr, &error)) << error;
-  EXPECT_TRUE(deformer.deformed_vertices().allFinite());
+  ASSERT_TRUE(graph_method.Drag(next, nullptr, &error)) << error;
+  EXPECT_TRUE(graph_method.deformed_vertices().allFinite());
 }
 
 TEST(GraphMethodRobustnessTest, RandomRigidMotionsOfAWholeMeshHandleAreRigid) {
@@ -157,11 +158,11 @@ TEST(GraphMethodRobustnessTest, RandomRigidMotionsOfAWholeMeshHandleAreRigid) {
   std::mt19937 random(20080101);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   for (Method method : kAllMethods) {
-    GraphMethod deformer(method);
+    GraphMethod graph_method(method);
     std::string error;
-    ASSERT_TRUE(deformer.Precompute(mesh, OptionsFor(method), &error)) << error;
+    ASSERT_TRUE(graph_method.Precompute(mesh, OptionsFor(method), &error)) << error;
     for (int trial = 0; trial < 3; ++trial) {
-      ASSERT_TRUE(deformer.SetHandles(everything, &error)) << error;
+      ASSERT_TRUE(graph_method.SetHandles(everything, &error)) << error;
       const Eigen::Vector3d axis =
           Eigen::Vector3d(uniform(random), uniform(random), uniform(random)).normalized();
       Eigen::Affine3d motion = Eigen::Affine3d::Identity();
@@ -169,9 +170,9 @@ TEST(GraphMethodRobustnessTest, RandomRigidMotionsOfAWholeMeshHandleAreRigid) {
       motion.rotate(Eigen::AngleAxisd(1.5 * uniform(random), axis));
       for (const Eigen::Affine3d& frame :
            InterpolateDragPath(motion, mesh.vertices.rowwise().mean(), 3)) {
-        ASSERT_TRUE(deformer.Drag(frame, nullptr, &error)) << error;
+        ASSERT_TRUE(graph_method.Drag(frame, nullptr, &error)) << error;
       }
-      EXPECT_LT(MaxDistance(deformer.deformed_vertices(), motion * mesh.vertices), 1e-6)
+      EXPECT_LT(MaxDistance(graph_method.deformed_vertices(), motion * mesh.vertices), 1e-6)
           << MethodName(method) << " trial " << trial;
     }
   }
@@ -183,17 +184,17 @@ TEST(GraphMethodRobustnessTest, SameInputsGiveBitIdenticalResults) {
   lift.translation() << 0.0, 0.5, 1.0;
   Eigen::Matrix3Xd first;
   for (int run = 0; run < 2; ++run) {
-    GraphMethod deformer(Method::kMultiScale);
+    GraphMethod graph_method(Method::kMultiScale);
     std::string error;
     DeformerOptions options = OptionsFor(Method::kMultiScale);
     options.num_threads = 2;
-    ASSERT_TRUE(deformer.Precompute(bars.mesh, options, &error)) << error;
-    ASSERT_TRUE(deformer.SetHandles(bars.layout, &error)) << error;
-    ASSERT_TRUE(deformer.Drag(lift, nullptr, &error)) << error;
+    ASSERT_TRUE(graph_method.Precompute(bars.mesh, options, &error)) << error;
+    ASSERT_TRUE(graph_method.SetHandles(bars.layout, &error)) << error;
+    ASSERT_TRUE(graph_method.Drag(lift, nullptr, &error)) << error;
     if (run == 0) {
-      first = deformer.deformed_vertices();
+      first = graph_method.deformed_vertices();
     } else {
-      EXPECT_EQ(deformer.deformed_vertices(), first);
+      EXPECT_EQ(graph_method.deformed_vertices(), first);
     }
   }
 }

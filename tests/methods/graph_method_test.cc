@@ -21,21 +21,21 @@
 namespace msdeform {
 namespace {
 
-void InitOrDie(GraphMethod* deformer, const Mesh& mesh, const DeformerOptions& options,
+void InitOrDie(GraphMethod* graph_method, const Mesh& mesh, const DeformerOptions& options,
                const HandleLayout& layout) {
   std::string error;
-  ASSERT_TRUE(deformer->Precompute(mesh, options, &error)) << error;
-  ASSERT_TRUE(deformer->SetHandles(layout, &error)) << error;
+  ASSERT_TRUE(graph_method->Precompute(mesh, options, &error)) << error;
+  ASSERT_TRUE(graph_method->SetHandles(layout, &error)) << error;
 }
 
 TEST(GraphMethodTest, IdentityTargetLeavesTheMeshUnchanged) {
   const BarEdit bar;
   for (Method method : kAllMethods) {
-    GraphMethod deformer(method);
-    InitOrDie(&deformer, bar.mesh, OptionsFor(method), bar.layout);
+    GraphMethod graph_method(method);
+    InitOrDie(&graph_method, bar.mesh, OptionsFor(method), bar.layout);
     std::string error;
-    ASSERT_TRUE(deformer.Drag(Eigen::Affine3d::Identity(), nullptr, &error)) << error;
-    EXPECT_LT(MaxDistance(deformer.deformed_vertices(), bar.mesh.vertices), 1e-9)
+    ASSERT_TRUE(graph_method.Drag(Eigen::Affine3d::Identity(), nullptr, &error)) << error;
+    EXPECT_LT(MaxDistance(graph_method.deformed_vertices(), bar.mesh.vertices), 1e-9)
         << MethodName(method);
   }
 }
@@ -51,19 +51,19 @@ TEST(GraphMethodTest, RigidMotionOfAWholeMeshHandleMovesTheMeshRigidly) {
   rotation.pretranslate(Eigen::Vector3d(1, 0, 0));
   for (Method method : kAllMethods) {
     for (const Eigen::Affine3d& motion : {translation, rotation}) {
-      GraphMethod deformer(method);
-      InitOrDie(&deformer, bar.mesh, OptionsFor(method), everything);
+      GraphMethod graph_method(method);
+      InitOrDie(&graph_method, bar.mesh, OptionsFor(method), everything);
       std::string error;
       for (const Eigen::Affine3d& frame :
            InterpolateDragPath(motion, bar.mesh.vertices.rowwise().mean(), 3)) {
-        ASSERT_TRUE(deformer.Drag(frame, nullptr, &error)) << error;
+        ASSERT_TRUE(graph_method.Drag(frame, nullptr, &error)) << error;
       }
       const Eigen::Matrix3Xd expected = motion * bar.mesh.vertices;
-      EXPECT_LT(MaxDistance(deformer.deformed_vertices(), expected), 1e-6)
+      EXPECT_LT(MaxDistance(graph_method.deformed_vertices(), expected), 1e-6)
           << MethodName(method);
       // Normals turn with the mesh.
       const Eigen::Matrix3Xd normals = VertexNormals(bar.mesh);
-      EXPECT_LT(MaxDistance(deformer.deformed_normals(), motion.linear() * normals), 1e-6)
+      EXPECT_LT(MaxDistance(graph_method.deformed_normals(), motion.linear() * normals), 1e-6)
           << MethodName(method);
     }
   }
@@ -79,11 +79,11 @@ DeformerOptions UnpinnedOptions() {
 
 TEST(GraphMethodTest, ClassesAreParameterBlockFixing) {
   const BarEdit bar;
-  GraphMethod deformer(UnpinnedOptions().method);
-  InitOrDie(&deformer, bar.mesh, UnpinnedOptions(), bar.layout);
-  const ScaleSelection& selection = deformer.selection();
+  GraphMethod graph_method(UnpinnedOptions().method);
+  InitOrDie(&graph_method, bar.mesh, UnpinnedOptions(), bar.layout);
+  const ScaleSelection& selection = graph_method.selection();
   int m = 0, q = 0;
-  for (NodeClass c : deformer.node_classes()) {
+  for (NodeClass c : graph_method.node_classes()) {
     m += c == NodeClass::kTotallyFree;
     q += c == NodeClass::kHalfFree;
   }
@@ -91,17 +91,17 @@ TEST(GraphMethodTest, ClassesAreParameterBlockFixing) {
   EXPECT_GT(q, 0);
   EXPECT_EQ(m, selection.num_totally_free);
   EXPECT_EQ(q, selection.num_half_free);
-  EXPECT_EQ(deformer.variables(), 12 * m + 9 * q);
+  EXPECT_EQ(graph_method.variables(), 12 * m + 9 * q);
   // After a drag the Fixed nodes are still the identity and the Half Free
   // nodes still have t = 0.
   std::string error;
   Eigen::Affine3d lift = Eigen::Affine3d::Identity();
   lift.translation() << 0.0, 2.0, 0.0;
-  ASSERT_TRUE(deformer.Drag(lift, nullptr, &error)) << error;
-  const NodeTransforms& transforms = deformer.transforms();
+  ASSERT_TRUE(graph_method.Drag(lift, nullptr, &error)) << error;
+  const NodeTransforms& transforms = graph_method.transforms();
   bool some_free_node_moved = false;
-  for (int j = 0; j < deformer.active().num_nodes(); ++j) {
-    const NodeClass c = deformer.node_classes()[j];
+  for (int j = 0; j < graph_method.active().num_nodes(); ++j) {
+    const NodeClass c = graph_method.node_classes()[j];
     if (c != NodeClass::kTotallyFree) {
       EXPECT_EQ(transforms.translations.col(j).norm(), 0.0);
     }
@@ -117,10 +117,10 @@ TEST(GraphMethodTest, ClassesAreParameterBlockFixing) {
 
 // Directed edges (j, k) of the active graph with j Half Free and k Half Free
 // or Fixed: the terms docs/method.md §5 leaves out.
-int LeftOutTerms(const GraphMethod& deformer) {
+int LeftOutTerms(const GraphMethod& graph_method) {
   int count = 0;
-  const auto& classes = deformer.node_classes();
-  for (const auto& [a, b] : deformer.active().edges) {
+  const auto& classes = graph_method.node_classes();
+  for (const auto& [a, b] : graph_method.active().edges) {
     for (const auto& [j, k] : {std::make_pair(a, b), std::make_pair(b, a)}) {
       count += classes[j] == NodeClass::kHalfFree && classes[k] != NodeClass::kTotallyFree;
     }
@@ -130,24 +130,24 @@ int LeftOutTerms(const GraphMethod& deformer) {
 
 TEST(GraphMethodTest, LeftOutTermsAreAbsentAndBackUnderTheAblation) {
   const BarEdit bar;
-  GraphMethod deformer(UnpinnedOptions().method);
-  InitOrDie(&deformer, bar.mesh, UnpinnedOptions(), bar.layout);
+  GraphMethod graph_method(UnpinnedOptions().method);
+  InitOrDie(&graph_method, bar.mesh, UnpinnedOptions(), bar.layout);
   int expected = 0;
-  const auto& classes = deformer.node_classes();
-  for (const auto& [a, b] : deformer.active().edges) {
+  const auto& classes = graph_method.node_classes();
+  for (const auto& [a, b] : graph_method.active().edges) {
     for (const auto& [j, k] : {std::make_pair(a, b), std::make_pair(b, a)}) {
       expected += classes[j] == NodeClass::kTotallyFree || classes[k] == NodeClass::kTotallyFree;
     }
   }
-  EXPECT_EQ(deformer.num_coherence_terms(), expected);
-  const int left_out = LeftOutTerms(deformer);
+  EXPECT_EQ(graph_method.num_coherence_terms(), expected);
+  const int left_out = LeftOutTerms(graph_method);
   ASSERT_GT(left_out, 0);
 
   DeformerOptions ablation = UnpinnedOptions();
   ablation.keep_left_out_terms = true;
   GraphMethod with_terms(ablation.method);
   InitOrDie(&with_terms, bar.mesh, ablation, bar.layout);
-  EXPECT_EQ(with_terms.node_classes(), deformer.node_classes());
+  EXPECT_EQ(with_terms.node_classes(), graph_method.node_classes());
   EXPECT_EQ(with_terms.num_coherence_terms(), expected + left_out);
 
   // The other ablation: fixed-handle nodes lose their rotation.
@@ -156,23 +156,26 @@ TEST(GraphMethodTest, LeftOutTermsAreAbsentAndBackUnderTheAblation) {
   GraphMethod fixed_nodes(ablation.method);
   InitOrDie(&fixed_nodes, bar.mesh, ablation, bar.layout);
   for (NodeClass c : fixed_nodes.node_classes()) EXPECT_NE(c, NodeClass::kHalfFree);
-  EXPECT_LT(fixed_nodes.variables(), deformer.variables());
+  EXPECT_LT(fixed_nodes.variables(), graph_method.variables());
 }
 
 TEST(GraphMethodTest, StaticBaselinesFreeEveryNodeOfTheirGraph) {
   const BarEdit bar;
   for (Method method : {Method::kStatic, Method::kStaticDense}) {
-    GraphMethod deformer(method);
-    InitOrDie(&deformer, bar.mesh, OptionsFor(method), bar.layout);
-    const int n = deformer.active().num_nodes();
-    EXPECT_EQ(n, method == Method::kStatic ? 40 : deformer.graphs()[0].num_nodes());
-    EXPECT_EQ(deformer.variables(), 12 * n);
-    EXPECT_EQ(deformer.num_coherence_terms(), 2 * static_cast<int>(deformer.active().edges.size()));
-    EXPECT_EQ(deformer.num_position_terms(), static_cast<int>(bar.layout.moveable.size()));
+    GraphMethod graph_method(method);
+    InitOrDie(&graph_method, bar.mesh, OptionsFor(method), bar.layout);
+    const int n = graph_method.active().num_nodes();
+    EXPECT_EQ(n, method == Method::kStatic ? 40 : graph_method.graphs()[0].num_nodes());
+    EXPECT_EQ(graph_method.variables(), 12 * n);
+    EXPECT_EQ(graph_method.num_coherence_terms(),
+              2 * static_cast<int>(graph_method.active().edges.size()));
+    EXPECT_EQ(graph_method.num_position_terms(), static_cast<int>(bar.layout.moveable.size()));
   }
 }
 
-std::string DataPath(const std::string& name) { return std::string(MSDEFORM_DATA_DIR) + "/" + name; }
+std::string DataPath(const std::string& name) {
+  return std::string(MSDEFORM_DATA_DIR) + "/" + name;
+}
 
 // Handle rms and the largest fixed-vertex displacement, both relative to the
 // diagonal, after dragging the Botsch-Sorkine cactus to its .def over 30 frames.
@@ -183,7 +186,8 @@ std::pair<double, double> CactusErrors(Method method, Solver backend,
   Eigen::Affine3d target;
   std::string error;
   EXPECT_TRUE(ReadMesh(DataPath("meshes/cactus.off"), &mesh, &error)) << error;
-  EXPECT_TRUE(ReadSel(DataPath("meshes/cactus.sel"), mesh.num_vertices(), &layout, &error)) << error;
+  EXPECT_TRUE(ReadSel(DataPath("meshes/cactus.sel"), mesh.num_vertices(), &layout, &error))
+      << error;
   EXPECT_TRUE(ReadDef(DataPath("meshes/cactus.def"), &target, &error)) << error;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (int v : layout.moveable) centroid += mesh.vertices.col(v);
@@ -192,21 +196,23 @@ std::pair<double, double> CactusErrors(Method method, Solver backend,
   options.method = method;
   options.backend = backend;
   options.num_threads = 1;
-  GraphMethod deformer(options.method);
-  InitOrDie(&deformer, mesh, options, layout);
+  GraphMethod graph_method(options.method);
+  InitOrDie(&graph_method, mesh, options, layout);
   for (const Eigen::Affine3d& frame : InterpolateDragPath(target, centroid, 30)) {
-    EXPECT_TRUE(deformer.Drag(frame, nullptr, &error)) << error;
+    EXPECT_TRUE(graph_method.Drag(frame, nullptr, &error)) << error;
   }
   double squared = 0.0;
   for (int v : layout.moveable) {
-    squared += (deformer.deformed_vertices().col(v) - target * mesh.vertices.col(v)).squaredNorm();
+    squared +=
+        (graph_method.deformed_vertices().col(v) - target * mesh.vertices.col(v)).squaredNorm();
   }
   double fixed_max = 0.0;
   for (int v : layout.fixed) {
-    fixed_max = std::max(fixed_max, (deformer.deformed_vertices().col(v) - mesh.vertices.col(v)).norm());
+    fixed_max = std::max(fixed_max,
+                         (graph_method.deformed_vertices().col(v) - mesh.vertices.col(v)).norm());
   }
-  return {std::sqrt(squared / layout.moveable.size()) / deformer.diagonal(),
-          fixed_max / deformer.diagonal()};
+  return {std::sqrt(squared / layout.moveable.size()) / graph_method.diagonal(),
+          fixed_max / graph_method.diagonal()};
 }
 
 TEST(GraphMethodTest, BotschSorkineCactusReachesItsTarget) {
@@ -252,8 +258,8 @@ struct CylinderBend {
     const double radius = 2.0 * (kFreeTop - kFreeBottom) / M_PI;
     target.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
     // (0, 0, 9) -> (0, -radius, 1 + radius): the end of the quarter circle.
-    target.translation() =
-        Eigen::Vector3d(0.0, -radius, kFreeBottom + radius) - target.linear() * Eigen::Vector3d(0, 0, kFreeTop);
+    target.translation() = Eigen::Vector3d(0.0, -radius, kFreeBottom + radius) -
+                           target.linear() * Eigen::Vector3d(0, 0, kFreeTop);
   }
 
   // Angle (degrees) of the best-fit rotation of the vertices with z in
@@ -288,14 +294,14 @@ TEST(GraphMethodTest, CylinderBendsOverItsWholeLength) {
   DeformerOptions options;
   options.backend = Solver::kGaussNewton;
   options.num_threads = 1;
-  GraphMethod deformer(options.method);
-  InitOrDie(&deformer, bend.mesh, options, bend.layout);
+  GraphMethod graph_method(options.method);
+  InitOrDie(&graph_method, bend.mesh, options, bend.layout);
   // Group 1 reaches from the handle down into the lowest quarter of the free
   // length (e' falls off linearly along a prism; T = 0.1).
-  const DeformationGraph& dg1 = deformer.graphs()[0];
+  const DeformationGraph& dg1 = graph_method.graphs()[0];
   double lowest_group1 = CylinderBend::kFreeTop;
   for (int i = 0; i < dg1.num_nodes(); ++i) {
-    if (deformer.rigidity().relative_extent[i] > deformer.selection().threshold) {
+    if (graph_method.rigidity().relative_extent[i] > graph_method.selection().threshold) {
       lowest_group1 = std::min(lowest_group1, dg1.positions(2, i));
     }
   }
@@ -307,17 +313,17 @@ TEST(GraphMethodTest, CylinderBendsOverItsWholeLength) {
     return Eigen::Vector3d(sum / bend.layout.moveable.size());
   }();
   for (const Eigen::Affine3d& frame : InterpolateDragPath(bend.target, centroid, 10)) {
-    ASSERT_TRUE(deformer.Drag(frame, nullptr, &error)) << error;
+    ASSERT_TRUE(graph_method.Drag(frame, nullptr, &error)) << error;
   }
   // The middle third turns by about half the handle's 90 degrees, and the
   // lowest third by less than the highest.
   const double lowest = CylinderBend::kFreeBottom;
   const double middle_turn =
-      bend.TurnOf(deformer.deformed_vertices(), lowest + third, lowest + 2 * third);
+      bend.TurnOf(graph_method.deformed_vertices(), lowest + third, lowest + 2 * third);
   EXPECT_GT(middle_turn, 30.0);
   EXPECT_LT(middle_turn, 60.0);
-  EXPECT_LT(bend.TurnOf(deformer.deformed_vertices(), lowest, lowest + third),
-            bend.TurnOf(deformer.deformed_vertices(), lowest + 2 * third, lowest + 3 * third));
+  EXPECT_LT(bend.TurnOf(graph_method.deformed_vertices(), lowest, lowest + third),
+            bend.TurnOf(graph_method.deformed_vertices(), lowest + 2 * third, lowest + 3 * third));
 }
 
 // The multi-scale Init connects DG1 only; SetHandles connects the scale it
@@ -327,36 +333,37 @@ TEST(GraphMethodTest, CoarseScalesAreConnectedWhenUsedAndCachedBounded) {
   const CylinderBend bend;
   DeformerOptions options = OptionsFor(Method::kMultiScale);
   options.cached_scales = 2;
-  GraphMethod deformer(options.method);
+  GraphMethod graph_method(options.method);
   std::string error;
-  ASSERT_TRUE(deformer.Precompute(bend.mesh, options, &error)) << error;
-  const int num_graphs = static_cast<int>(deformer.graphs().size());
+  ASSERT_TRUE(graph_method.Precompute(bend.mesh, options, &error)) << error;
+  const int num_graphs = static_cast<int>(graph_method.graphs().size());
   ASSERT_GE(num_graphs, 5);
-  EXPECT_TRUE(deformer.graphs()[0].is_connected());
-  for (int i = 1; i < num_graphs; ++i) EXPECT_FALSE(deformer.graphs()[i].is_connected()) << i;
+  EXPECT_TRUE(graph_method.graphs()[0].is_connected());
+  for (int i = 1; i < num_graphs; ++i) EXPECT_FALSE(graph_method.graphs()[i].is_connected()) << i;
 
-  ASSERT_TRUE(deformer.SetHandles(bend.layout, &error)) << error;
-  const int active = deformer.active_graph();
+  ASSERT_TRUE(graph_method.SetHandles(bend.layout, &error)) << error;
+  const int active = graph_method.active_graph();
   ASSERT_GT(active, 0) << "the bend should select a coarse scale";
   std::vector<DeformationGraph> eager;
-  ASSERT_TRUE(BuildMultiScaleGraphs(bend.mesh, *deformer.lattice(), options.graph, &eager, &error))
+  ASSERT_TRUE(
+      BuildMultiScaleGraphs(bend.mesh, *graph_method.lattice(), options.graph, &eager, &error))
       << error;
-  const DeformationGraph& lazy = deformer.graphs()[active];
+  const DeformationGraph& lazy = graph_method.graphs()[active];
   ASSERT_TRUE(lazy.is_connected());
   EXPECT_EQ(lazy.edges, eager[active].edges);
   EXPECT_EQ(lazy.neighbors.values, eager[active].neighbors.values);
   EXPECT_TRUE(lazy.weights == eager[active].weights);
-  ASSERT_TRUE(deformer.Drag(bend.target, nullptr, &error)) << error;
-  const Eigen::Matrix3Xd first = deformer.deformed_vertices();
+  ASSERT_TRUE(graph_method.Drag(bend.target, nullptr, &error)) << error;
+  const Eigen::Matrix3Xd first = graph_method.deformed_vertices();
 
   // Using every other scale keeps at most cached_scales coarse graphs
   // connected, and never drops the one being solved on.
   for (int i = 1; i < num_graphs; ++i) {
-    deformer.ConnectedGraph(i);
+    graph_method.ConnectedGraph(i);
     int connected = 0;
-    for (int j = 1; j < num_graphs; ++j) connected += deformer.graphs()[j].is_connected();
+    for (int j = 1; j < num_graphs; ++j) connected += graph_method.graphs()[j].is_connected();
     EXPECT_LE(connected, options.cached_scales + 1) << i;
-    EXPECT_TRUE(deformer.graphs()[active].is_connected()) << i;
+    EXPECT_TRUE(graph_method.graphs()[active].is_connected()) << i;
   }
   // A scale connected, dropped and connected again drags identically.
   options.cached_scales = 1;
@@ -383,10 +390,10 @@ TEST(GraphMethodTest, LargeFixedRegionGetsHalfFreeNodesOnlyAtItsBorder) {
   DeformerOptions options;
   options.num_threads = 1;
   options.selection.pin_fixed_region = false;  // Half Free nodes hold fixed vertices
-  GraphMethod deformer(options.method);
-  InitOrDie(&deformer, bend.mesh, options, bend.layout);
-  const DeformationGraph& graph = deformer.active();
-  const std::vector<NodeClass>& classes = deformer.node_classes();
+  GraphMethod graph_method(options.method);
+  InitOrDie(&graph_method, bend.mesh, options, bend.layout);
+  const DeformationGraph& graph = graph_method.active();
+  const std::vector<NodeClass>& classes = graph_method.node_classes();
   int half_free = 0;
   for (int j = 0; j < graph.num_nodes(); ++j) {
     if (classes[j] != NodeClass::kHalfFree) continue;
@@ -402,7 +409,7 @@ TEST(GraphMethodTest, LargeFixedRegionGetsHalfFreeNodesOnlyAtItsBorder) {
   GraphMethod paper(PaperProcedure(options).method);
   InitOrDie(&paper, bend.mesh, PaperProcedure(options), bend.layout);
   EXPECT_GT(paper.selection().num_half_free, 3 * half_free);
-  EXPECT_LT(deformer.variables(), paper.variables());
+  EXPECT_LT(graph_method.variables(), paper.variables());
 }
 
 TEST(GraphMethodTest, LargeArmadilloEditKeepsOptimisedNodesNearP) {
@@ -417,14 +424,14 @@ TEST(GraphMethodTest, LargeArmadilloEditKeepsOptimisedNodesNearP) {
   ASSERT_TRUE(ResolveScenario(scenario, mesh, &layout, &watch, &target, &error)) << error;
   DeformerOptions options;
   options.num_threads = 1;
-  GraphMethod deformer(options.method);
-  InitOrDie(&deformer, mesh, options, layout);
-  const ScaleSelection& selection = deformer.selection();
+  GraphMethod graph_method(options.method);
+  InitOrDie(&graph_method, mesh, options, layout);
+  const ScaleSelection& selection = graph_method.selection();
   EXPECT_GT(selection.group1_size, options.graph.nodes_per_scale);
   EXPECT_GT(selection.scale, 1);
   EXPECT_LE(selection.num_totally_free, 2 * options.graph.nodes_per_scale);
   EXPECT_GE(selection.num_totally_free, options.graph.nodes_per_scale / 2);
-  EXPECT_LT(deformer.variables(), 12 * deformer.graphs()[0].num_nodes() / 5);
+  EXPECT_LT(graph_method.variables(), 12 * graph_method.graphs()[0].num_nodes() / 5);
 }
 
 // What the method's Precompute reports is the precompute's: it is one.
@@ -432,17 +439,17 @@ TEST(GraphMethodTest, ItsPrecomputeIsAPrecompute) {
   const CylinderLayouts cylinder;
   for (Method method : kAllMethods) {
     std::string error;
-    GraphMethod deformer(method);
-    ASSERT_TRUE(deformer.Precompute(cylinder.mesh, CylinderOptions(method), &error)) << error;
+    GraphMethod graph_method(method);
+    ASSERT_TRUE(graph_method.Precompute(cylinder.mesh, CylinderOptions(method), &error)) << error;
     std::shared_ptr<const msdeform::Precompute> precompute =
         msdeform::Precompute::Create(cylinder.mesh, CylinderOptions(method), &error);
     ASSERT_NE(precompute, nullptr) << error;
-    EXPECT_EQ(precompute->rest_normals(), deformer.deformed_normals());
-    EXPECT_EQ(precompute->diagonal(), deformer.diagonal());
-    EXPECT_EQ(precompute->lattice().num_particles(), deformer.lattice()->num_particles());
-    ASSERT_EQ(precompute->graphs().size(), deformer.graphs().size());
-    for (size_t i = 0; i < deformer.graphs().size(); ++i) {
-      EXPECT_EQ(precompute->graphs()[i].positions, deformer.graphs()[i].positions) << i;
+    EXPECT_EQ(precompute->rest_normals(), graph_method.deformed_normals());
+    EXPECT_EQ(precompute->diagonal(), graph_method.diagonal());
+    EXPECT_EQ(precompute->lattice().num_particles(), graph_method.lattice()->num_particles());
+    ASSERT_EQ(precompute->graphs().size(), graph_method.graphs().size());
+    for (size_t i = 0; i < graph_method.graphs().size(); ++i) {
+      EXPECT_EQ(precompute->graphs()[i].positions, graph_method.graphs()[i].positions) << i;
     }
     EXPECT_EQ(precompute->static_graph() < 0, method == Method::kMultiScale);
   }
@@ -458,25 +465,25 @@ TEST(GraphMethodTest, DragsAsASessionMadeByHand) {
     for (InitialGuess guess : {InitialGuess::kPrevious, InitialGuess::kExtrapolated}) {
       DeformerOptions options = CylinderOptions(method);
       options.initial_guess = guess;
-      GraphMethod deformer(options.method);
+      GraphMethod graph_method(options.method);
       std::string error;
-      ASSERT_TRUE(deformer.Precompute(cylinder.mesh, options, &error)) << error;
-      ASSERT_TRUE(deformer.SetHandles(cylinder.bottom_fixed, &error)) << error;
+      ASSERT_TRUE(graph_method.Precompute(cylinder.mesh, options, &error)) << error;
+      ASSERT_TRUE(graph_method.SetHandles(cylinder.bottom_fixed, &error)) << error;
       std::unique_ptr<Session> session = MakeSession(cylinder.mesh, options, cylinder.bottom_fixed);
       ASSERT_NE(session, nullptr);
-      EXPECT_EQ(session->setup().active_graph(), deformer.active_graph());
+      EXPECT_EQ(session->setup().active_graph(), graph_method.active_graph());
       EXPECT_EQ(session->deformed_vertices(), cylinder.mesh.vertices);
       for (size_t f = 0; f < path.size(); ++f) {
         DragStats by_deformer, by_session;
-        ASSERT_TRUE(deformer.Drag(path[f], &by_deformer, &error)) << error;
+        ASSERT_TRUE(graph_method.Drag(path[f], &by_deformer, &error)) << error;
         ASSERT_TRUE(session->Drag(path[f], &by_session, &error)) << error;
-        EXPECT_EQ(session->deformed_vertices(), deformer.deformed_vertices()) << f;
-        EXPECT_EQ(session->transforms().rotations, deformer.transforms().rotations) << f;
-        EXPECT_EQ(session->transforms().translations, deformer.transforms().translations) << f;
+        EXPECT_EQ(session->deformed_vertices(), graph_method.deformed_vertices()) << f;
+        EXPECT_EQ(session->transforms().rotations, graph_method.transforms().rotations) << f;
+        EXPECT_EQ(session->transforms().translations, graph_method.transforms().translations) << f;
         EXPECT_EQ(by_session.final_cost, by_deformer.final_cost) << f;
         EXPECT_EQ(by_session.iterations, by_deformer.iterations) << f;
       }
-      EXPECT_EQ(session->deformed_normals(), deformer.deformed_normals());
+      EXPECT_EQ(session->deformed_normals(), graph_method.deformed_normals());
       EXPECT_NE(session->deformed_vertices(), cylinder.mesh.vertices);
     }
   }

@@ -87,23 +87,23 @@ TEST(PromisesTest, ForkProngsShareALatticeCellAtDefaultOptions) {
 
 TEST(PromisesTest, DraggingOneProngLeavesTheOtherAtRest) {
   const ForkEdit fork;
-  GraphMethod deformer(Method::kMultiScale);
+  GraphMethod graph_method(Method::kMultiScale);
   std::string error;
-  ASSERT_TRUE(deformer.Precompute(fork.mesh, DeformerOptions(), &error)) << error;
-  ASSERT_TRUE(deformer.SetHandles(fork.layout, &error)) << error;
+  ASSERT_TRUE(graph_method.Precompute(fork.mesh, DeformerOptions(), &error)) << error;
+  ASSERT_TRUE(graph_method.SetHandles(fork.layout, &error)) << error;
   const std::vector<Eigen::Affine3d> path = InterpolateDragPath(fork.target, fork.tip_centroid, 3);
   for (size_t frame = 0; frame < path.size(); ++frame) {
-    ASSERT_TRUE(deformer.Drag(path[frame], nullptr, &error)) << error;
+    ASSERT_TRUE(graph_method.Drag(path[frame], nullptr, &error)) << error;
     double moved = 0.0;
     for (int v : fork.free_prong) {
       moved = std::max(
-          moved, (deformer.deformed_vertices().col(v) - fork.mesh.vertices.col(v)).norm());
+          moved, (graph_method.deformed_vertices().col(v) - fork.mesh.vertices.col(v)).norm());
     }
     EXPECT_LE(moved / fork.diagonal, 1e-6) << "frame " << frame + 1 << " of " << path.size();
   }
   // The dragged prong did move: the tip is within 1% of its target.
   Eigen::Vector3d tip = Eigen::Vector3d::Zero();
-  for (int v : fork.layout.moveable) tip += deformer.deformed_vertices().col(v);
+  for (int v : fork.layout.moveable) tip += graph_method.deformed_vertices().col(v);
   tip /= static_cast<double>(fork.layout.moveable.size());
   EXPECT_LT((tip - fork.target * fork.tip_centroid).norm(), 0.01 * fork.diagonal);
 }
@@ -201,15 +201,16 @@ TEST_P(FixedRegionTest, FixedVerticesStayAtRest) {
   ASSERT_FALSE(layout.fixed.empty()) << scenario.name << " fixes nothing";
   const double diagonal = BoundingBoxDiagonal(mesh);
   for (const Variant& variant : FixedHandleVariants()) {
-    GraphMethod deformer(variant.options.method);
-    ASSERT_TRUE(deformer.Precompute(mesh, variant.options, &error)) << variant.name << ": " << error;
-    ASSERT_TRUE(deformer.SetHandles(layout, &error)) << variant.name << ": " << error;
+    GraphMethod graph_method(variant.options.method);
+    ASSERT_TRUE(graph_method.Precompute(mesh, variant.options, &error))
+        << variant.name << ": " << error;
+    ASSERT_TRUE(graph_method.SetHandles(layout, &error)) << variant.name << ": " << error;
     double drift = 0.0;
     int worst_frame = 0, worst_vertex = -1;
     for (size_t frame = 0; frame < path.size(); ++frame) {
-      ASSERT_TRUE(deformer.Drag(path[frame], nullptr, &error)) << variant.name << ": " << error;
+      ASSERT_TRUE(graph_method.Drag(path[frame], nullptr, &error)) << variant.name << ": " << error;
       for (int v : layout.fixed) {
-        const double d = (deformer.deformed_vertices().col(v) - mesh.vertices.col(v)).norm();
+        const double d = (graph_method.deformed_vertices().col(v) - mesh.vertices.col(v)).norm();
         if (d > drift) {
           drift = d;
           worst_frame = static_cast<int>(frame) + 1;

@@ -240,6 +240,33 @@ TEST(DeformerOptionTableTest, RangeErrorsAreOneLineNamingTheOption) {
                    "follow its target)");
 }
 
+// arap.anderson_window accelerates the subspace local/global iteration only;
+// under any other solve a window would be ignored, so Check refuses it.
+TEST(DeformerOptionTableTest, AndersonWindowOutsideLocalGlobalIsRefused) {
+  DeformerOptions options;
+  options.energy = Energy::kArap;
+  options.arap.anderson_window = 5;
+  std::string error;
+  EXPECT_TRUE(options.Check(&error)) << error;
+  const std::string refused =
+      "arap.anderson_window=5: read only by energy=arap with backend=gauss_newton and "
+      "arap.solver=local_global (0 turns it off)";
+  DeformerOptions ed = options;
+  ed.energy = Energy::kEd;
+  EXPECT_FALSE(ed.Check(&error));
+  EXPECT_EQ(error, refused);
+  DeformerOptions ceres = options;
+  ceres.backend = Solver::kCeres;
+  EXPECT_FALSE(ceres.Check(&error));
+  EXPECT_EQ(error, refused);
+  DeformerOptions gauss_newton = options;
+  gauss_newton.arap.solver = ArapSolver::kGaussNewton;
+  EXPECT_FALSE(gauss_newton.Check(&error));
+  EXPECT_EQ(error, refused);
+  gauss_newton.arap.anderson_window = 0;
+  EXPECT_TRUE(gauss_newton.Check(&error)) << error;
+}
+
 // The command line's spellings before the table keep working, each setting
 // the row it is an alias of; the one spelling (the struct's) works too.
 TEST(DeformerFlagsTest, OldAndNewSpellingsParse) {
@@ -255,6 +282,10 @@ TEST(DeformerFlagsTest, OldAndNewSpellingsParse) {
       if (value == row.get(DeformerOptions())) continue;
       ASSERT_FALSE(gflags::SetCommandLineOption(spelling.c_str(), value.c_str()).empty())
           << "--" << spelling;
+      // A window is read only under --energy=arap (Check refuses it otherwise).
+      if (row.name == "arap.anderson_window") {
+        ASSERT_FALSE(gflags::SetCommandLineOption("energy", "arap").empty());
+      }
       DeformerOptions options;
       std::string error;
       ASSERT_TRUE(DeformerOptionsFromFlags(&options, &error)) << error;
