@@ -81,10 +81,9 @@ NearestNodeOptions GraphOptions::nearest_nodes() const {
 }
 
 bool GraphOptions::Check(std::string* error) const {
-  if (nodes_per_scale < 1) {
-    *error = "nodes_per_scale (P) must be >= 1, got " + std::to_string(nodes_per_scale);
-    return false;
-  }
+  // The rows' ranges (GraphOptionTable(), deformation_graph.h), then the
+  // nearest-node search's own checks.
+  if (!GraphOptionTable().CheckRanges(*this, error)) return false;
   return nearest_nodes().Check(error);
 }
 

@@ -347,20 +347,11 @@ std::vector<std::pair<int, int>> ParticlePairs(const Lattice& l, bool split_cell
 }  // namespace
 
 bool LatticeOptions::Check(std::string* error) const {
-  if (!(cell_width >= 0.0) || !std::isfinite(cell_width)) {
-    *error = "cell_width must be a finite number >= 0 (0: diag / cells_per_diagonal)";
-    return false;
-  }
+  // The rows' ranges (LatticeOptionTable(), lattice.h), then what a row
+  // cannot say.
+  if (!LatticeOptionTable().CheckRanges(*this, error)) return false;
   if (cell_width == 0.0 && !(cells_per_diagonal > 0.0 && std::isfinite(cells_per_diagonal))) {
-    *error = "cells_per_diagonal must be a finite number > 0";
-    return false;
-  }
-  if (max_grid_cells <= 0) {
-    *error = "max_grid_cells must be > 0";
-    return false;
-  }
-  if (!(piece_margin >= 0.0 && piece_margin <= 2.0)) {
-    *error = "piece_margin must be in [0, 2] (cell widths)";
+    *error = "cells_per_diagonal must be a finite number > 0 (cell_width is 0)";
     return false;
   }
   if (num_threads < 1 || num_threads > kMaxThreads) {

@@ -2,16 +2,17 @@
 // help, allowed values and range, bound to the field. The front ends (the
 // report's description, the command-line flags, the Python keywords, the
 // sweep files, the editor's panels) read the table instead of restating the
-// fields, so a new option is one row beside its struct field.
+// fields, and the struct's Check reads its ranges, so a new option is one row
+// beside its struct field, in the struct's header:
 //
-//   const OptionTable<Foo>& FooTable() {
-//     static const OptionTable<Foo> table = [] {
-//       OptionTable<Foo> t;
+//   struct Foo { double weight = 1.0; Mode mode = Mode::kFast; Inner inner; };
+//
+//   inline const OptionTable<Foo>& FooTable() {
+//     static const OptionTable<Foo>& table = MakeOptionTable<Foo>([](auto& t) {
 //       t.Double("weight", &Foo::weight, "w of Eq. 3.").AtLeast(0, "a finite weight >= 0");
 //       t.Enum("mode", &Foo::mode, ModeNames(), "How it runs.");
 //       t.Embed("inner", &Foo::inner, InnerTable());   // rows "inner.<name>"
-//       return t;
-//     }();
+//     });
 //     return table;
 //   }
 //   FooTable().Describe(foo);                 // {("weight", "1"), ("mode", "fast"), ...}
@@ -357,6 +358,18 @@ class OptionTable {
 
   std::vector<Row> rows_;
 };
+
+// The largest int, as a row's upper bound (.Range(1, kOptionIntMax, ...)).
+inline constexpr double kOptionIntMax = std::numeric_limits<int>::max();
+
+// The table `declare(table)` fills, made once and never destroyed (a table
+// outlives every static that reads it): the body of a FooTable() above.
+template <typename T, typename Declare>
+const OptionTable<T>& MakeOptionTable(Declare declare) {
+  auto* table = new OptionTable<T>();
+  declare(*table);
+  return *table;
+}
 
 }  // namespace msdeform
 

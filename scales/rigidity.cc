@@ -109,7 +109,7 @@ const EnumNames<RegionSummation>& RegionSummationNames() {
 }
 
 bool RigidityOptions::Check(std::string* error) const {
-  // The ranges are RigidityOptionTable()'s rows (scales/deformer_options.h).
+  // The ranges are RigidityOptionTable()'s rows (rigidity.h).
   if (!RigidityOptionTable().CheckRanges(*this, error)) return false;
   if (external_stiffness * time_step * time_step > 1.0) {
     *error = "external_stiffness * time_step^2 (k_ext h^2) must be <= 1 for a stable step";

@@ -62,7 +62,7 @@ const EnumNames<MemberExtent>& MemberExtentNames() {
 }
 
 bool ScaleSelectionOptions::Check(std::string* error) const {
-  // The ranges are ScaleSelectionOptionTable()'s rows (scales/deformer_options.h).
+  // The ranges are ScaleSelectionOptionTable()'s rows (scale_selection.h).
   return ScaleSelectionOptionTable().CheckRanges(*this, error);
 }
 

@@ -8,27 +8,8 @@
 namespace msdeform {
 
 bool GaussNewtonOptions::Check(std::string* error) const {
-  if (!(min_damping > 0.0) || !std::isfinite(min_damping)) {
-    *error = "Gauss-Newton min_damping must be a finite number > 0";
-    return false;
-  }
-  if (!(initial_damping > 0.0) || !std::isfinite(initial_damping)) {
-    *error = "Gauss-Newton initial_damping must be a finite number > 0";
-    return false;
-  }
-  if (!(forcing_term > 0.0 && forcing_term < 1.0)) {
-    *error = "Gauss-Newton forcing_term must be in (0, 1)";
-    return false;
-  }
-  if (!(refactor_ratio > 0.0) || !std::isfinite(refactor_ratio)) {
-    *error = "Gauss-Newton refactor_ratio must be a finite number > 0";
-    return false;
-  }
-  if (max_cg_iterations < 1) {
-    *error = "Gauss-Newton max_cg_iterations must be >= 1";
-    return false;
-  }
-  return true;
+  // The rows' ranges (GaussNewtonOptionTable(), gauss_newton_solver.h).
+  return GaussNewtonOptionTable().CheckRanges(*this, error);
 }
 
 using LinearSolver = GaussNewtonOptions::LinearSolver;

@@ -32,23 +32,7 @@ const EnumNames<ArapSolver>& ArapSolverNames() {
 }
 
 bool ArapOptions::Check(std::string* error) const {
-  if (num_clusters < 1) {
-    *error = "arap.num_clusters must be >= 1";
-    return false;
-  }
-  if (kmeans_iterations < 0) {
-    *error = "arap.kmeans_iterations must be >= 0";
-    return false;
-  }
-  if (!(soft_weight > 0.0) || !std::isfinite(soft_weight)) {
-    *error = "arap.soft_weight must be a finite weight > 0";
-    return false;
-  }
-  if (anderson_window < 0 || anderson_window > 50) {
-    *error = "arap.anderson_window must be an integer in 0..50";
-    return false;
-  }
-  return true;
+  return ArapOptionTable().CheckRanges(*this, error);  // the rows' ranges (subspace_arap.h)
 }
 
 // R maximising tr(R^T S) over rotations: U diag(1, 1, det(U V^T)) V^T for
