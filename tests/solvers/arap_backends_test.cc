@@ -283,7 +283,12 @@ TEST(ArapBackendsTest, RigidMotionCostsNothing) {
   const Eigen::Affine3d motion = Bend(0.7);
   for (Backend backend : kBackends) {
     DeformerOptions options = ArapOptionsFor(backend);
-    options.stopping.max_iterations = 20000;
+    // Tolerances no solver meets at rounding level: each runs to its cap.
+    // Plain local/global converges linearly (its energy reaches the rounding
+    // of its trace, ~1e-15, by about 2,000 iterations here); 4,000 leave it
+    // well inside the bounds below, at a fifth of the time of 20,000 (the
+    // sanitizer pass ran this test for minutes).
+    options.stopping.max_iterations = backend == Backend::kLocalGlobal ? 4000 : 20000;
     options.stopping.function_tolerance = 1e-16;
     options.stopping.gradient_tolerance = 1e-16;
     options.stopping.parameter_tolerance = 1e-15;
