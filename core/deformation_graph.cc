@@ -177,4 +177,10 @@ bool BuildCollapsedGraphs(const Mesh& mesh, const Lattice& lattice, const GraphO
   return true;
 }
 
+const OptionTable<GraphOptions>& GraphOptionTable() {
+  static const OptionTable<GraphOptions>& table =
+      MakeOptionTable<GraphOptions>([](auto& t) { DeclareGraphOptionRows(t); });
+  return table;
+}
+
 }  // namespace msdeform

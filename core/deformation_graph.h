@@ -123,24 +123,24 @@ bool BuildCollapsedGraphs(const Mesh& mesh, const Lattice& lattice, const GraphO
 void ConnectGraph(const Mesh& mesh, const Lattice& lattice, const GraphOptions& options,
                   DeformationGraph* graph);
 
-// GraphOptions' rows (core/option_table.h), declared in its header: a new field
-// is the field above and its row here.
-inline const OptionTable<GraphOptions>& GraphOptionTable() {
-  static const OptionTable<GraphOptions>& table = MakeOptionTable<GraphOptions>([](auto& t) {
-    using G = GraphOptions;
-    t.Int("k", &G::k, "Nearest nodes per vertex (paper: 4).");
-    t.Int("nodes_per_scale", &G::nodes_per_scale,
-          "P: nodes per scale step, of the graph stack and of Eq. 6.")
-        .Range(1, kOptionIntMax, "an integer >= 1");
-    t.Int("seed", &G::seed, "Seed of the random vertex chosen in each surface cell for DG1.");
-    t.Int("extra_rings", &G::extra_rings,
-          "Cell rings searched beyond the first that reaches k + 1 nodes.");
-    t.Int("num_threads", &G::num_threads,
-          "OpenMP threads for building; 0 uses the OpenMP default.")
-        .Range(0, kMaxThreads, "an integer in 0..1024 (0: OpenMP default)");
-  });
-  return table;
+// GraphOptions' rows (core/option_table.h), declared in its header beside the fields: a new field
+// is the field above and its row here. GraphOptionTable() (deformation_graph.cc) builds the table
+// from them once; a template, so that only that file compiles the rows.
+template <typename Table>
+void DeclareGraphOptionRows(Table& t) {
+  using G = GraphOptions;
+  t.Int("k", &G::k, "Nearest nodes per vertex (paper: 4).");
+  t.Int("nodes_per_scale", &G::nodes_per_scale,
+        "P: nodes per scale step, of the graph stack and of Eq. 6.")
+      .Range(1, kOptionIntMax, "an integer >= 1");
+  t.Int("seed", &G::seed, "Seed of the random vertex chosen in each surface cell for DG1.");
+  t.Int("extra_rings", &G::extra_rings,
+        "Cell rings searched beyond the first that reaches k + 1 nodes.");
+  t.Int("num_threads", &G::num_threads,
+        "OpenMP threads for building; 0 uses the OpenMP default.")
+      .Range(0, kMaxThreads, "an integer in 0..1024 (0: OpenMP default)");
 }
+const OptionTable<GraphOptions>& GraphOptionTable();
 
 }  // namespace msdeform
 

@@ -658,4 +658,10 @@ bool Lattice::BuildWith(const Mesh& mesh, const LatticeOptions& options,
   return true;
 }
 
+const OptionTable<LatticeOptions>& LatticeOptionTable() {
+  static const OptionTable<LatticeOptions>& table =
+      MakeOptionTable<LatticeOptions>([](auto& t) { DeclareLatticeOptionRows(t); });
+  return table;
+}
+
 }  // namespace msdeform

@@ -179,30 +179,30 @@ class Lattice {
   std::vector<int> particle_of_grid_cell_;  // padded grid: first particle, -1 for empty/outside.
 };
 
-// LatticeOptions' rows (core/option_table.h), declared in its header: a new field
-// is the field above and its row here.
-inline const OptionTable<LatticeOptions>& LatticeOptionTable() {
-  static const OptionTable<LatticeOptions>& table = MakeOptionTable<LatticeOptions>([](auto& t) {
-    using L = LatticeOptions;
-    t.Double("cell_width", &L::cell_width,
-             "Lattice cell width in mesh units (0: bounding-box diagonal / 48).")
-        .AtLeast(0, "a length >= 0 in mesh units (0: diagonal / 48)");
-    t.Double("cells_per_diagonal", &L::cells_per_diagonal,
-             "Used when cell_width is 0: w = bounding-box diagonal / this.");
-    t.Int("max_grid_cells", &L::max_grid_cells,
-          "Upper bound on the cells of the padded grid (memory guard).")
-        .Range(1, kOptionIntMax, "an integer >= 1");
-    t.Bool("split_cells", &L::split_cells,
-           "One lattice particle per piece of surface in a cell, interior cells joined only to "
-           "surfaces they lie behind: touching parts stay apart (the paper: one particle per "
-           "cell, 26 neighbours).");
-    t.Double("piece_margin", &L::piece_margin,
-             "Pieces of surface in a lattice cell are found within the cell grown by this many "
-             "cell widths on each side (split_cells).")
-        .Range(0, 2, "a number of cell widths in [0, 2]");
-  });
-  return table;
+// LatticeOptions' rows (core/option_table.h), declared in its header beside the fields: a new field
+// is the field above and its row here. LatticeOptionTable() (lattice.cc) builds the table from them
+// once; a template, so that only that file compiles the rows.
+template <typename Table>
+void DeclareLatticeOptionRows(Table& t) {
+  using L = LatticeOptions;
+  t.Double("cell_width", &L::cell_width,
+           "Lattice cell width in mesh units (0: bounding-box diagonal / 48).")
+      .AtLeast(0, "a length >= 0 in mesh units (0: diagonal / 48)");
+  t.Double("cells_per_diagonal", &L::cells_per_diagonal,
+           "Used when cell_width is 0: w = bounding-box diagonal / this.");
+  t.Int("max_grid_cells", &L::max_grid_cells,
+        "Upper bound on the cells of the padded grid (memory guard).")
+      .AtLeast(1, "an integer >= 1");
+  t.Bool("split_cells", &L::split_cells,
+         "One lattice particle per piece of surface in a cell, interior cells joined only to "
+         "surfaces they lie behind: touching parts stay apart (the paper: one particle per "
+         "cell, 26 neighbours).");
+  t.Double("piece_margin", &L::piece_margin,
+           "Pieces of surface in a lattice cell are found within the cell grown by this many "
+           "cell widths on each side (split_cells).")
+      .Range(0, 2, "a number of cell widths in [0, 2]");
 }
+const OptionTable<LatticeOptions>& LatticeOptionTable();
 
 }  // namespace msdeform
 

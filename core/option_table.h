@@ -7,12 +7,19 @@
 //
 //   struct Foo { double weight = 1.0; Mode mode = Mode::kFast; Inner inner; };
 //
-//   inline const OptionTable<Foo>& FooTable() {
-//     static const OptionTable<Foo>& table = MakeOptionTable<Foo>([](auto& t) {
-//       t.Double("weight", &Foo::weight, "w of Eq. 3.").AtLeast(0, "a finite weight >= 0");
-//       t.Enum("mode", &Foo::mode, ModeNames(), "How it runs.");
-//       t.Embed("inner", &Foo::inner, InnerTable());   // rows "inner.<name>"
-//     });
+//   template <typename Table>  // only foo.cc, which builds the table, compiles the rows
+//   void DeclareFooRows(Table& t) {
+//     t.Double("weight", &Foo::weight, "w of Eq. 3.").AtLeast(0, "a finite weight >= 0");
+//     t.Enum("mode", &Foo::mode, ModeNames(), "How it runs.");
+//     t.Embed("inner", &Foo::inner, InnerTable());   // rows "inner.<name>"
+//   }
+//   const OptionTable<Foo>& FooTable();
+//
+// and in foo.cc, once:
+//
+//   const OptionTable<Foo>& FooTable() {
+//     static const OptionTable<Foo>& table =
+//         MakeOptionTable<Foo>([](auto& t) { DeclareFooRows(t); });
 //     return table;
 //   }
 //   FooTable().Describe(foo);                 // {("weight", "1"), ("mode", "fast"), ...}
@@ -363,7 +370,7 @@ class OptionTable {
 inline constexpr double kOptionIntMax = std::numeric_limits<int>::max();
 
 // The table `declare(table)` fills, made once and never destroyed (a table
-// outlives every static that reads it): the body of a FooTable() above.
+// outlives every static that reads it): the body of FooTable() above.
 template <typename T, typename Declare>
 const OptionTable<T>& MakeOptionTable(Declare declare) {
   auto* table = new OptionTable<T>();

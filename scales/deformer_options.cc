@@ -108,4 +108,11 @@ bool DeformerOptions::Check(std::string* error) const {
          selection.Check(error) && arap.Check(error) && stopping.Check(error) &&
          gauss_newton.Check(error) && ceres.Check(error);
 }
+
+const OptionTable<DeformerOptions>& DeformerOptionTable() {
+  static const OptionTable<DeformerOptions>& table =
+      MakeOptionTable<DeformerOptions>([](auto& t) { DeclareDeformerOptionRows(t); });
+  return table;
+}
+
 }  // namespace msdeform

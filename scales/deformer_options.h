@@ -130,19 +130,19 @@ struct DeformerOptions {
   bool Check(std::string* error) const;
 };
 
-// Every option of the graph methods is a row of DeformerOptionTable() (at
-// the end of this header): name as the struct spells it
-// ("stopping.max_iterations"), type, help, range, enum names, the
-// command-line topic and the legacy flag spellings ("solver" for backend,
-// "cell_width" for lattice.cell_width), which every front end accepts as
-// aliases. DescribeOptions, the flags (apps/flags/deformer_flags.h), the
-// Python keywords and the editor's panels are derived from it; a new option is
-// a struct field plus its row (docs/extending.md, "Adding an option"). The
-// embedded structs' tables are in their own headers (LatticeOptionTable() in
-// core/lattice.h, GraphOptionTable() in core/deformation_graph.h,
-// RigidityOptionTable(), ScaleSelectionOptionTable(), StoppingRuleTable() in
-// solvers/frame_solver.h, GaussNewtonOptionTable(), CeresOptionTable(),
-// ArapOptionTable() in solvers/subspace_arap.h).
+// Every option of the graph methods is a row of DeformerOptionTable(), whose
+// rows are declared at the end of this header (DeclareDeformerOptionRows):
+// name as the struct spells it ("stopping.max_iterations"), type, help,
+// range, enum names, the command-line topic and the legacy flag spellings
+// ("solver" for backend, "cell_width" for lattice.cell_width), which every
+// front end accepts as aliases. DescribeOptions, the flags
+// (apps/flags/deformer_flags.h), the Python keywords and the editor's panels
+// are derived from it; a new option is a struct field plus its row
+// (docs/extending.md, "Adding an option"). The embedded structs' rows are at
+// the end of their own headers (core/lattice.h, core/deformation_graph.h,
+// scales/rigidity.h, scales/scale_selection.h, solvers/frame_solver.h,
+// solvers/gauss_newton_solver.h, solvers/ceres_solver.h,
+// solvers/subspace_arap.h), with their tables' getters.
 
 // Every field of `options` as (name, value) pairs, in declaration order, with
 // names as in the struct ("stopping.max_iterations") and numbers printed
@@ -157,118 +157,118 @@ std::vector<std::pair<std::string, std::string>> DescribeOptions(const DeformerO
 // --half_free=every_fixed_handle_node --border=fixed --hold_fixed_vertices=false).
 DeformerOptions PaperProcedure(DeformerOptions options);
 
-// DeformerOptions' rows (core/option_table.h), declared in its header: a new field
-// is the field above and its row here.
-inline const OptionTable<DeformerOptions>& DeformerOptionTable() {
-  static const OptionTable<DeformerOptions>& table = MakeOptionTable<DeformerOptions>([](auto& t) {
-    using DO = DeformerOptions;
-    t.Enum("method", &DO::method, GraphMethodNames(),
-           "multiscale (the paper), static (one graph of static_nodes nodes), static_dense "
-           "(every DG1 node); where a program runs any registered method (msdeform, the "
-           "editor, the experiments: methods/registry.h) also the others.")
-        .Flag("method");
-    t.Embed("lattice", &DO::lattice, LatticeOptionTable());
-    t.Embed("graph", &DO::graph, GraphOptionTable());
-    t.Embed("rigidity", &DO::rigidity, RigidityOptionTable());
-    t.Embed("selection", &DO::selection, ScaleSelectionOptionTable());
-    t.Int("static_nodes", &DO::static_nodes,
-          "Nodes of the static baseline graph (Sumner et al. 2007: about 220).")
-        .Range(1, kOptionIntMax, "an integer >= 1")
-        .Flag("method");
-    t.Enum("energy", &DO::energy, EnergyNames(),
-           "What each frame minimises: ed (Eq. 17, the paper's) or arap (the mesh's cotangent "
-           "ARAP energy over the selected graph's subspace, docs/method.md §9).")
-        .Flag("method");
-    t.Embed("arap", &DO::arap, ArapOptionTable());
-    t.Double("w_rot", &DO::w_rot, "w_rot of Eq. 17, >= 0.")
-        .AtLeast(0, "a finite weight >= 0")
-        .Flag("weights");
-    t.Double("w_coh", &DO::w_coh, "w_coh of Eq. 17, >= 0.")
-        .AtLeast(0, "a finite weight >= 0")
-        .Flag("weights");
-    t.Double("w_con", &DO::w_con, "w_con of Eq. 17, > 0.")
-        .Above(0, "a finite weight > 0 (at 0 the handle would not follow its target)")
-        .Flag("weights");
-    t.Double("length_unit", &DO::length_unit,
-             "Unit of the coherence and position residuals; 0: the bounding-box diagonal.")
-        .AtLeast(0, "a finite number >= 0 (0: the bounding-box diagonal)");
-    t.Bool("hold_fixed_vertices", &DO::hold_fixed_vertices,
-           "Multi-scale: hold the fixed vertices skinned by a non-Fixed node at rest with "
-           "Position terms (the paper: false).")
-        .Flag("ablations");
-    t.Bool("keep_left_out_terms", &DO::keep_left_out_terms,
-           "Keep E(j,k) for Half Free j (paper Fig. 5, Deformed 2).")
-        .Flag("ablations");
-    t.Bool("fix_fixed_handle_nodes", &DO::fix_fixed_handle_nodes,
-           "Fixed-handle nodes get no rotation (paper Fig. 5, Deformed 3).")
-        .Flag("ablations");
-    t.Int("num_threads", &DO::num_threads,
-          "Threads for building the graphs, the skinning and Ceres (given, it sets "
-          "graph.num_threads too).")
-        .Range(1, kMaxThreads, "an integer in 1..1024")
-        .Alias("threads")
-        .Flag("method");
-    t.Int("cached_scales", &DO::cached_scales,
-          "Multi-scale: coarse scales whose skinning data is kept once built (when first "
-          "used); the least recently used is dropped beyond this.")
-        .Range(1, kOptionIntMax, "an integer >= 1");
-    t.Enum("backend", &DO::backend, SolverNames(),
-           "The per-frame solver: gauss_newton or ceres (docs/performance.md).")
-        .Alias("solver")
-        .Flag("solver");
-    t.Embed("stopping", &DO::stopping, StoppingRuleTable());
-    t.Enum("initial_guess", &DO::initial_guess, InitialGuessNames(),
-           "Start of each frame's solve: previous (warm start), extrapolated (from the last two "
-           "frames, where that starts lower) or rest (no warm start).")
-        .Flag("solver");
-    t.Embed("gauss_newton", &DO::gauss_newton, GaussNewtonOptionTable());
-    t.Embed("ceres", &DO::ceres, CeresOptionTable());
+// DeformerOptions' rows (core/option_table.h), declared in its header beside the fields: a new
+// field is the field above and its row here. DeformerOptionTable() (deformer_options.cc) builds the
+// table from them once; a template, so that only that file compiles the rows.
+template <typename Table>
+void DeclareDeformerOptionRows(Table& t) {
+  using DO = DeformerOptions;
+  t.Enum("method", &DO::method, GraphMethodNames(),
+         "multiscale (the paper), static (one graph of static_nodes nodes), static_dense "
+         "(every DG1 node); where a program runs any registered method (msdeform, the "
+         "editor, the experiments: methods/registry.h) also the others.")
+      .Flag("method");
+  t.Embed("lattice", &DO::lattice, LatticeOptionTable());
+  t.Embed("graph", &DO::graph, GraphOptionTable());
+  t.Embed("rigidity", &DO::rigidity, RigidityOptionTable());
+  t.Embed("selection", &DO::selection, ScaleSelectionOptionTable());
+  t.Int("static_nodes", &DO::static_nodes,
+        "Nodes of the static baseline graph (Sumner et al. 2007: about 220).")
+      .Range(1, kOptionIntMax, "an integer >= 1")
+      .Flag("method");
+  t.Enum("energy", &DO::energy, EnergyNames(),
+         "What each frame minimises: ed (Eq. 17, the paper's) or arap (the mesh's cotangent "
+         "ARAP energy over the selected graph's subspace, docs/method.md §9).")
+      .Flag("method");
+  t.Embed("arap", &DO::arap, ArapOptionTable());
+  t.Double("w_rot", &DO::w_rot, "w_rot of Eq. 17, >= 0.")
+      .AtLeast(0, "a finite weight >= 0")
+      .Flag("weights");
+  t.Double("w_coh", &DO::w_coh, "w_coh of Eq. 17, >= 0.")
+      .AtLeast(0, "a finite weight >= 0")
+      .Flag("weights");
+  t.Double("w_con", &DO::w_con, "w_con of Eq. 17, > 0.")
+      .Above(0, "a finite weight > 0 (at 0 the handle would not follow its target)")
+      .Flag("weights");
+  t.Double("length_unit", &DO::length_unit,
+           "Unit of the coherence and position residuals; 0: the bounding-box diagonal.")
+      .AtLeast(0, "a finite number >= 0 (0: the bounding-box diagonal)");
+  t.Bool("hold_fixed_vertices", &DO::hold_fixed_vertices,
+         "Multi-scale: hold the fixed vertices skinned by a non-Fixed node at rest with "
+         "Position terms (the paper: false).")
+      .Flag("ablations");
+  t.Bool("keep_left_out_terms", &DO::keep_left_out_terms,
+         "Keep E(j,k) for Half Free j (paper Fig. 5, Deformed 2).")
+      .Flag("ablations");
+  t.Bool("fix_fixed_handle_nodes", &DO::fix_fixed_handle_nodes,
+         "Fixed-handle nodes get no rotation (paper Fig. 5, Deformed 3).")
+      .Flag("ablations");
+  t.Int("num_threads", &DO::num_threads,
+        "Threads for building the graphs, the skinning and Ceres (given, it sets "
+        "graph.num_threads too).")
+      .Range(1, kMaxThreads, "an integer in 1..1024")
+      .Alias("threads")
+      .Flag("method");
+  t.Int("cached_scales", &DO::cached_scales,
+        "Multi-scale: coarse scales whose skinning data is kept once built (when first "
+        "used); the least recently used is dropped beyond this.")
+      .Range(1, kOptionIntMax, "an integer >= 1");
+  t.Enum("backend", &DO::backend, SolverNames(),
+         "The per-frame solver: gauss_newton or ceres (docs/performance.md).")
+      .Alias("solver")
+      .Flag("solver");
+  t.Embed("stopping", &DO::stopping, StoppingRuleTable());
+  t.Enum("initial_guess", &DO::initial_guess, InitialGuessNames(),
+         "Start of each frame's solve: previous (warm start), extrapolated (from the last two "
+         "frames, where that starts lower) or rest (no warm start).")
+      .Flag("solver");
+  t.Embed("gauss_newton", &DO::gauss_newton, GaussNewtonOptionTable());
+  t.Embed("ceres", &DO::ceres, CeresOptionTable());
 
-    // The command line's spellings of embedded options (kept as aliases).
-    const struct {
-      const char* name;
-      const char* alias;
-      const char* topic;
-    } kFlags[] = {
-        {"graph.nodes_per_scale", "nodes_per_scale", "method"},
-        {"lattice.cell_width", "cell_width", "method"},
-        {"lattice.piece_margin", "piece_margin", "method"},
-        {"stopping.max_iterations", "max_iterations", "solver"},
-        {"stopping.function_tolerance", "function_tolerance", "solver"},
-        {"stopping.gradient_tolerance", "gradient_tolerance", "solver"},
-        {"stopping.parameter_tolerance", "parameter_tolerance", "solver"},
-        {"gauss_newton.linear_solver", "gn_linear_solver", "solver"},
-        {"gauss_newton.cholesky", "gn_cholesky", "solver"},
-        {"gauss_newton.factorization", "gn_factorization", "solver"},
-        {"gauss_newton.refactor_ratio", "gn_refactor_ratio", "solver"},
-        {"gauss_newton.damping", "gn_damping", "solver"},
-        {"ceres.trust_region", "ceres_trust_region", "solver"},
-        {"ceres.linear_solver", "ceres_linear_solver", "solver"},
-        {"ceres.sparse_library", "ceres_sparse", "solver"},
-        {"ceres.jacobians", "jacobians", "solver"},
-        {"arap.clusters", "arap_clusters", "method"},
-        {"arap.num_clusters", "arap_num_clusters", "method"},
-        {"arap.constraints", "arap_constraints", "method"},
-        {"arap.soft_weight", "arap_soft_weight", "method"},
-        {"arap.kmeans_iterations", "arap_kmeans_iterations", "method"},
-        {"arap.solver", "arap_solver", "solver"},
-        {"arap.anderson_window", "arap_anderson_window", "solver"},
-        {"rigidity.model", "rigidity", "rigidity"},
-        {"rigidity.external_stiffness", "rigidity_stiffness", "rigidity"},
-        {"rigidity.damping", "rigidity_damping", "rigidity"},
-        {"rigidity.num_steps", "rigidity_steps", "rigidity"},
-        {"rigidity.region_half_width", "rigidity_region", "rigidity"},
-        {"selection.threshold_floor", "threshold_floor", "rigidity"},
-        {"selection.half_free", "half_free", "ablations"},
-        {"selection.border", "border", "ablations"},
-        {"selection.pin_fixed_region", "pin_fixed_region", "ablations"},
-        {"lattice.split_cells", "split_cells", "ablations"},
-        {"selection.alpha_all_one", "alpha_all_one", "ablations"},
-    };
-    for (const auto& flag : kFlags) t.Mutable(flag.name)->Alias(flag.alias).Flag(flag.topic);
-  });
-  return table;
+  // The command line's spellings of embedded options (kept as aliases).
+  const struct {
+    const char* name;
+    const char* alias;
+    const char* topic;
+  } kFlags[] = {
+      {"graph.nodes_per_scale", "nodes_per_scale", "method"},
+      {"lattice.cell_width", "cell_width", "method"},
+      {"lattice.piece_margin", "piece_margin", "method"},
+      {"stopping.max_iterations", "max_iterations", "solver"},
+      {"stopping.function_tolerance", "function_tolerance", "solver"},
+      {"stopping.gradient_tolerance", "gradient_tolerance", "solver"},
+      {"stopping.parameter_tolerance", "parameter_tolerance", "solver"},
+      {"gauss_newton.linear_solver", "gn_linear_solver", "solver"},
+      {"gauss_newton.cholesky", "gn_cholesky", "solver"},
+      {"gauss_newton.factorization", "gn_factorization", "solver"},
+      {"gauss_newton.refactor_ratio", "gn_refactor_ratio", "solver"},
+      {"gauss_newton.damping", "gn_damping", "solver"},
+      {"ceres.trust_region", "ceres_trust_region", "solver"},
+      {"ceres.linear_solver", "ceres_linear_solver", "solver"},
+      {"ceres.sparse_library", "ceres_sparse", "solver"},
+      {"ceres.jacobians", "jacobians", "solver"},
+      {"arap.clusters", "arap_clusters", "method"},
+      {"arap.num_clusters", "arap_num_clusters", "method"},
+      {"arap.constraints", "arap_constraints", "method"},
+      {"arap.soft_weight", "arap_soft_weight", "method"},
+      {"arap.kmeans_iterations", "arap_kmeans_iterations", "method"},
+      {"arap.solver", "arap_solver", "solver"},
+      {"arap.anderson_window", "arap_anderson_window", "solver"},
+      {"rigidity.model", "rigidity", "rigidity"},
+      {"rigidity.external_stiffness", "rigidity_stiffness", "rigidity"},
+      {"rigidity.damping", "rigidity_damping", "rigidity"},
+      {"rigidity.num_steps", "rigidity_steps", "rigidity"},
+      {"rigidity.region_half_width", "rigidity_region", "rigidity"},
+      {"selection.threshold_floor", "threshold_floor", "rigidity"},
+      {"selection.half_free", "half_free", "ablations"},
+      {"selection.border", "border", "ablations"},
+      {"selection.pin_fixed_region", "pin_fixed_region", "ablations"},
+      {"lattice.split_cells", "split_cells", "ablations"},
+      {"selection.alpha_all_one", "alpha_all_one", "ablations"},
+  };
+  for (const auto& flag : kFlags) t.Mutable(flag.name)->Alias(flag.alias).Flag(flag.topic);
 }
+const OptionTable<DeformerOptions>& DeformerOptionTable();
 
 }  // namespace msdeform
 

@@ -484,4 +484,10 @@ bool EstimateRigidity(const Lattice& lattice, const std::vector<int>& fixed_part
   return estimator.Estimate(fixed_particles, moveable_particles, estimate, error);
 }
 
+const OptionTable<RigidityOptions>& RigidityOptionTable() {
+  static const OptionTable<RigidityOptions>& table =
+      MakeOptionTable<RigidityOptions>([](auto& t) { DeclareRigidityOptionRows(t); });
+  return table;
+}
+
 }  // namespace msdeform

@@ -124,41 +124,41 @@ struct RigidityOptions {
   bool Check(std::string* error) const;
 };
 
-// RigidityOptions' rows (core/option_table.h), declared in its header: a new field
-// is the field above and its row here.
-inline const OptionTable<RigidityOptions>& RigidityOptionTable() {
-  static const OptionTable<RigidityOptions>& table = MakeOptionTable<RigidityOptions>([](auto& t) {
-    using R = RigidityOptions;
-    t.Enum("model", &R::model, RigidityModelNames(),
-           "Estimate: harmonic (the driven lattice's rest state) or paper (S steps of lattice "
-           "shape matching after a kick).");
-    t.Int("num_steps", &R::num_steps, "S: shape-matching steps of the paper's rigidity.")
-        .Range(1, kOptionIntMax, "an integer >= 1");
-    t.Double("time_step", &R::time_step, "h: time step, lattice-time units.")
-        .Above(0, "a finite number > 0");
-    t.Double("external_stiffness", &R::external_stiffness,
-             "k_ext h^2 of the rigidity estimation (docs/method.md §2).")
-        .AtLeast(0, "a finite number >= 0");
-    t.Double("initial_speed", &R::initial_speed,
-             "|v0| of the moveable-handle particles, cell widths per time step.")
-        .Above(0, "a finite number > 0");
-    t.Double("damping", &R::damping, "Velocity damping per shape-matching step, in [0, 1).")
-        .Range(0, 1, "a number in [0, 1)", /*high_open=*/true);
-    t.Int("region_half_width", &R::region_half_width,
-          "Region half-width r of the shape matching (the paper: 1).")
-        .Range(1, kMaxRegionHalfWidth, "an integer in 1..8 (cost grows as r^3 per particle)");
-    t.Int("seed", &R::seed, "Seed of the direction of v0.");
-    t.Enum("region_summation", &R::region_summation, RegionSummationNames(),
-           "box (FastLSM box sums) or per_region; the same numbers up to rounding.");
-    t.Int("max_rotation_iterations", &R::max_rotation_iterations,
-          "Polar-decomposition updates per region and step, at most.")
-        .Range(1, kOptionIntMax, "an integer >= 1");
-    t.Double("rotation_tolerance", &R::rotation_tolerance,
-             "Stop the updates below this rotation (radians).")
-        .Above(0, "a finite number > 0");
-  });
-  return table;
+// RigidityOptions' rows (core/option_table.h), declared in its header beside the fields: a new
+// field is the field above and its row here. RigidityOptionTable() (rigidity.cc) builds the table
+// from them once; a template, so that only that file compiles the rows.
+template <typename Table>
+void DeclareRigidityOptionRows(Table& t) {
+  using R = RigidityOptions;
+  t.Enum("model", &R::model, RigidityModelNames(),
+         "Estimate: harmonic (the driven lattice's rest state) or paper (S steps of lattice "
+         "shape matching after a kick).");
+  t.Int("num_steps", &R::num_steps, "S: shape-matching steps of the paper's rigidity.")
+      .Range(1, kOptionIntMax, "an integer >= 1");
+  t.Double("time_step", &R::time_step, "h: time step, lattice-time units.")
+      .Above(0, "a finite number > 0");
+  t.Double("external_stiffness", &R::external_stiffness,
+           "k_ext h^2 of the rigidity estimation (docs/method.md §2).")
+      .AtLeast(0, "a finite number >= 0");
+  t.Double("initial_speed", &R::initial_speed,
+           "|v0| of the moveable-handle particles, cell widths per time step.")
+      .Above(0, "a finite number > 0");
+  t.Double("damping", &R::damping, "Velocity damping per shape-matching step, in [0, 1).")
+      .Range(0, 1, "a number in [0, 1)", /*high_open=*/true);
+  t.Int("region_half_width", &R::region_half_width,
+        "Region half-width r of the shape matching (the paper: 1).")
+      .Range(1, kMaxRegionHalfWidth, "an integer in 1..8 (cost grows as r^3 per particle)");
+  t.Int("seed", &R::seed, "Seed of the direction of v0.");
+  t.Enum("region_summation", &R::region_summation, RegionSummationNames(),
+         "box (FastLSM box sums) or per_region; the same numbers up to rounding.");
+  t.Int("max_rotation_iterations", &R::max_rotation_iterations,
+        "Polar-decomposition updates per region and step, at most.")
+      .Range(1, kOptionIntMax, "an integer >= 1");
+  t.Double("rotation_tolerance", &R::rotation_tolerance,
+           "Stop the updates below this rotation (radians).")
+      .Above(0, "a finite number > 0");
 }
+const OptionTable<RigidityOptions>& RigidityOptionTable();
 
 struct RigidityEstimate {
   Eigen::VectorXd extent;           // e_i in mesh units. #particles.

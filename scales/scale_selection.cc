@@ -201,4 +201,10 @@ bool SelectScale(const std::function<const DeformationGraph&(int scale)>& graph_
   return true;
 }
 
+const OptionTable<ScaleSelectionOptions>& ScaleSelectionOptionTable() {
+  static const OptionTable<ScaleSelectionOptions>& table =
+      MakeOptionTable<ScaleSelectionOptions>([](auto& t) { DeclareScaleSelectionOptionRows(t); });
+  return table;
+}
+
 }  // namespace msdeform

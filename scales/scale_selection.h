@@ -111,40 +111,39 @@ struct ScaleSelectionOptions {
   bool Check(std::string* error) const;
 };
 
-// ScaleSelectionOptions' rows (core/option_table.h), declared in its header: a new field
-// is the field above and its row here.
-inline const OptionTable<ScaleSelectionOptions>& ScaleSelectionOptionTable() {
-  static const OptionTable<ScaleSelectionOptions>& table =
-      MakeOptionTable<ScaleSelectionOptions>([](auto& t) {
-        using S = ScaleSelectionOptions;
-        t.Double("threshold_floor", &S::threshold_floor,
-                 "Lower bound of the rigidity threshold T (Eq. 7: 0.1).")
-            .Range(0, 1, "a number in [0, 1)", /*high_open=*/true);
-        t.Double("fixed_extent_cutoff", &S::fixed_extent_cutoff,
-                 "Fixed-handle nodes with e' below this count towards T (Eq. 7: 0.5).")
-            .Range(0, 1, "a number in (0, 1]")
-            .lo_open = true;
-        t.Enum("member_extent", &S::member_extent, MemberExtentNames(),
-               "A coarse node's e' from its DG1 members: max or mean (an ablation).");
-        t.Double("local_detail_distance", &S::local_detail_distance,
-                 "Local-detail edit within this geodesic distance, over the diagonal.")
-            .AtLeast(0, "a finite number >= 0");
-        t.Double("omega_max", &S::omega_max,
-                 "Totally Free nodes map e to omega in [1, omega_max].")
-            .AtLeast(1, "a finite number >= 1");
-        t.Bool("alpha_all_one", &S::alpha_all_one, "Every coherence weight alpha = 1.");
-        t.Enum("half_free", &S::half_free, HalfFreeRuleNames(),
-               "Which fixed-handle nodes are Half Free: next_to_totally_free, "
-               "every_fixed_handle_node (the paper) or none.");
-        t.Enum("border", &S::border, BorderRuleNames(),
-               "What a Fixed node next to a Totally Free one becomes: fixed (the paper), "
-               "half_free or totally_free.");
-        t.Bool("pin_fixed_region", &S::pin_fixed_region,
-               "Multi-scale: nodes that skin a fixed-handle vertex are Fixed, so the fixed "
-               "region stays exactly at rest (the paper: false).");
-      });
-  return table;
+// ScaleSelectionOptions' rows (core/option_table.h), declared in its header beside the fields: a
+// new field is the field above and its row here. ScaleSelectionOptionTable() (scale_selection.cc)
+// builds the table from them once; a template, so that only that file compiles the rows.
+template <typename Table>
+void DeclareScaleSelectionOptionRows(Table& t) {
+  using S = ScaleSelectionOptions;
+  t.Double("threshold_floor", &S::threshold_floor,
+           "Lower bound of the rigidity threshold T (Eq. 7: 0.1).")
+      .Range(0, 1, "a number in [0, 1)", /*high_open=*/true);
+  t.Double("fixed_extent_cutoff", &S::fixed_extent_cutoff,
+           "Fixed-handle nodes with e' below this count towards T (Eq. 7: 0.5).")
+      .Range(0, 1, "a number in (0, 1]")
+      .lo_open = true;
+  t.Enum("member_extent", &S::member_extent, MemberExtentNames(),
+         "A coarse node's e' from its DG1 members: max or mean (an ablation).");
+  t.Double("local_detail_distance", &S::local_detail_distance,
+           "Local-detail edit within this geodesic distance, over the diagonal.")
+      .AtLeast(0, "a finite number >= 0");
+  t.Double("omega_max", &S::omega_max,
+           "Totally Free nodes map e to omega in [1, omega_max].")
+      .AtLeast(1, "a finite number >= 1");
+  t.Bool("alpha_all_one", &S::alpha_all_one, "Every coherence weight alpha = 1.");
+  t.Enum("half_free", &S::half_free, HalfFreeRuleNames(),
+         "Which fixed-handle nodes are Half Free: next_to_totally_free, "
+         "every_fixed_handle_node (the paper) or none.");
+  t.Enum("border", &S::border, BorderRuleNames(),
+         "What a Fixed node next to a Totally Free one becomes: fixed (the paper), "
+         "half_free or totally_free.");
+  t.Bool("pin_fixed_region", &S::pin_fixed_region,
+         "Multi-scale: nodes that skin a fixed-handle vertex are Fixed, so the fixed "
+         "region stays exactly at rest (the paper: false).");
 }
+const OptionTable<ScaleSelectionOptions>& ScaleSelectionOptionTable();
 
 // Which DG1 nodes (surface cells) hold handle vertices.
 struct HandleNodes {

@@ -365,4 +365,10 @@ SolveSummary CeresSolver::Solve(const Eigen::Affine3d& handle, NodeTransforms* t
   return summary;
 }
 
+const OptionTable<CeresOptions>& CeresOptionTable() {
+  static const OptionTable<CeresOptions>& table =
+      MakeOptionTable<CeresOptions>([](auto& t) { DeclareCeresOptionRows(t); });
+  return table;
+}
+
 }  // namespace msdeform

@@ -89,35 +89,35 @@ class CeresSolver : public FrameSolver {
   int num_variables_ = 0;
 };
 
-// CeresOptions' rows (core/option_table.h), declared in its header: a new field
-// is the field above and its row here.
-inline const OptionTable<CeresOptions>& CeresOptionTable() {
-  static const OptionTable<CeresOptions>& table = MakeOptionTable<CeresOptions>([](auto& t) {
-    using C = CeresOptions;
-    t.Enum("trust_region", &C::trust_region,
-           EnumNames<ceres::TrustRegionStrategyType>::FromFunction(
-               {ceres::LEVENBERG_MARQUARDT, ceres::DOGLEG}, TrustRegionName),
-           "Ceres: levenberg_marquardt or dogleg.");
-    t.Enum("linear_solver", &C::linear_solver,
-           EnumNames<ceres::LinearSolverType>::FromFunction(
-               {ceres::SPARSE_NORMAL_CHOLESKY, ceres::CGNR}, CeresLinearSolverName),
-           "Ceres: sparse_normal_cholesky or cgnr.");
-    // Only the libraries this Ceres has.
-    t.Enum("sparse_library", &C::sparse_library,
-           EnumNames<ceres::SparseLinearAlgebraLibraryType>::FromFunction(
-               CeresSparseLibraries(), SparseLibraryName),
-           "Ceres's sparse Cholesky library: eigen_sparse, suite_sparse or cx_sparse (those "
-           "this Ceres has).")
-        .ChoiceWords("one this Ceres has: ");
-    t.Bool("group_position_terms", &C::group_position_terms,
-           "One exact least-squares block per group of handle vertices sharing nodes.");
-    t.Enum("jacobians", &C::jacobians,
-           JacobiansNames(),
-           "Ceres's residual blocks: analytic (the functors' hand-written Jacobians) or autodiff "
-           "(the same functors through ceres::AutoDiffCostFunction).");
-  });
-  return table;
+// CeresOptions' rows (core/option_table.h), declared in its header beside the fields: a new field
+// is the field above and its row here. CeresOptionTable() (ceres_solver.cc) builds the table from
+// them once; a template, so that only that file compiles the rows.
+template <typename Table>
+void DeclareCeresOptionRows(Table& t) {
+  using C = CeresOptions;
+  t.Enum("trust_region", &C::trust_region,
+         EnumNames<ceres::TrustRegionStrategyType>::FromFunction(
+             {ceres::LEVENBERG_MARQUARDT, ceres::DOGLEG}, TrustRegionName),
+         "Ceres: levenberg_marquardt or dogleg.");
+  t.Enum("linear_solver", &C::linear_solver,
+         EnumNames<ceres::LinearSolverType>::FromFunction(
+             {ceres::SPARSE_NORMAL_CHOLESKY, ceres::CGNR}, CeresLinearSolverName),
+         "Ceres: sparse_normal_cholesky or cgnr.");
+  // Only the libraries this Ceres has.
+  t.Enum("sparse_library", &C::sparse_library,
+         EnumNames<ceres::SparseLinearAlgebraLibraryType>::FromFunction(
+             CeresSparseLibraries(), SparseLibraryName),
+         "Ceres's sparse Cholesky library: eigen_sparse, suite_sparse or cx_sparse (those "
+         "this Ceres has).")
+      .ChoiceWords("one this Ceres has: ");
+  t.Bool("group_position_terms", &C::group_position_terms,
+         "One exact least-squares block per group of handle vertices sharing nodes.");
+  t.Enum("jacobians", &C::jacobians,
+         JacobiansNames(),
+         "Ceres's residual blocks: analytic (the functors' hand-written Jacobians) or autodiff "
+         "(the same functors through ceres::AutoDiffCostFunction).");
 }
+const OptionTable<CeresOptions>& CeresOptionTable();
 
 }  // namespace msdeform
 

@@ -79,26 +79,26 @@ class FrameSolver {
   virtual int num_variables() const = 0;
 };
 
-// StoppingRule's rows (core/option_table.h), declared in its header: a new field
-// is the field above and its row here.
-inline const OptionTable<StoppingRule>& StoppingRuleTable() {
-  static const OptionTable<StoppingRule>& table = MakeOptionTable<StoppingRule>([](auto& t) {
-    t.Int("max_iterations", &StoppingRule::max_iterations,
-          "Iteration budget per frame (linear solves), >= 1.")
-        .Range(1, kOptionIntMax,
-               "an integer >= 1 (a frame with no iteration leaves the handle behind)");
-    t.Double("function_tolerance", &StoppingRule::function_tolerance,
-             "Stop when |cost change| / cost falls to this.")
-        .AtLeast(0, "a finite number >= 0");
-    t.Double("gradient_tolerance", &StoppingRule::gradient_tolerance,
-             "Stop when the gradient's max norm falls to this.")
-        .AtLeast(0, "a finite number >= 0");
-    t.Double("parameter_tolerance", &StoppingRule::parameter_tolerance,
-             "Stop when |step| <= this * (|x| + this).")
-        .AtLeast(0, "a finite number >= 0");
-  });
-  return table;
+// StoppingRule's rows (core/option_table.h), declared in its header beside the fields: a new field
+// is the field above and its row here. StoppingRuleTable() (frame_solver.cc) builds the table from
+// them once; a template, so that only that file compiles the rows.
+template <typename Table>
+void DeclareStoppingRuleRows(Table& t) {
+  t.Int("max_iterations", &StoppingRule::max_iterations,
+        "Iteration budget per frame (linear solves), >= 1.")
+      .Range(1, kOptionIntMax,
+             "an integer >= 1 (a frame with no iteration leaves the handle behind)");
+  t.Double("function_tolerance", &StoppingRule::function_tolerance,
+           "Stop when |cost change| / cost falls to this.")
+      .AtLeast(0, "a finite number >= 0");
+  t.Double("gradient_tolerance", &StoppingRule::gradient_tolerance,
+           "Stop when the gradient's max norm falls to this.")
+      .AtLeast(0, "a finite number >= 0");
+  t.Double("parameter_tolerance", &StoppingRule::parameter_tolerance,
+           "Stop when |step| <= this * (|x| + this).")
+      .AtLeast(0, "a finite number >= 0");
 }
+const OptionTable<StoppingRule>& StoppingRuleTable();
 
 }  // namespace msdeform
 

@@ -73,4 +73,10 @@ bool GaussNewtonHasCholmod() {
 #endif
 }
 
+const OptionTable<GaussNewtonOptions>& GaussNewtonOptionTable() {
+  static const OptionTable<GaussNewtonOptions>& table =
+      MakeOptionTable<GaussNewtonOptions>([](auto& t) { DeclareGaussNewtonOptionRows(t); });
+  return table;
+}
+
 }  // namespace msdeform

@@ -173,44 +173,44 @@ class GaussNewtonSolver : public FrameSolver {
   int num_variables_ = 0;
 };
 
-// GaussNewtonOptions' rows (core/option_table.h), declared in its header: a new field
-// is the field above and its row here.
+// GaussNewtonOptions' rows (core/option_table.h), declared in its header beside the fields: a new
+// field is the field above and its row here. GaussNewtonOptionTable() (gauss_newton_options.cc)
+// builds the table from them once; a template, so that only that file compiles the rows.
 // The energy helper's solver files keep their Name/Parse functions; the
 // names here are read from them.
-inline const OptionTable<GaussNewtonOptions>& GaussNewtonOptionTable() {
+template <typename Table>
+void DeclareGaussNewtonOptionRows(Table& t) {
   using GN = GaussNewtonOptions;
-  static const OptionTable<GN>& table = MakeOptionTable<GN>([](auto& t) {
-    t.Enum("linear_solver", &GN::linear_solver,
-           LinearSolverNames(),
-           "Gauss-Newton step: cholesky (exact), pcg_jacobi or pcg_incomplete_cholesky "
-           "(inexact, forcing-term stop).");
-    t.Enum("cholesky", &GN::cholesky,
-           CholeskyNames(),
-           "Gauss-Newton sparse Cholesky: supernodal, eigen_llt, eigen_ldlt or cholmod.");
-    t.Enum("factorization", &GN::factorization,
-           FactorizationNames(),
-           "When Gauss-Newton refactorises J^T J: every_iteration, per_frame or lagged (kept "
-           "while the gradient falls 4x a step, also across frames).");
-    t.Double("refactor_ratio", &GN::refactor_ratio,
-             "Lagged and per-frame factorisation: refactorise after a step that shrank the "
-             "gradient by less than this factor (1: only when it grew).")
-        .Above(0, "a number > 0");
-    t.Enum("damping", &GN::damping,
-           DampingNames(),
-           "Gauss-Newton damping: gauss_newton (a 1e-9 floor, raised only after a rejected "
-           "step) or levenberg_marquardt (adapted every step).");
-    t.Double("min_damping", &GN::min_damping, "mu floor, relative to diag(J^T J).")
-        .Above(0, "a finite number > 0");
-    t.Double("initial_damping", &GN::initial_damping, "Levenberg-Marquardt's first mu.")
-        .Above(0, "a finite number > 0");
-    t.Double("forcing_term", &GN::forcing_term, "PCG's relative residual bound, at most.")
-        .Range(0, 1, "a number in (0, 1)", /*high_open=*/true)
-        .lo_open = true;
-    t.Int("max_cg_iterations", &GN::max_cg_iterations, "PCG iterations per step, at most.")
-        .Range(1, kOptionIntMax, "an integer >= 1");
-  });
-  return table;
+  t.Enum("linear_solver", &GN::linear_solver,
+         LinearSolverNames(),
+         "Gauss-Newton step: cholesky (exact), pcg_jacobi or pcg_incomplete_cholesky "
+         "(inexact, forcing-term stop).");
+  t.Enum("cholesky", &GN::cholesky,
+         CholeskyNames(),
+         "Gauss-Newton sparse Cholesky: supernodal, eigen_llt, eigen_ldlt or cholmod.");
+  t.Enum("factorization", &GN::factorization,
+         FactorizationNames(),
+         "When Gauss-Newton refactorises J^T J: every_iteration, per_frame or lagged (kept "
+         "while the gradient falls 4x a step, also across frames).");
+  t.Double("refactor_ratio", &GN::refactor_ratio,
+           "Lagged and per-frame factorisation: refactorise after a step that shrank the "
+           "gradient by less than this factor (1: only when it grew).")
+      .Above(0, "a number > 0");
+  t.Enum("damping", &GN::damping,
+         DampingNames(),
+         "Gauss-Newton damping: gauss_newton (a 1e-9 floor, raised only after a rejected "
+         "step) or levenberg_marquardt (adapted every step).");
+  t.Double("min_damping", &GN::min_damping, "mu floor, relative to diag(J^T J).")
+      .Above(0, "a finite number > 0");
+  t.Double("initial_damping", &GN::initial_damping, "Levenberg-Marquardt's first mu.")
+      .Above(0, "a finite number > 0");
+  t.Double("forcing_term", &GN::forcing_term, "PCG's relative residual bound, at most.")
+      .Range(0, 1, "a number in (0, 1)", /*high_open=*/true)
+      .lo_open = true;
+  t.Int("max_cg_iterations", &GN::max_cg_iterations, "PCG iterations per step, at most.")
+      .Range(1, kOptionIntMax, "an integer >= 1");
 }
+const OptionTable<GaussNewtonOptions>& GaussNewtonOptionTable();
 
 }  // namespace msdeform
 

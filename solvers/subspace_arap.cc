@@ -196,4 +196,10 @@ std::vector<int> SubspaceArap::ClusterVertices(int c) const {
                           data_.cluster_vertices.begin() + data_.cluster_offsets[c + 1]);
 }
 
+const OptionTable<ArapOptions>& ArapOptionTable() {
+  static const OptionTable<ArapOptions>& table =
+      MakeOptionTable<ArapOptions>([](auto& t) { DeclareArapOptionRows(t); });
+  return table;
+}
+
 }  // namespace msdeform

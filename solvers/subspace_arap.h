@@ -237,36 +237,36 @@ class SubspaceArap {
   SubspaceArapData data_;
 };
 
-// ArapOptions' rows (core/option_table.h), declared in its header: a new field
-// is the field above and its row here.
-inline const OptionTable<ArapOptions>& ArapOptionTable() {
-  static const OptionTable<ArapOptions>& table = MakeOptionTable<ArapOptions>([](auto& t) {
-    using A = ArapOptions;
-    t.Enum("clusters", &A::clusters, RotationClustersNames(),
-           "Rotation clusters of the subspace ARAP energy: weights (k-means on the skinning "
-           "weights, FAST), nodes (one per node's support) or vertices (one per vertex).");
-    t.Int("num_clusters", &A::num_clusters, "clusters=weights: clusters over the active vertices.")
-        .Range(1, kOptionIntMax, "an integer >= 1");
-    t.Int("kmeans_iterations", &A::kmeans_iterations,
-          "clusters=weights: Lloyd iterations of the k-means.")
-        .Range(0, kOptionIntMax, "an integer >= 0");
-    t.Enum("constraints", &A::constraints, ArapConstraintsNames(),
-           "Handle and fixed vertices of the subspace ARAP energy: exact (constants outside "
-           "the subspace) or soft (skinned, pulled by position terms of soft_weight).");
-    t.Double("soft_weight", &A::soft_weight,
-             "constraints=soft: weight of |x' - q|^2 against the cotangent-weighted edges.")
-        .Above(0, "a finite weight > 0");
-    t.Enum("solver", &A::solver, ArapSolverNames(),
-           "The subspace ARAP energy's solver under backend=gauss_newton: local_global "
-           "(rotations fitted, then the nodes solved) or gauss_newton (nodes and cluster "
-           "rotations jointly, the rotations eliminated per cluster).");
-    t.Int("anderson_window", &A::anderson_window,
-          "solver=local_global: Anderson acceleration's window (past iterates combined, "
-          "with the energy safeguard); 0 runs plain local/global.")
-        .Range(0, 50, "an integer in 0..50");
-  });
-  return table;
+// ArapOptions' rows (core/option_table.h), declared in its header beside the fields: a new field is
+// the field above and its row here. ArapOptionTable() (subspace_arap.cc) builds the table from them
+// once; a template, so that only that file compiles the rows.
+template <typename Table>
+void DeclareArapOptionRows(Table& t) {
+  using A = ArapOptions;
+  t.Enum("clusters", &A::clusters, RotationClustersNames(),
+         "Rotation clusters of the subspace ARAP energy: weights (k-means on the skinning "
+         "weights, FAST), nodes (one per node's support) or vertices (one per vertex).");
+  t.Int("num_clusters", &A::num_clusters, "clusters=weights: clusters over the active vertices.")
+      .Range(1, kOptionIntMax, "an integer >= 1");
+  t.Int("kmeans_iterations", &A::kmeans_iterations,
+        "clusters=weights: Lloyd iterations of the k-means.")
+      .Range(0, kOptionIntMax, "an integer >= 0");
+  t.Enum("constraints", &A::constraints, ArapConstraintsNames(),
+         "Handle and fixed vertices of the subspace ARAP energy: exact (constants outside "
+         "the subspace) or soft (skinned, pulled by position terms of soft_weight).");
+  t.Double("soft_weight", &A::soft_weight,
+           "constraints=soft: weight of |x' - q|^2 against the cotangent-weighted edges.")
+      .Above(0, "a finite weight > 0");
+  t.Enum("solver", &A::solver, ArapSolverNames(),
+         "The subspace ARAP energy's solver under backend=gauss_newton: local_global "
+         "(rotations fitted, then the nodes solved) or gauss_newton (nodes and cluster "
+         "rotations jointly, the rotations eliminated per cluster).");
+  t.Int("anderson_window", &A::anderson_window,
+        "solver=local_global: Anderson acceleration's window (past iterates combined, "
+        "with the energy safeguard); 0 runs plain local/global.")
+      .Range(0, 50, "an integer in 0..50");
 }
+const OptionTable<ArapOptions>& ArapOptionTable();
 
 }  // namespace msdeform
 
