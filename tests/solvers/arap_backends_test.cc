@@ -100,6 +100,15 @@ Eigen::Affine3d Bend(double angle) {
   return motion;
 }
 
+// The handle of the bent-bar tests: turned 0.8 rad about z and moved, the
+// bar's first voxel fixed.
+Eigen::Affine3d BentBarHandle() {
+  Eigen::Affine3d handle = Eigen::Affine3d::Identity();
+  handle.linear() = Eigen::AngleAxisd(0.8, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  handle.translation() << -1.0, 3.0, 0.0;
+  return handle;
+}
+
 // A bar whose only constraint is the handle: the whole bar may follow it.
 HandleLayout HandleOnly(const BarEdit& bar) {
   HandleLayout layout;
@@ -191,9 +200,7 @@ TEST(ArapBackendsTest, GaussNewtonStepReachesAKnownOptimum) {
 TEST(ArapBackendsTest, AndersonReachesThePlainMinimumInFewerIterations) {
   const BarEdit bar(8, 3);
   const double diagonal = BoundingBoxDiagonal(bar.mesh);
-  Eigen::Affine3d handle = Eigen::Affine3d::Identity();
-  handle.linear() = Eigen::AngleAxisd(0.8, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  handle.translation() << -1.0, 3.0, 0.0;
+  const Eigen::Affine3d handle = BentBarHandle();
   std::vector<DragStats> stats(2);
   std::vector<Eigen::Matrix3Xd> vertices;
   for (int window : {0, 5}) {
@@ -232,9 +239,7 @@ class SameMinimumTest : public testing::TestWithParam<ArapConstraints> {};
 TEST_P(SameMinimumTest, AllBackendsReachIt) {
   const BarEdit bar(8, 3);
   const double diagonal = BoundingBoxDiagonal(bar.mesh);
-  Eigen::Affine3d handle = Eigen::Affine3d::Identity();
-  handle.linear() = Eigen::AngleAxisd(0.8, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  handle.translation() << -1.0, 3.0, 0.0;
+  const Eigen::Affine3d handle = BentBarHandle();
   std::vector<double> energies;
   std::vector<Eigen::Matrix3Xd> vertices;
   for (Backend backend : kBackends) {
