@@ -227,15 +227,26 @@ std::vector<gflags::CommandLineFlagInfo> ProgramFlags() {
   return own;
 }
 
+// A command-line argument that is a flag ("--x", "-x", "--x=text"): its name
+// and, after an '=', its text (*has_value); false for any other argument.
+bool SplitFlagArgument(const std::string& argument, std::string* name, std::string* text,
+                       bool* has_value = nullptr) {
+  if (argument.size() < 2 || argument[0] != '-') return false;
+  const std::string arg = argument.substr(argument[1] == '-' ? 2 : 1);
+  const size_t equals = arg.find('=');
+  *name = arg.substr(0, equals);
+  if (has_value != nullptr) *has_value = equals != std::string::npos;
+  if (text != nullptr && equals != std::string::npos) *text = arg.substr(equals + 1);
+  return true;
+}
+
 }  // namespace
 
 bool CheckFlagNames(int argc, char** argv, std::string* error) {
   for (int i = 1; i < argc; ++i) {
-    std::string arg = argv[i];
-    if (arg == "--") break;
-    if (arg.size() < 2 || arg[0] != '-') continue;
-    arg.erase(0, arg[1] == '-' ? 2 : 1);
-    const std::string name = arg.substr(0, arg.find('='));
+    if (std::string(argv[i]) == "--") break;
+    std::string name;
+    if (!SplitFlagArgument(argv[i], &name, nullptr)) continue;
     gflags::CommandLineFlagInfo info;
     if (name.empty() || gflags::GetCommandLineFlagInfo(name.c_str(), &info)) continue;
     // gflags's boolean negation --nox.
@@ -292,21 +303,17 @@ std::string FlagValueProblem(const std::string& type, const std::string& text) {
 
 bool CheckFlagValues(int argc, char** argv, std::string* error) {
   for (int i = 1; i < argc; ++i) {
-    std::string arg = argv[i];
-    if (arg == "--") break;
-    if (arg.size() < 2 || arg[0] != '-') continue;
-    arg.erase(0, arg[1] == '-' ? 2 : 1);
-    const size_t equals = arg.find('=');
-    const std::string name = arg.substr(0, equals);
+    if (std::string(argv[i]) == "--") break;
+    std::string name, text;
+    bool has_value = false;
+    if (!SplitFlagArgument(argv[i], &name, &text, &has_value)) continue;
     gflags::CommandLineFlagInfo info;
     if (name.empty() || !gflags::GetCommandLineFlagInfo(name.c_str(), &info)) continue;
-    std::string text;
-    if (equals != std::string::npos) {
-      text = arg.substr(equals + 1);
-    } else if (info.type == "bool" || i + 1 >= argc) {
-      continue;  // --x (true), or gflags's "missing its argument"
-    } else {
-      text = argv[++i];  // gflags's --x value
+    if (!has_value) {
+      // --x alone is true for a bool; otherwise gflags takes the next
+      // argument (--x value) or says the value is missing.
+      if (info.type == "bool" || i + 1 >= argc) continue;
+      text = argv[++i];
     }
     const std::string problem = FlagValueProblem(info.type, text);
     if (!problem.empty()) {
