@@ -114,6 +114,21 @@ std::vector<std::string> MethodsReadingRow(const std::string& name) {
   return methods;
 }
 
+std::string NotAnOptionOf(const std::string& method, const std::vector<std::string>& rows) {
+  std::vector<std::string> readers;
+  for (const std::string& row : rows) {
+    for (const std::string& reader : MethodsReadingRow(row)) {
+      if (std::find(readers.begin(), readers.end(), reader) == readers.end()) {
+        readers.push_back(reader);
+      }
+    }
+  }
+  std::string words;
+  for (const std::string& reader : readers) words += (words.empty() ? "" : ", ") + reader;
+  return "not an option of the " + method + " method (" +
+         (readers.empty() ? "no method reads it" : "an option of " + words) + ")";
+}
+
 bool MethodOptions::Check(std::string* error) const {
   // Every row's range (the methods' own under their prefix: "cgal.iterations=0:
   // ..."), then what the Deformer's rows cannot say.

@@ -39,6 +39,11 @@ std::vector<std::string> MethodsOfRow(const std::string& name);
 bool MethodReadsRow(const std::string& method, const std::string& name);
 // The registered methods that read the row `name`, in registration order.
 std::vector<std::string> MethodsReadingRow(const std::string& name);
+// The words every front end gives for an option that `method` does not read,
+// naming the methods that read any of its `rows`: "not an option of the
+// cgal_arap method (an option of multiscale, static, static_dense)", or "(no
+// method reads it)".
+std::string NotAnOptionOf(const std::string& method, const std::vector<std::string>& rows);
 
 }  // namespace msdeform
 

@@ -547,20 +547,8 @@ void CheckKeywordsReadBy(const std::string& method, const py::handle& options,
       }
     }
     bool read = rows.empty();  // not a row (MethodOptionsFrom judged it)
-    std::vector<std::string> readers;
-    for (const std::string& row : rows) {
-      read = read || MethodReadsRow(method, row);
-      for (const std::string& reader : MethodsReadingRow(row)) {
-        if (std::find(readers.begin(), readers.end(), reader) == readers.end()) {
-          readers.push_back(reader);
-        }
-      }
-    }
-    if (read) continue;
-    ThrowTypeError(key + ": not an option of the " + method + " method (" +
-                   (readers.empty() ? std::string("no method reads it")
-                                    : "an option of " + Join(readers)) +
-                   ")");
+    for (const std::string& row : rows) read = read || MethodReadsRow(method, row);
+    if (!read) ThrowTypeError(key + ": " + NotAnOptionOf(method, rows));
   }
 }
 

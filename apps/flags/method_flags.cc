@@ -34,13 +34,7 @@ bool CheckFlagsReadBy(const std::string& method, std::string* error) {
   }
   for (const FlagValue& flag : given) {
     if (MethodReadsRow(method, flag.row)) continue;
-    std::string readers;
-    for (const std::string& reader : MethodsReadingRow(flag.row)) {
-      readers += (readers.empty() ? "" : ", ") + reader;
-    }
-    *error = "--" + flag.spelling + "=" + flag.text + ": not an option of the " + method +
-             " method (" + (readers.empty() ? "no method reads it" : "an option of " + readers) +
-             ")";
+    *error = "--" + flag.spelling + "=" + flag.text + ": " + NotAnOptionOf(method, {flag.row});
     return false;
   }
   return true;
