@@ -6,6 +6,9 @@
 #include <limits>
 #include <memory>
 #include <utility>
+#include <vector>
+
+#include <Eigen/Eigenvalues>
 
 #include "msdeform/core/parallel.h"
 #include "msdeform/core/timing.h"
@@ -13,6 +16,7 @@
 #include "msdeform/methods/method_options.h"
 #include "msdeform/methods/registry.h"
 #include "msdeform/scales/rigidity.h"
+#include "msdeform/solvers/subspace_arap.h"
 
 namespace msdeform {
 namespace {
@@ -26,6 +30,25 @@ constexpr int64_t kVerticesPerChunk = 256;
 inline double Kernel(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   const double r = (a - b).norm();
   return r * r * r;
+}
+
+// Below this reciprocal condition number the RBF system is taken as singular.
+constexpr double kMinRbfReciprocalCondition = 1e-15;
+
+// The principal axes of the centres (about their mean, the origin) whose
+// spread is above 1e-8 of the largest: three for a solid, two for centres in
+// a plane, one on a line, none for one centre. Three are returned as x, y, z.
+Eigen::Matrix3Xd PolynomialAxes(const Eigen::Matrix3Xd& centres) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(centres * centres.transpose());
+  const Eigen::Vector3d spread = eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+  std::vector<int> kept;
+  for (int a = 2; a >= 0; --a) {
+    if (spread(a) > 1e-8 * spread(2)) kept.push_back(a);
+  }
+  if (kept.size() == 3) return Eigen::Matrix3d::Identity();
+  Eigen::Matrix3Xd axes(3, kept.size());
+  for (size_t i = 0; i < kept.size(); ++i) axes.col(i) = eigen.eigenvectors().col(kept[i]);
+  return axes;
 }
 
 }  // namespace
@@ -110,17 +133,29 @@ bool RigidCells::DoPrecompute(const Mesh& mesh, const MethodOptions& options, st
     rbf_origin_ = rbf_centres_.rowwise().mean();
     rbf_scale_ = std::max(lattice_.cell_width() * lattice_.dims().maxCoeff(), 1e-300);
     const Eigen::Matrix3Xd centres = (rbf_centres_.colwise() - rbf_origin_) / rbf_scale_;
-    rbf_matrix_ = Eigen::MatrixXd::Zero(n + 4, n + 4);
+    rbf_axes_ = PolynomialAxes(centres);
+    const int r = static_cast<int>(rbf_axes_.cols());
+    const Eigen::MatrixXd along_axes = rbf_axes_.transpose() * centres;  // r by n
+    rbf_matrix_ = Eigen::MatrixXd::Zero(n + 1 + r, n + 1 + r);
     for (int j = 0; j < n; ++j) {
       for (int i = j + 1; i < n; ++i) {
         rbf_matrix_(i, j) = rbf_matrix_(j, i) = Kernel(centres.col(i), centres.col(j));
       }
       rbf_matrix_(n, j) = rbf_matrix_(j, n) = 1.0;
-      for (int a = 0; a < 3; ++a) {
-        rbf_matrix_(n + 1 + a, j) = rbf_matrix_(j, n + 1 + a) = centres(a, j);
+      for (int a = 0; a < r; ++a) {
+        rbf_matrix_(n + 1 + a, j) = rbf_matrix_(j, n + 1 + a) = along_axes(a, j);
       }
     }
     rbf_lu_.compute(rbf_matrix_);
+    // Distinct centres in general position make the system non-singular (the
+    // kernel is conditionally positive definite of order 2); coinciding
+    // centres do not.
+    if (!(rbf_lu_.rcond() > kMinRbfReciprocalCondition)) {
+      *error = "rigid_cells: the RBF system of the " + std::to_string(n) +
+               " cell centres is singular (reciprocal condition " +
+               std::to_string(rbf_lu_.rcond()) + "): two centres coincide";
+      return false;
+    }
   }
   mesh_ = mesh;
   deformed_vertices_ = mesh.vertices;
@@ -201,7 +236,9 @@ bool RigidCells::DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* 
   const auto frame_start = Clock::now();
   *stats = MethodStats();
   const Eigen::Matrix3Xd& rest = lattice_.rest_positions();
-  const Eigen::Quaterniond handle_rotation(deformed_from_rest.linear());
+  // The driven cells' rotation: the handle's, or for a handle that scales or
+  // shears, the rotation nearest its linear part (its polar factor).
+  const Eigen::Quaterniond handle_rotation(BestRotation(deformed_from_rest.linear()));
   for (int k = 0; k < lattice_.num_particles(); ++k) {
     if (kind_[k] != Kind::kDriven) continue;
     rotations_.col(k) = handle_rotation.coeffs();
@@ -241,17 +278,22 @@ void RigidCells::Interpolate(const Eigen::Affine3d& deformed_from_rest) {
   const int n = lattice_.num_particles();
   // Right-hand sides: each centre's displacement T_k(r_k) - r_k, then the
   // polynomial's four zero rows.
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n + 4, 3);
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(rbf_matrix_.rows(), 3);
   for (int k = 0; k < n; ++k) {
     const Eigen::Vector3d r = rbf_centres_.col(k);
-    rhs.row(k) = (cell_transform(k) * r - r).transpose();
+    // A driven cell moves with the handle itself, which need not be rigid.
+    const Eigen::Vector3d moved =
+        kind_[k] == Kind::kDriven ? Eigen::Vector3d(deformed_from_rest * r) : cell_transform(k) * r;
+    rhs.row(k) = (moved - r).transpose();
   }
   Eigen::MatrixXd coefficients = rbf_lu_.solve(rhs);
   coefficients += rbf_lu_.solve(rhs - rbf_matrix_ * coefficients);  // one refinement step
   const Eigen::Matrix3Xd centres = (rbf_centres_.colwise() - rbf_origin_) / rbf_scale_;
   const Eigen::Matrix3Xd weights = coefficients.topRows(n).transpose();
   const Eigen::Vector3d constant = coefficients.row(n).transpose();
-  const Eigen::Matrix3d linear = coefficients.middleRows(n + 1, 3).transpose();
+  // The linear part over the axes: B (A^T x), folded into one 3 by 3 map.
+  const Eigen::Matrix3d linear =
+      coefficients.middleRows(n + 1, rbf_axes_.cols()).transpose() * rbf_axes_.transpose();
   const int num_vertices = mesh_.num_vertices();
   std::vector<double> chunk_gap(NumChunks(num_vertices, kVerticesPerChunk), 0.0);
   ForEachChunk(num_vertices, kVerticesPerChunk,

@@ -114,7 +114,11 @@ class RigidCells : public EditingMethod {
   Eigen::Matrix3Xd rbf_centres_;                 // r_k, 3 by #cells
   Eigen::Vector3d rbf_origin_;                   // the centres are shifted by this
   double rbf_scale_ = 1.0;                       // and divided by this
-  Eigen::PartialPivLU<Eigen::MatrixXd> rbf_lu_;  // (#cells + 4) square
+  // The polynomial's linear part is over these orthonormal axes of the scaled
+  // centres (3 by r): all three, or fewer where the centres are coplanar or
+  // collinear and the full linear polynomial would make the system singular.
+  Eigen::Matrix3Xd rbf_axes_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> rbf_lu_;  // (#cells + 1 + r) square
   Eigen::MatrixXd rbf_matrix_;                   // the system, for one refinement step
   std::vector<Kind> kind_;                       // per cell
   std::vector<char> vertex_kind_;                // per vertex: Kind of its constraint

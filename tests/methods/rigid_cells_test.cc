@@ -64,6 +64,97 @@ TEST(RigidCellsTest, RigidMotionOfTheHandleWithNothingFixedMovesEveryVertex) {
   EXPECT_LT(method.constraint_gap(), 1e-9 * Diagonal(bar));
 }
 
+// A flat sheet (a 12 x 6 grid in the plane z = 0): its cell centres are
+// coplanar, so a linear polynomial in x, y and z would make the RBF system
+// singular; the polynomial over the centres' two axes keeps it regular and
+// still reproduces a rigid motion, one that turns the sheet out of its plane
+// included.
+TEST(RigidCellsTest, FlatSheetMovesRigidlyWithTheHandle) {
+  constexpr int kColumns = 12, kRows = 6;
+  Mesh sheet;
+  sheet.vertices.resize(3, (kColumns + 1) * (kRows + 1));
+  for (int j = 0; j <= kRows; ++j) {
+    for (int i = 0; i <= kColumns; ++i) sheet.vertices.col(j * (kColumns + 1) + i) << i, j, 0.0;
+  }
+  sheet.faces.resize(3, 2 * kColumns * kRows);
+  for (int j = 0, f = 0; j < kRows; ++j) {
+    for (int i = 0; i < kColumns; ++i) {
+      const int v = j * (kColumns + 1) + i;
+      sheet.faces.col(f++) << v, v + 1, v + kColumns + 2;
+      sheet.faces.col(f++) << v, v + kColumns + 2, v + kColumns + 1;
+    }
+  }
+  HandleLayout layout;
+  layout.moveable = VerticesWithX(sheet, 11.0, 12.0);
+  RigidCells method;
+  MethodOptions options;
+  options.rigid_cells.cells_per_diagonal = 16.0;
+  std::string error;
+  ASSERT_TRUE(method.Precompute(sheet, options, &error)) << error;
+  ASSERT_TRUE(method.SetHandles(layout, &error)) << error;
+  ASSERT_TRUE(method.Drag(RigidMotion(), nullptr, &error)) << error;
+  const Eigen::Matrix3Xd expected = RigidMotion() * sheet.vertices;
+  EXPECT_LT((method.deformed_vertices() - expected).colwise().norm().maxCoeff(),
+            1e-9 * Diagonal(sheet));
+  EXPECT_LT(method.constraint_gap(), 1e-9 * Diagonal(sheet));
+}
+
+// A handle transform that scales by 1.5 after a rotation: the handle's cells
+// take the rotation (the polar factor of the linear part) as a unit
+// quaternion, and its vertices land exactly on the scaled targets.
+TEST(RigidCellsTest, HandleThatScalesGivesItsCellsItsRotation) {
+  const Mesh bar = MakeBar(8, 1.0, 4);
+  HandleLayout layout;
+  layout.fixed = VerticesWithX(bar, -1.0, 1.0);
+  layout.moveable = VerticesWithX(bar, 7.0, 9.0);
+  RigidCells method;
+  MethodOptions options;
+  options.rigid_cells.cells_per_diagonal = 16.0;
+  std::string error;
+  ASSERT_TRUE(method.Precompute(bar, options, &error)) << error;
+  ASSERT_TRUE(method.SetHandles(layout, &error)) << error;
+  const Eigen::Matrix3d rotation =
+      Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.0, 1.0, 1.0).normalized()).toRotationMatrix();
+  Eigen::Affine3d grow = Eigen::Affine3d::Identity();
+  grow.linear() = 1.5 * rotation;
+  grow.translation() << 0.0, 0.0, 1.0;
+  ASSERT_TRUE(method.Drag(grow, nullptr, &error)) << error;
+  // The driven cells: those holding a handle vertex (and no fixed one).
+  std::vector<char> is_handle(bar.num_vertices(), 0);
+  for (int v : layout.moveable) is_handle[v] = 1;
+  const CompressedLists& vertices_of = method.lattice()->vertices_of_particle();
+  int handle_cells = 0;
+  for (int p = 0; p < method.lattice()->num_surface_particles(); ++p) {
+    if (vertices_of.size(p) == 0 || !is_handle[*vertices_of.begin(p)]) continue;
+    ++handle_cells;
+    EXPECT_LT((method.cell_transform(p).linear() - rotation).norm(), 1e-12) << p;
+  }
+  EXPECT_GT(handle_cells, 0);
+  const Eigen::Matrix3Xd& deformed = method.deformed_vertices();
+  for (int v : layout.moveable) {
+    EXPECT_LT((deformed.col(v) - grow * bar.vertices.col(v)).norm(), 1e-12 * Diagonal(bar)) << v;
+  }
+  EXPECT_TRUE(deformed.allFinite());
+}
+
+// Two copies of a bar in the same place: each cell holds one piece of each,
+// and the pieces' centres (their vertices' centroids) coincide, so the RBF
+// system is singular: Precompute says so instead of interpolating garbage.
+TEST(RigidCellsTest, CoincidingCellCentresAreAnError) {
+  const Mesh bar = MakeBar(4, 1.0, 2);
+  Mesh twice;
+  twice.vertices.resize(3, 2 * bar.num_vertices());
+  twice.vertices << bar.vertices, bar.vertices;
+  twice.faces.resize(3, 2 * bar.num_faces());
+  twice.faces << bar.faces, (bar.faces.array() + bar.num_vertices()).matrix();
+  RigidCells method;
+  MethodOptions options;
+  options.rigid_cells.cells_per_diagonal = 8.0;
+  std::string error;
+  EXPECT_FALSE(method.Precompute(twice, options, &error));
+  EXPECT_NE(error.find("two centres coincide"), std::string::npos) << error;
+}
+
 // Handle and fixed cells are constant blocks: their vertices are at their
 // targets exactly, the free vertices in between follow the cells.
 TEST(RigidCellsTest, HandleAndFixedVerticesAreExact) {
