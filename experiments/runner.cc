@@ -518,7 +518,7 @@ bool RunScenarioMethods(const ExperimentScenario& scenario, const RunnerOptions&
         IsGraphMethod(method) ? options.energies : std::vector<Energy>{base.energy};
     for (const Energy energy : row_energies) {
       MethodOptions run_options = method_base;
-      run_options.deformer.energy = energy;
+      run_options.deformer = WithEnergy(run_options.deformer, energy);
       RunResult r;
       if (method == options.reference_method && energy == base.energy) {
         r = reference_row;

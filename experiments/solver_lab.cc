@@ -654,9 +654,8 @@ std::vector<SolverVariant> SolverVariants() {
 
 DeformerOptions VariantOptions(const DeformerOptions& base, const SolverVariant& variant,
                                int budget) {
-  DeformerOptions options = base;
+  DeformerOptions options = WithEnergy(base, variant.energy);
   ResetSolverFields(&options);
-  options.energy = variant.energy;
   variant.apply(&options);
   options.stopping = StoppingRule();
   options.stopping.max_iterations = budget == kConvergedBudget ? kConvergedMaxIterations : budget;
@@ -671,7 +670,7 @@ DeformerOptions ReferenceOptions(const DeformerOptions& base) {
   options.gauss_newton.factorization = GN::Factorization::kEveryIteration;
   // The subspace ARAP energy's reference: Gauss-Newton on its nodes and
   // rotations (local/global converges linearly and stops at the cap).
-  options.arap.solver = ArapSolver::kGaussNewton;
+  if (options.energy == Energy::kArap) options.arap.solver = ArapSolver::kGaussNewton;
   options.stopping.max_iterations = kReferenceMaxIterations;
   options.stopping.function_tolerance = kReferenceTolerance;
   options.stopping.gradient_tolerance = kReferenceTolerance;
@@ -802,8 +801,7 @@ bool RunSolverLab(const SolverLabOptions& options, std::string* error) {
       const auto found = minima.find(energy);
       if (found != minima.end()) return &found->second;
       const auto reference_start = Clock::now();
-      DeformerOptions base = plan.base;
-      base.energy = energy;
+      const DeformerOptions base = WithEnergy(plan.base, energy);
       std::vector<double> minimum;
       int unconverged = 0;
       const std::string label = energy == Energy::kEd

@@ -87,6 +87,12 @@ DeformerOptions PaperProcedure(DeformerOptions options) {
   return options;
 }
 
+DeformerOptions WithEnergy(DeformerOptions options, Energy energy) {
+  options.energy = energy;
+  if (energy != Energy::kArap) options.arap = ArapOptions();
+  return options;
+}
+
 bool DeformerOptions::Check(std::string* error) const {
   // Every row's range, checked from DeformerOptionTable(): a C++ or Python
   // caller gets the command line's one line ("rigidity.damping=1: expected a
@@ -101,6 +107,17 @@ bool DeformerOptions::Check(std::string* error) const {
              ": read only by energy=arap with backend=gauss_newton and "
              "arap.solver=local_global (0 turns it off)";
     return false;
+  }
+  // The subspace ARAP energy's options are read by it alone: under another
+  // energy a changed one would be silently unused.
+  if (energy != Energy::kArap) {
+    static const DeformerOptions defaults;
+    for (const auto& row : DeformerOptionTable().rows()) {
+      if (row.name.rfind("arap.", 0) != 0 || row.get(*this) == row.get(defaults)) continue;
+      *error = row.name + "=" + row.get(*this) + ": read only by energy=arap (energy=" +
+               EnergyName(energy) + ")";
+      return false;
+    }
   }
   // What a row cannot say: relations between fields and the embedded
   // structs' own checks (core's lattice and graph, the solvers').

@@ -157,6 +157,12 @@ std::vector<std::pair<std::string, std::string>> DescribeOptions(const DeformerO
 // --half_free=every_fixed_handle_node --border=fixed --hold_fixed_vertices=false).
 DeformerOptions PaperProcedure(DeformerOptions options);
 
+// `options` minimising `energy`, with the arap.* options, which only
+// energy=arap reads (Check refuses a changed one under another energy), back
+// at their defaults when it is not arap: for one set of options run under
+// several energies (the tables' rows, the solver lab, the editor's switch).
+DeformerOptions WithEnergy(DeformerOptions options, Energy energy);
+
 // DeformerOptions' rows (core/option_table.h), declared in its header beside the fields: a new
 // field is the field above and its row here. DeformerOptionTable() (deformer_options.cc) builds the
 // table from them once; a template, so that only that file compiles the rows.

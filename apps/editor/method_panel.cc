@@ -21,6 +21,9 @@ namespace editor {
 
 void EditorApp::SetFlagFromPanel(const std::string& name, const std::string& value) {
   DeformerOptions options = session_->options();
+  // Leaving the subspace ARAP energy puts its arap.* options back to their
+  // defaults (another energy does not read them; Check refuses them there).
+  if (name == "energy" && value != EnergyName(Energy::kArap)) options.arap = ArapOptions();
   std::string error;
   if (!SetDeformerFlag(name, value, &options, &error)) {
     status_.Show(error);

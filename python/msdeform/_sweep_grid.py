@@ -325,8 +325,13 @@ class Sweep:
             except (TypeError, ValueError) as error:
                 self._fail(field, str(error))
             return
+        # The value alone, under the energy that reads it (an arap.* option is refused under
+        # another, which the whole task's options decide).
+        settings = {name: value}
+        if name.startswith("arap.") or name.startswith("arap_"):
+            settings["energy"] = "arap"
         try:
-            build_options("multiscale", {name: value}, option_default("seed"), "seed", self._flags)
+            build_options("multiscale", settings, option_default("seed"), "seed", self._flags)
         except (TypeError, ValueError) as error:
             self._fail(field, str(error))
 

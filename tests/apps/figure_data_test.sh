@@ -4,6 +4,7 @@
 #   - --energy=ed and --energy=arap are recorded in the JSON ("energy", and the
 #     subspace ARAP energy's "arap_clusters" / "arap_num_clusters" /
 #     "arap_constraints" only with arap), and the two deformed meshes differ;
+#   - --arap_clusters with --energy=ed is refused (only arap reads it);
 #   - --energy=foo is refused with one line naming the flag, exit 1, no output.
 #
 #   bash tests/apps/figure_data_test.sh <msdeform_figure_data> <corpus>
@@ -17,8 +18,10 @@ failures=0
 fail() { echo "figure_data_test: $*"; failures=$((failures + 1)); }
 
 for energy in ed arap; do
+  arap_flags=()
+  [[ "${energy}" == arap ]] && arap_flags=(--arap_clusters=nodes)
   "${figure_data}" --mode=edit --scenario="${corpus}/slab_x.json" --energy="${energy}" \
-    --arap_clusters=nodes --out="out/${energy}.json" 2> err.txt ||
+    "${arap_flags[@]}" --out="out/${energy}.json" 2> err.txt ||
     fail "--energy=${energy}: exit $?: $(head -c 500 err.txt)"
   grep -q "\"energy\":\"${energy}\"" "out/${energy}.json" ||
     fail "--energy=${energy}: out/${energy}.json does not record \"energy\":\"${energy}\""
@@ -29,6 +32,13 @@ grep -q '"arap_clusters":"nodes","arap_num_clusters":300,"arap_constraints":"exa
 cmp -s out/ed.off out/arap.off && fail "--energy=ed and --energy=arap gave the same mesh"
 
 mkdir -p bad
+"${figure_data}" --mode=edit --scenario="${corpus}/slab_x.json" --energy=ed \
+  --arap_clusters=nodes --out=bad/e.json 2> err.txt
+code=$?
+[[ "${code}" == 1 ]] || fail "--energy=ed --arap_clusters=nodes: exit ${code}, expected 1"
+grep -q "arap.clusters=nodes: read only by energy=arap" err.txt ||
+  fail "--energy=ed --arap_clusters=nodes: $(head -c 300 err.txt)"
+[[ -e bad/e.json ]] && fail "--energy=ed --arap_clusters=nodes: wrote bad/e.json"
 "${figure_data}" --mode=edit --scenario="${corpus}/slab_x.json" --energy=foo \
   --out=bad/f.json 2> err.txt
 code=$?

@@ -242,6 +242,29 @@ TEST(DeformerOptionTableTest, RangeErrorsAreOneLineNamingTheOption) {
 
 // arap.anderson_window accelerates the subspace local/global iteration only;
 // under any other solve a window would be ignored, so Check refuses it.
+// The subspace ARAP energy's options under another energy would be silently
+// unused: Check refuses the first changed one; WithEnergy, for one set of
+// options run under several energies, puts them back for the others.
+TEST(DeformerOptionTableTest, ArapOptionsUnderAnotherEnergyAreRefused) {
+  DeformerOptions options;
+  options.energy = Energy::kArap;
+  options.arap.clusters = RotationClusters::kVertices;
+  options.arap.soft_weight = 50.0;
+  std::string error;
+  EXPECT_TRUE(options.Check(&error)) << error;
+  DeformerOptions ed = options;
+  ed.energy = Energy::kEd;
+  EXPECT_FALSE(ed.Check(&error));
+  EXPECT_EQ(error, "arap.clusters=vertices: read only by energy=arap (energy=ed)");
+  ed.arap.clusters = ArapOptions().clusters;
+  EXPECT_FALSE(ed.Check(&error));
+  EXPECT_EQ(error, "arap.soft_weight=50: read only by energy=arap (energy=ed)");
+  const DeformerOptions rows = WithEnergy(options, Energy::kEd);
+  EXPECT_EQ(rows.energy, Energy::kEd);
+  EXPECT_TRUE(rows.Check(&error)) << error;
+  EXPECT_EQ(WithEnergy(options, Energy::kArap).arap.clusters, RotationClusters::kVertices);
+}
+
 TEST(DeformerOptionTableTest, AndersonWindowOutsideLocalGlobalIsRefused) {
   DeformerOptions options;
   options.energy = Energy::kArap;
@@ -282,8 +305,9 @@ TEST(DeformerFlagsTest, OldAndNewSpellingsParse) {
       if (value == row.get(DeformerOptions())) continue;
       ASSERT_FALSE(gflags::SetCommandLineOption(spelling.c_str(), value.c_str()).empty())
           << "--" << spelling;
-      // A window is read only under --energy=arap (Check refuses it otherwise).
-      if (row.name == "arap.anderson_window") {
+      // The arap.* options are read only under --energy=arap (Check refuses
+      // them otherwise).
+      if (row.name.rfind("arap.", 0) == 0) {
         ASSERT_FALSE(gflags::SetCommandLineOption("energy", "arap").empty());
       }
       DeformerOptions options;
