@@ -32,6 +32,12 @@ const OptionTable<LocalGlobalArapOptions>& FullArapOptionTable() {
         .Range(0, 50, "an integer in 0..50")
         .Alias("full_arap_anderson_window")
         .Flag("method");
+    t.Enum("factorization", &O::factorization, LocalGlobalArapFactorizationNames(),
+           "full_arap: the Laplacian's sparse Cholesky: simplicial (Eigen's SimplicialLLT, AMD "
+           "ordering), cholmod (CHOLMOD's supernodal LLT, METIS where AMD fills too much) or "
+           "auto (cholmod from 500,000 free vertices).")
+        .Alias("full_arap_factorization")
+        .Flag("method");
     return t;
   }();
   return table;

@@ -9,6 +9,9 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <glog/logging.h>
+#ifdef MSDEFORM_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#endif
 
 #include "msdeform/core/cotangent_weights.h"
 #include "msdeform/core/parallel.h"
@@ -55,6 +58,13 @@ Eigen::Matrix3d FitRotation(const Eigen::Matrix3d& covariance) {
 
 }  // namespace
 
+const EnumNames<LocalGlobalArapOptions::Factorization>& LocalGlobalArapFactorizationNames() {
+  using F = LocalGlobalArapOptions::Factorization;
+  static const EnumNames<F> names{
+      {F::kAuto, "auto"}, {F::kSimplicial, "simplicial"}, {F::kCholmod, "cholmod"}};
+  return names;
+}
+
 bool LocalGlobalArapOptions::Check(std::string* error) const {
   if (!(relative_tolerance >= 0.0) || !std::isfinite(relative_tolerance)) {
     *error = "relative_tolerance must be finite and >= 0";
@@ -90,6 +100,10 @@ struct LocalGlobalArap::Impl {
   // energy is summed once per Solve.
   std::vector<int> active, inactive;
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> llt;
+#ifdef MSDEFORM_HAVE_CHOLMOD
+  // Factorization::kCholmod's factor (llt is then empty).
+  std::unique_ptr<Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>> cholmod;
+#endif
   // Per vertex: the last local step's rotation.
   std::vector<Eigen::Matrix3d> rotation;
   double setup_ms = 0.0;
@@ -158,6 +172,9 @@ Eigen::MatrixXd LocalGlobalArap::Impl::Global(
                    rhs.row(row) = b.transpose();
                  }
                });
+#ifdef MSDEFORM_HAVE_CHOLMOD
+  if (cholmod != nullptr) return cholmod->solve(rhs);  // the three columns in one pass
+#endif
   Eigen::MatrixXd solution(num_free, 3);
   // The three coordinates are independent solves with the one factor.
 #pragma omp parallel for num_threads(std::min(3, ThreadsFor(options.num_threads, num_free)))
@@ -252,8 +269,27 @@ bool LocalGlobalArap::Setup(const Mesh& rest, const std::vector<int>& constraine
   }
   Eigen::SparseMatrix<double> laplacian(num_free, num_free);
   laplacian.setFromTriplets(triplets.begin(), triplets.end());
-  impl->llt.compute(laplacian);
-  if (num_free > 0 && impl->llt.info() != Eigen::Success) {
+  bool use_cholmod = false;
+#ifdef MSDEFORM_HAVE_CHOLMOD
+  using Factorization = LocalGlobalArapOptions::Factorization;
+  use_cholmod = options.factorization == Factorization::kCholmod ||
+                (options.factorization == Factorization::kAuto &&
+                 num_free >= LocalGlobalArapOptions::kCholmodFromFreeVertices);
+#endif
+  bool factorised = false;
+  if (!use_cholmod) {
+    impl->llt.compute(laplacian);
+    factorised = impl->llt.info() == Eigen::Success;
+  }
+#ifdef MSDEFORM_HAVE_CHOLMOD
+  if (use_cholmod && num_free > 0) {
+    impl->cholmod = std::make_unique<
+        Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>>();
+    impl->cholmod->compute(laplacian);
+    factorised = impl->cholmod->info() == Eigen::Success;
+  }
+#endif
+  if (num_free > 0 && !factorised) {
     *error = "the ARAP system of " + std::to_string(num_free) +
              " free vertices could not be factorised (not positive definite)";
     return false;

@@ -40,6 +40,7 @@
 #include <Eigen/Geometry>
 
 #include "msdeform/core/mesh.h"
+#include "msdeform/core/option_table.h"
 
 namespace msdeform {
 
@@ -57,10 +58,25 @@ struct LocalGlobalArapOptions {
   // Threads of the local step, the right-hand side and the three solves (at
   // least 1; passes over fewer than 16,384 items run on one).
   int num_threads = 1;
+  // The sparse Cholesky factor of the free vertices' Laplacian. kSimplicial
+  // is Eigen's SimplicialLLT with AMD ordering, the three coordinates solved
+  // one a thread; kCholmod is CHOLMOD's supernodal LLT with its own choice of
+  // ordering (METIS nested dissection where AMD fills too much), the three
+  // coordinates solved in one pass. kAuto takes kCholmod from
+  // kCholmodFromFreeVertices free vertices: at 371K both factorise in about
+  // 4 s, at 1.66M CHOLMOD takes 25 s and SimplicialLLT had not finished
+  // after 25 minutes (docs/decisions/full-arap.md). Without CHOLMOD in the
+  // build every choice is kSimplicial.
+  enum class Factorization { kAuto, kSimplicial, kCholmod };
+  static constexpr int kCholmodFromFreeVertices = 500000;
+  Factorization factorization = Factorization::kAuto;
 
   // Messages name the field ("relative_tolerance must be >= 0").
   bool Check(std::string* error) const;
 };
+
+// "auto", "simplicial", "cholmod".
+const EnumNames<LocalGlobalArapOptions::Factorization>& LocalGlobalArapFactorizationNames();
 
 struct LocalGlobalArapSummary {
   int iterations = 0;        // global steps taken

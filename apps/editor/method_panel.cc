@@ -135,15 +135,18 @@ void EditorApp::DrawMethodPanel() {
     ImGui::TreePop();
   }
   // The paper's procedure: every option PaperProcedure() changes (the graph
-  // methods' options).
-  const DeformerOptions paper = PaperProcedure(DeformerOptions());
-  std::string paper_flags;
-  for (const auto& row : DeformerOptionTable().rows()) {
-    if (row.get(paper) == row.get(DeformerOptions())) continue;
-    const std::vector<std::string> spellings = FlagSpellings(row);
-    paper_flags += (paper_flags.empty() ? "--" : " --") +
-                   (spellings.empty() ? row.name : spellings.front()) + "=" + row.get(paper);
-  }
+  // methods' options), as flags; built once.
+  static const std::string paper_flags = [] {
+    const DeformerOptions paper = PaperProcedure(DeformerOptions());
+    std::string flags;
+    for (const auto& row : DeformerOptionTable().rows()) {
+      if (row.get(paper) == row.get(DeformerOptions())) continue;
+      const std::vector<std::string> spellings = FlagSpellings(row);
+      flags += (flags.empty() ? "--" : " --") +
+               (spellings.empty() ? row.name : spellings.front()) + "=" + row.get(paper);
+    }
+    return flags;
+  }();
   ImGui::BeginDisabled(!graph);
   if (ImGui::Button("Paper procedure")) {
     DeformerOptions options = session_->options();

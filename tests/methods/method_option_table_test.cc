@@ -84,7 +84,7 @@ TEST(MethodOptionTableTest, DefaultsAreTheStructs) {
       "cgal.sre_alpha",          "fastlsm.steps_per_frame",
       "fastlsm.region_half_width", "fastlsm.damping",
       "full_arap.relative_tolerance", "full_arap.max_iterations",
-      "full_arap.anderson_window"};
+      "full_arap.anderson_window",    "full_arap.factorization"};
   const size_t deformer_rows = DeformerOptionTable().rows().size();
   ASSERT_GE(fields.size(), deformer_rows + kProjectMethodRows.size());
   for (size_t i = 0; i < kProjectMethodRows.size(); ++i) {
@@ -94,6 +94,7 @@ TEST(MethodOptionTableTest, DefaultsAreTheStructs) {
   EXPECT_EQ(values["fastlsm.damping"], "0.10000000000000001");
   EXPECT_EQ(values["full_arap.anderson_window"], "5");
   EXPECT_EQ(values["full_arap.relative_tolerance"], "1.0000000000000001e-09");
+  EXPECT_EQ(values["full_arap.factorization"], "auto");
 }
 
 // A method whose options struct is in its own files (full_arap's

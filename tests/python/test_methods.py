@@ -95,7 +95,8 @@ def test_run_method_gives_the_runner_rows(scenarios):
 METHOD_ROWS = {"cgal.iterations": "3", "cgal.tolerance": "0.5", "cgal.sre_alpha": "0.125",
                "fastlsm.steps_per_frame": "3", "fastlsm.region_half_width": "1",
                "fastlsm.damping": "0.25", "full_arap.relative_tolerance": "1e-06",
-               "full_arap.max_iterations": "50", "full_arap.anderson_window": "3"}
+               "full_arap.max_iterations": "50", "full_arap.anderson_window": "3",
+               "full_arap.factorization": "cholmod"}
 
 
 def test_option_rows_list_the_method_rows():

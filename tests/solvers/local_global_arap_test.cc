@@ -129,6 +129,34 @@ TEST(LocalGlobalArapTest, ConstraintsExactAndAndersonReachesThePlainMinimum) {
   EXPECT_NEAR(accelerated_summary.final_energy, measured, 1e-9 * measured);
 }
 
+// CHOLMOD's supernodal factor solves the same global step as Eigen's
+// simplicial one: a rigid motion is reached exactly, and the bent bar's
+// iterations agree to rounding (energies to 1e-12; the stopping test may
+// fall one iteration apart).
+TEST(LocalGlobalArapTest, BothFactorizationsGiveTheSameIterations) {
+  const BentBar bar;
+  LocalGlobalArapOptions simplicial_options;
+  LocalGlobalArapOptions cholmod_options;
+  cholmod_options.factorization = LocalGlobalArapOptions::Factorization::kCholmod;
+  LocalGlobalArap simplicial, cholmod;
+  std::string error;
+  ASSERT_TRUE(simplicial.Setup(bar.mesh, bar.constrained, simplicial_options, &error)) << error;
+  ASSERT_TRUE(cholmod.Setup(bar.mesh, bar.constrained, cholmod_options, &error)) << error;
+
+  Eigen::Matrix3Xd moved = bar.mesh.vertices;
+  const Eigen::Affine3d motion = SomeRigidMotion();
+  ASSERT_TRUE(cholmod.Solve(Targets(bar.mesh, bar.constrained, motion), &moved).converged);
+  EXPECT_LT((moved - motion * bar.mesh.vertices).cwiseAbs().maxCoeff(), 1e-9);
+
+  Eigen::Matrix3Xd a = bar.mesh.vertices, b = bar.mesh.vertices;
+  const LocalGlobalArapSummary sa = simplicial.Solve(bar.Targets(), &a);
+  const LocalGlobalArapSummary sb = cholmod.Solve(bar.Targets(), &b);
+  ASSERT_TRUE(sa.converged && sb.converged);
+  EXPECT_NEAR(sa.iterations, sb.iterations, 1);
+  EXPECT_NEAR(sa.final_energy, sb.final_energy, 1e-12 * sa.final_energy);
+  EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 1e-9);
+}
+
 TEST(LocalGlobalArapTest, SameResultOnAnyNumberOfThreads) {
   // Large enough for the chunked loops to run in parallel.
   const Mesh mesh = MakeBar(60, 1.0, 10);
