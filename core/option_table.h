@@ -89,6 +89,11 @@ class EnumNames {
     }
     return false;
   }
+  std::vector<E> values() const {
+    std::vector<E> result;
+    for (const auto& entry : entries_) result.push_back(entry.first);
+    return result;
+  }
   std::vector<std::string> names() const {
     std::vector<std::string> result;
     for (const auto& entry : entries_) result.push_back(entry.second);

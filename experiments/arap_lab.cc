@@ -262,7 +262,8 @@ bool ArapLabOptions::Check(std::string* error) const {
     *error = "threads and jobs must be >= 1";
     return false;
   }
-  return deformer.Check(error);
+  // The lab runs the subspace energy (energy=arap) and full_arap.
+  return WithEnergy(deformer, Energy::kArap).Check(error);
 }
 
 bool FirstIterationWithin(const std::vector<double>& energy_trace,

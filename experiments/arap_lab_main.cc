@@ -88,7 +88,10 @@ bool FillOptions(msdeform::ArapLabOptions* options, std::string* error) {
   options->full_arap = FLAGS_full_arap;
   options->subspace_reference_iterations = FLAGS_reference_cap;
   options->stem = FLAGS_stem;
-  if (!msdeform::DeformerOptionsFromFlags(&options->deformer, error)) return false;
+  if (!msdeform::DeformerOptionsFromFlags(&options->deformer, error, {},
+                                          {msdeform::Energy::kArap})) {
+    return false;
+  }
   options->threads = options->deformer.num_threads;
   options->progress = [](const std::string& line) {
     std::printf("%s\n", line.c_str());

@@ -149,7 +149,8 @@ bool FillOptions(RunnerOptions* options, std::string* error) {
   options->time_other_backend = FLAGS_time_other_backend;
   // The Deformer's flags (--method names a graph method), then the methods'
   // own (--cgal_iterations, --fastlsm_steps, ...).
-  if (!DeformerOptionsFromFlags(&options->method_options.deformer, error) ||
+  if (!DeformerOptionsFromFlags(&options->method_options.deformer, error, {},
+                                EnergyNames().values()) ||
       !MethodOwnOptionsFromFlags(&options->method_options, error)) {
     return false;
   }
@@ -191,7 +192,9 @@ bool FillLabOptions(SolverLabOptions* options, std::string* error) {
   options->large_meshes = FLAGS_large_meshes;
   options->only = SplitList(FLAGS_only);
   options->variants = SplitList(FLAGS_variants);
-  if (!DeformerOptionsFromFlags(&options->deformer, error)) return false;
+  if (!DeformerOptionsFromFlags(&options->deformer, error, {}, EnergyNames().values())) {
+    return false;
+  }
   options->threads = options->deformer.num_threads;
   options->progress = PrintLine;
   return options->Check(error);

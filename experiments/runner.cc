@@ -321,7 +321,16 @@ bool RunnerOptions::Check(std::string* error) const {
       return false;
     }
   }
-  return method_options.Check(error);
+  // The graph methods' rows run under each of `energies` (WithEnergy), and
+  // the others under the base energy.
+  MethodOptions row = method_options;
+  row.deformer = WithEnergy(row.deformer, row.deformer.energy);
+  if (!row.Check(error)) return false;
+  for (const Energy energy : energies) {
+    row.deformer = WithEnergy(method_options.deformer, energy);
+    if (!row.Check(error)) return false;
+  }
+  return true;
 }
 
 namespace {
@@ -561,6 +570,7 @@ bool RunScenarioAblations(const ExperimentScenario& scenario, const DeformerOpti
     DeformerOptions run_options = base;
     run_options.method = Method::kMultiScale;
     variant.apply(&run_options);
+    run_options = WithEnergy(run_options, run_options.energy);  // arap.* for arap variants only
     RunResult r;
     if (!RunDeformer(scenario, run_options, variant.name, reference, &r, error)) return false;
     tables->ablations.AddRow(ResultCells(r, AblationColumns()));

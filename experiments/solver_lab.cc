@@ -768,7 +768,8 @@ bool SolverLabOptions::Check(std::string* error) const {
       return false;
     }
   }
-  return deformer.Check(error);
+  // The variants set the energy (WithEnergy): the arap.* options are theirs.
+  return CheckUnderEnergies(deformer, EnergyNames().values(), error);
 }
 
 bool RunSolverLab(const SolverLabOptions& options, std::string* error) {

@@ -36,14 +36,15 @@ inline double Kernel(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 constexpr double kMinRbfReciprocalCondition = 1e-15;
 
 // The principal axes of the centres (about their mean, the origin) whose
-// spread is above 1e-8 of the largest: three for a solid, two for centres in
+// spread is above 1e-6 of the largest (an axis kept at spread e makes the
+// system's condition about 1/e^2): three for a solid, two for centres in
 // a plane, one on a line, none for one centre. Three are returned as x, y, z.
 Eigen::Matrix3Xd PolynomialAxes(const Eigen::Matrix3Xd& centres) {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(centres * centres.transpose());
   const Eigen::Vector3d spread = eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt();
   std::vector<int> kept;
   for (int a = 2; a >= 0; --a) {
-    if (spread(a) > 1e-8 * spread(2)) kept.push_back(a);
+    if (spread(a) > 1e-6 * spread(2)) kept.push_back(a);
   }
   if (kept.size() == 3) return Eigen::Matrix3d::Identity();
   Eigen::Matrix3Xd axes(3, kept.size());
@@ -152,8 +153,8 @@ bool RigidCells::DoPrecompute(const Mesh& mesh, const MethodOptions& options, st
     // centres do not.
     if (!(rbf_lu_.rcond() > kMinRbfReciprocalCondition)) {
       *error = "rigid_cells: the RBF system of the " + std::to_string(n) +
-               " cell centres is singular (reciprocal condition " +
-               std::to_string(rbf_lu_.rcond()) + "): two centres coincide";
+               " cell centres is singular or nearly (reciprocal condition " +
+               std::to_string(rbf_lu_.rcond()) + "): two centres coincide or nearly";
       return false;
     }
   }
@@ -277,7 +278,7 @@ bool RigidCells::DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* 
 void RigidCells::Interpolate(const Eigen::Affine3d& deformed_from_rest) {
   const int n = lattice_.num_particles();
   // Right-hand sides: each centre's displacement T_k(r_k) - r_k, then the
-  // polynomial's four zero rows.
+  // polynomial's zero rows (one and one an axis).
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(rbf_matrix_.rows(), 3);
   for (int k = 0; k < n; ++k) {
     const Eigen::Vector3d r = rbf_centres_.col(k);

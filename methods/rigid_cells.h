@@ -24,7 +24,7 @@
 // vertex centroid, an interior cell's centre; pieces of one cell have
 // distinct centroids where the cell centre is shared),
 //   u(x) = sum_k w_k |x - r_k|^3 + a + B x,   u(r_k) = T_k(r_k) - r_k,
-// and vertex v goes to x_v + u(x_v). The dense (#cells + 4) square system
+// and vertex v goes to x_v + u(x_v). The dense (#cells + 1 + axes) square system
 // depends only on the rest centres: it is factorised once in Precompute;
 // each frame solves it for three right-hand sides and evaluates u at every
 // vertex (#V x #cells kernel terms: the cost the paper calls "several
@@ -61,7 +61,7 @@ struct RigidCellsOptions {
   // (docs/decisions/rigid-cells.md). In [2, 64].
   double cells_per_diagonal = 16.0;
   // The most cells (RBF centres) accepted: the factorised dense system takes
-  // 8 (#cells + 4)^2 bytes (6,000: 290 MB). In [1, 20000].
+  // about 8 #cells^2 bytes (6,000: 290 MB). In [1, 20000].
   int max_cells = 6000;
   // Each frame's solve (num_threads is set from deformer.num_threads):
   // Levenberg-Marquardt, SPARSE_NORMAL_CHOLESKY on SUITE_SPARSE (faster

@@ -93,6 +93,14 @@ DeformerOptions WithEnergy(DeformerOptions options, Energy energy) {
   return options;
 }
 
+bool CheckUnderEnergies(const DeformerOptions& options, const std::vector<Energy>& energies,
+                        std::string* error) {
+  for (const Energy energy : energies) {
+    if (!WithEnergy(options, energy).Check(error)) return false;
+  }
+  return true;
+}
+
 bool DeformerOptions::Check(std::string* error) const {
   // Every row's range, checked from DeformerOptionTable(): a C++ or Python
   // caller gets the command line's one line ("rigidity.damping=1: expected a

@@ -163,6 +163,12 @@ DeformerOptions PaperProcedure(DeformerOptions options);
 // several energies (the tables' rows, the solver lab, the editor's switch).
 DeformerOptions WithEnergy(DeformerOptions options, Energy energy);
 
+// Check of WithEnergy(options, e) for each of `energies`: the options of a
+// front end that sets the energy per row (the tables, the labs), whose
+// arap.* options are the arap rows' and are not refused under another.
+bool CheckUnderEnergies(const DeformerOptions& options, const std::vector<Energy>& energies,
+                        std::string* error);
+
 // DeformerOptions' rows (core/option_table.h), declared in its header beside the fields: a new
 // field is the field above and its row here. DeformerOptionTable() (deformer_options.cc) builds the
 // table from them once; a template, so that only that file compiles the rows.

@@ -82,6 +82,12 @@ bool LocalGlobalArapOptions::Check(std::string* error) const {
     *error = "num_threads must be >= 0";
     return false;
   }
+#ifndef MSDEFORM_HAVE_CHOLMOD
+  if (factorization == Factorization::kCholmod) {
+    *error = "factorization=cholmod: msdeform was built without CHOLMOD (libsuitesparse-dev)";
+    return false;
+  }
+#endif
   return true;
 }
 

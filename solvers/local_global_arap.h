@@ -64,9 +64,9 @@ struct LocalGlobalArapOptions {
   // ordering (METIS nested dissection where AMD fills too much), the three
   // coordinates solved in one pass. kAuto takes kCholmod from
   // kCholmodFromFreeVertices free vertices: at 371K both factorise in about
-  // 4 s, at 1.66M CHOLMOD takes 25 s and SimplicialLLT had not finished
-  // after 25 minutes (docs/decisions/full-arap.md). Without CHOLMOD in the
-  // build every choice is kSimplicial.
+  // 4 s, at 1.66M CHOLMOD takes 28.5 s and SimplicialLLT had not finished
+  // after 23 minutes (docs/decisions/full-arap.md). Without CHOLMOD in the
+  // build kAuto is kSimplicial and Check refuses kCholmod.
   enum class Factorization { kAuto, kSimplicial, kCholmod };
   static constexpr int kCholmodFromFreeVertices = 500000;
   Factorization factorization = Factorization::kAuto;

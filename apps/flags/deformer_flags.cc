@@ -184,7 +184,8 @@ std::string MethodFlag() {
 }
 
 bool DeformerOptionsFromFlags(DeformerOptions* options, std::string* error,
-                              const std::vector<std::string>& other_methods) {
+                              const std::vector<std::string>& other_methods,
+                              const std::vector<Energy>& energies) {
   std::vector<FlagValue> values;
   if (!FlagRowValues(kDeformerGroup, &values, error)) return false;
   const OptionTable<DeformerOptions>& table = DeformerOptionTable();
@@ -205,7 +206,8 @@ bool DeformerOptionsFromFlags(DeformerOptions* options, std::string* error,
     options->graph.num_threads = options->num_threads;
   }
   std::string check;
-  if (!options->Check(&check)) {
+  if (!(energies.empty() ? options->Check(&check)
+                         : CheckUnderEnergies(*options, energies, &check))) {
     *error = "invalid options: " + check;
     return false;
   }

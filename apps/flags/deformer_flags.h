@@ -27,9 +27,12 @@ namespace msdeform {
 // flag as typed and what it accepts. --method names a graph method
 // (DeformerOptions::method), or one of `other_methods` (the editing methods
 // that are not graphs, methods/registry.h), which leaves options->method as
-// it was: the caller runs that method by name.
+// it was: the caller runs that method by name. A front end that sets the
+// energy per row passes `energies`: the result is checked under each
+// (CheckUnderEnergies), so the arap.* flags are the arap rows'.
 bool DeformerOptionsFromFlags(DeformerOptions* options, std::string* error,
-                              const std::vector<std::string>& other_methods = {});
+                              const std::vector<std::string>& other_methods = {},
+                              const std::vector<Energy>& energies = {});
 
 // The text of --method as given (or its default).
 std::string MethodFlag();

@@ -240,8 +240,6 @@ TEST(DeformerOptionTableTest, RangeErrorsAreOneLineNamingTheOption) {
                    "follow its target)");
 }
 
-// arap.anderson_window accelerates the subspace local/global iteration only;
-// under any other solve a window would be ignored, so Check refuses it.
 // The subspace ARAP energy's options under another energy would be silently
 // unused: Check refuses the first changed one; WithEnergy, for one set of
 // options run under several energies, puts them back for the others.
@@ -265,6 +263,8 @@ TEST(DeformerOptionTableTest, ArapOptionsUnderAnotherEnergyAreRefused) {
   EXPECT_EQ(WithEnergy(options, Energy::kArap).arap.clusters, RotationClusters::kVertices);
 }
 
+// arap.anderson_window accelerates the subspace local/global iteration only;
+// under any other solve a window would be ignored, so Check refuses it.
 TEST(DeformerOptionTableTest, AndersonWindowOutsideLocalGlobalIsRefused) {
   DeformerOptions options;
   options.energy = Energy::kArap;
