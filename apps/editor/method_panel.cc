@@ -22,19 +22,6 @@ namespace editor {
 void EditorApp::SetFlagFromPanel(const std::string& name, const std::string& value) {
   DeformerOptions options = session_->options();
   std::string error;
-  // Leaving the subspace ARAP energy puts its arap.* options back to their
-  // defaults, through their flags while arap is still the energy (another
-  // energy does not read them; Check refuses them there).
-  if (name == "energy" && value != EnergyName(Energy::kArap)) {
-    const DeformerOptions defaults;
-    for (const auto& row : DeformerOptionTable().rows()) {
-      if (row.name.rfind("arap.", 0) != 0 || row.get(options) == row.get(defaults)) continue;
-      if (!SetDeformerFlag(FlagSpellings(row).front(), row.get(defaults), &options, &error)) {
-        status_.Show(error);
-        return;
-      }
-    }
-  }
   if (!SetDeformerFlag(name, value, &options, &error)) {
     status_.Show(error);
     return;

@@ -62,6 +62,23 @@ bool SetDeformerFlag(const std::string& name, const std::string& value, Deformer
     // Not a command-line flag: set on the options alone.
     return DeformerOptionTable().Set(row->name, value, options, error, "--" + name);
   }
+  // Leaving the subspace ARAP energy puts its arap.* options back to their
+  // defaults, through their flags while arap is still the energy (another
+  // energy does not read them, and Check refuses them there).
+  Energy energy = Energy::kArap;
+  if (row->name == "energy" && EnergyNames().Parse(value, &energy) && energy != Energy::kArap) {
+    const DeformerOptions defaults;
+    for (const Row& arap_row : DeformerOptionTable().rows()) {
+      if (arap_row.name.rfind("arap.", 0) != 0 ||
+          arap_row.get(*options) == arap_row.get(defaults)) {
+        continue;
+      }
+      if (!SetDeformerFlag(FlagSpellings(arap_row).front(), arap_row.get(defaults), options,
+                           error)) {
+        return false;
+      }
+    }
+  }
   DeformerOptions candidate = *options;
   // --method may name any registered method (msdeform's --method).
   const auto parse = [&](std::string* e) {

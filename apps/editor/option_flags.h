@@ -18,7 +18,8 @@ namespace editor {
 // `value`: a flag, under every spelling of its row, and *options from every
 // flag; an option without a flag, on *options alone. On failure the flags
 // keep their old values and *error says why ("--method=foo: expected ...",
-// "--foo: not an option ...").
+// "--foo: not an option ..."). Setting the energy to one other than arap
+// first puts the arap.* flags, which only arap reads, back to their defaults.
 bool SetDeformerFlag(const std::string& name, const std::string& value, DeformerOptions* options,
                      std::string* error);
 

@@ -15,6 +15,8 @@
 #      mesh (1e-9 of the diagonal); the screenshot passes the pixel checks; the
 #      mouse drag tool moves the handle by the mouse's pixels in the view plane;
 #      the brush and the lasso select what lies under them;
+#   2b. any registered method and its own options; 2c. setting the energy from
+#      arap back to ed resets the arap.* options (the mesh is msdeform's ed edit);
 #   3. inputs msdeform refuses (tests/data/bad/MANIFEST.tsv): the editor refuses
 #      them with msdeform's message, one line, non-zero exit, no output;
 #   4. script errors: one line naming the script and action, no output at all.
@@ -178,6 +180,27 @@ if "${editor}" --quiet --script="${work}/methods.json" 2> "${work}/stderr"; then
   run_check same_mesh "${work}/methods.off" "${work}/cli_own.off" 1e-9
 else
   fail "the methods script exited non-zero: $(cat "${work}/stderr")"
+fi
+
+# --- 2c. Leaving the arap energy puts its arap.* options back. ---------------
+# A script that sets the subspace ARAP energy and one of its options, then goes
+# back to ed: the arap option (which ed would refuse) is reset, and the saved
+# mesh is msdeform's default ed edit.
+"${cli}" --quiet "${cactus[@]}" --out="${work}/cli_ed.off" || fail "msdeform on the cactus"
+cat > "${work}/energies.json" <<EOF
+[
+  {"do": "open", "mesh": "${meshes}/cactus.off", "sel": "${meshes}/cactus.sel",
+   "def": "${meshes}/cactus.def"},
+  {"do": "set", "flag": "energy", "value": "arap"},
+  {"do": "set", "flag": "arap_clusters", "value": "vertices"},
+  {"do": "set", "flag": "energy", "value": "ed"},
+  {"do": "save", "mesh": "energies.off"}
+]
+EOF
+if "${editor}" --quiet --script="${work}/energies.json" 2> "${work}/stderr"; then
+  run_check same_mesh "${work}/energies.off" "${work}/cli_ed.off" 1e-9
+else
+  fail "the energies script exited non-zero: $(cat "${work}/stderr")"
 fi
 
 # --- 3. Inputs msdeform refuses. --------------------------------------------

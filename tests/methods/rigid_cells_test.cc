@@ -24,6 +24,16 @@ std::vector<int> VerticesWithX(const Mesh& mesh, double from, double to) {
   return vertices;
 }
 
+// Precomputes at 16 cells per diagonal (153 on the bar: a quick test) and
+// sets the layout.
+void SetUpQuick(const Mesh& mesh, const HandleLayout& layout, RigidCells* method) {
+  MethodOptions options;
+  options.rigid_cells.cells_per_diagonal = 16.0;
+  std::string error;
+  ASSERT_TRUE(method->Precompute(mesh, options, &error)) << error;
+  ASSERT_TRUE(method->SetHandles(layout, &error)) << error;
+}
+
 Eigen::Affine3d RigidMotion() {
   Eigen::Affine3d motion = Eigen::Affine3d::Identity();
   motion.rotate(Eigen::AngleAxisd(0.8, Eigen::Vector3d(1.0, 2.0, 0.5).normalized()));
@@ -49,11 +59,8 @@ TEST(RigidCellsTest, RigidMotionOfTheHandleWithNothingFixedMovesEveryVertex) {
   HandleLayout layout;
   layout.moveable = VerticesWithX(bar, 7.0, 8.0);
   RigidCells method;
-  MethodOptions options;
-  options.rigid_cells.cells_per_diagonal = 16.0;  // 153 cells: a quick test
+  ASSERT_NO_FATAL_FAILURE(SetUpQuick(bar, layout, &method));
   std::string error;
-  ASSERT_TRUE(method.Precompute(bar, options, &error)) << error;
-  ASSERT_TRUE(method.SetHandles(layout, &error)) << error;
   MethodStats stats;
   ASSERT_TRUE(method.Drag(RigidMotion(), &stats, &error)) << error;
   EXPECT_TRUE(stats.converged);
@@ -87,11 +94,8 @@ TEST(RigidCellsTest, FlatSheetMovesRigidlyWithTheHandle) {
   HandleLayout layout;
   layout.moveable = VerticesWithX(sheet, 11.0, 12.0);
   RigidCells method;
-  MethodOptions options;
-  options.rigid_cells.cells_per_diagonal = 16.0;
+  ASSERT_NO_FATAL_FAILURE(SetUpQuick(sheet, layout, &method));
   std::string error;
-  ASSERT_TRUE(method.Precompute(sheet, options, &error)) << error;
-  ASSERT_TRUE(method.SetHandles(layout, &error)) << error;
   ASSERT_TRUE(method.Drag(RigidMotion(), nullptr, &error)) << error;
   const Eigen::Matrix3Xd expected = RigidMotion() * sheet.vertices;
   EXPECT_LT((method.deformed_vertices() - expected).colwise().norm().maxCoeff(),
@@ -108,11 +112,8 @@ TEST(RigidCellsTest, HandleThatScalesGivesItsCellsItsRotation) {
   layout.fixed = VerticesWithX(bar, -1.0, 1.0);
   layout.moveable = VerticesWithX(bar, 7.0, 9.0);
   RigidCells method;
-  MethodOptions options;
-  options.rigid_cells.cells_per_diagonal = 16.0;
+  ASSERT_NO_FATAL_FAILURE(SetUpQuick(bar, layout, &method));
   std::string error;
-  ASSERT_TRUE(method.Precompute(bar, options, &error)) << error;
-  ASSERT_TRUE(method.SetHandles(layout, &error)) << error;
   const Eigen::Matrix3d rotation =
       Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.0, 1.0, 1.0).normalized()).toRotationMatrix();
   Eigen::Affine3d grow = Eigen::Affine3d::Identity();
@@ -163,11 +164,8 @@ TEST(RigidCellsTest, HandleAndFixedVerticesAreExact) {
   layout.fixed = VerticesWithX(bar, -1.0, 1.0);
   layout.moveable = VerticesWithX(bar, 7.0, 9.0);
   RigidCells method;
-  MethodOptions options;
-  options.rigid_cells.cells_per_diagonal = 16.0;  // 153 cells: a quick test
+  ASSERT_NO_FATAL_FAILURE(SetUpQuick(bar, layout, &method));
   std::string error;
-  ASSERT_TRUE(method.Precompute(bar, options, &error)) << error;
-  ASSERT_TRUE(method.SetHandles(layout, &error)) << error;
   Eigen::Affine3d lift = Eigen::Affine3d::Identity();
   for (int frame = 1; frame <= 3; ++frame) {
     lift.translation() << 0.0, 0.0, 0.5 * frame;
@@ -193,11 +191,8 @@ TEST(RigidCellsTest, BarBentFromOneEndDeformsSmoothly) {
   layout.fixed = VerticesWithX(bar, -1.0, 1.0);
   layout.moveable = VerticesWithX(bar, 7.0, 9.0);
   RigidCells method;
-  MethodOptions options;
-  options.rigid_cells.cells_per_diagonal = 16.0;  // 153 cells: a quick test
+  ASSERT_NO_FATAL_FAILURE(SetUpQuick(bar, layout, &method));
   std::string error;
-  ASSERT_TRUE(method.Precompute(bar, options, &error)) << error;
-  ASSERT_TRUE(method.SetHandles(layout, &error)) << error;
   const Eigen::Vector3d pivot(1.0, 0.5, 0.5);
   MethodStats stats;
   for (int frame = 1; frame <= 6; ++frame) {
