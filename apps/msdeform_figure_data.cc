@@ -97,7 +97,7 @@ bool FillOptions(DeformerOptions* options, std::string* error) {
 
 // Loads a scenario: mesh, layout and drag path.
 bool LoadScenario(Scenario* scenario, Mesh* mesh, HandleLayout* layout,
-                  std::vector<Eigen::Affine3d>* path, std::vector<int>* watch,
+                  std::vector<HandleTransforms>* path, std::vector<int>* watch,
                   std::string* error) {
   if (FLAGS_scenario.empty()) {
     *error = "--scenario is required in this mode";
@@ -107,7 +107,7 @@ bool LoadScenario(Scenario* scenario, Mesh* mesh, HandleLayout* layout,
   if (FLAGS_frames > 0) scenario->frames = FLAGS_frames;
   const std::string mesh_path = FLAGS_mesh.empty() ? scenario->mesh_path : FLAGS_mesh;
   if (!ReadMesh(mesh_path, mesh, error)) return false;
-  Eigen::Affine3d deformed_from_rest;
+  HandleTransforms deformed_from_rest;
   if (!ResolveScenario(*scenario, *mesh, layout, watch, &deformed_from_rest, error)) return false;
   *path = DragPath(*scenario, *mesh, *layout);
   return true;
@@ -160,7 +160,7 @@ bool RunGraphs(std::string* error) {
 
 // Init, SetHandles and the whole drag; frame_ms gets each Drag's wall time.
 bool InitAndDrag(const Mesh& mesh, const DeformerOptions& options, const HandleLayout& layout,
-                 const std::vector<Eigen::Affine3d>& path, GraphMethod* deformer,
+                 const std::vector<HandleTransforms>& path, GraphMethod* deformer,
                  std::vector<double>* frame_ms, std::string* error) {
   if (!deformer->Precompute(mesh, options, error)) return false;
   if (!deformer->SetHandles(layout, error)) return false;
@@ -174,7 +174,7 @@ bool RunEdit(std::string* error) {
   Scenario scenario;
   Mesh mesh;
   HandleLayout layout;
-  std::vector<Eigen::Affine3d> path;
+  std::vector<HandleTransforms> path;
   std::vector<int> watch;
   if (!LoadScenario(&scenario, &mesh, &layout, &path, &watch, error)) return false;
   DeformerOptions options;
@@ -251,7 +251,7 @@ bool RunNodesVsP(std::string* error) {
   Scenario scenario;
   Mesh mesh;
   HandleLayout layout;
-  std::vector<Eigen::Affine3d> path;
+  std::vector<HandleTransforms> path;
   const int frames = FLAGS_frames > 0 ? FLAGS_frames : 5;
   std::vector<int> watch;
   if (!LoadScenario(&scenario, &mesh, &layout, &path, &watch, error)) return false;

@@ -104,7 +104,7 @@ struct Job {
   Mesh mesh;
   HandleLayout layout;
   std::vector<int> watch;             // empty without a watch region
-  std::vector<Eigen::Affine3d> path;  // one transform per frame
+  std::vector<HandleTransforms> path;  // one transform per frame
   std::string out_path, report_path, nodes_path, frames_dir;
   MeshReadReport read_report;
   std::string method;  // a registered name (methods/registry.h)
@@ -237,9 +237,11 @@ bool PrepareJob(Job* job, std::string* error) {
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
     for (int v : job->layout.moveable) centroid += job->mesh.vertices.col(v);
     centroid /= static_cast<double>(job->layout.moveable.size());
-    job->path = InterpolateDragPath(deformed_from_rest, centroid, std::max(FLAGS_frames, 1));
+    const std::vector<Eigen::Affine3d> path =
+        InterpolateDragPath(deformed_from_rest, centroid, std::max(FLAGS_frames, 1));
+    job->path.assign(path.begin(), path.end());
   } else {
-    Eigen::Affine3d deformed_from_rest;
+    HandleTransforms deformed_from_rest;
     if (!ResolveScenario(scenario, job->mesh, &job->layout, &job->watch, &deformed_from_rest,
                          error, threads)) {
       return false;
@@ -528,7 +530,7 @@ DragSummary Summarise(const Job& job, const EditingMethod& method, const DragLog
   summary.diagonal = deformer != nullptr ? deformer->diagonal() : BoundingBoxDiagonal(job.mesh);
   // The quality measures of core/metrics.h, as the experiments compute them.
   summary.handle_rms =
-      HandleRmsError(job.mesh, result, job.layout.moveable, job.path.back());
+      HandleRmsError(job.mesh, result, job.layout, job.path.back());
   summary.leakage = VertexDisplacement(job.mesh, result, job.watch);
   return summary;
 }

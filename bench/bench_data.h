@@ -38,7 +38,7 @@ inline Mesh ReadBenchMeshOrDie(const std::string& name) {
 struct ClawEdit {
   Mesh mesh;
   HandleLayout layout;
-  std::vector<Eigen::Affine3d> path;  // one transform per frame
+  std::vector<HandleTransforms> path;  // one transform per frame
 };
 
 inline const ClawEdit& LoadClawEdit(const std::string& name) {
@@ -53,7 +53,7 @@ inline const ClawEdit& LoadClawEdit(const std::string& name) {
       << error;
   edit.mesh = ReadBenchMeshOrDie(name);
   std::vector<int> watch;
-  Eigen::Affine3d deformed_from_rest;
+  HandleTransforms deformed_from_rest;
   CHECK(ResolveScenario(scenario, edit.mesh, &edit.layout, &watch, &deformed_from_rest, &error))
       << error;
   edit.path = DragPath(scenario, edit.mesh, edit.layout);

@@ -42,8 +42,8 @@ void BM_FullArapClawDrag(benchmark::State& state, const std::string& name, int n
   }
   const ClawEdit& edit = LoadClawEdit(name);
   std::vector<int> constrained;
-  std::vector<char> follows_handle;
-  ConstrainedVertices(edit.layout, &constrained, &follows_handle);
+  std::vector<int> handle_group;
+  ConstrainedVertices(edit.layout, &constrained, &handle_group);
   LocalGlobalArapOptions options;
   options.num_threads = static_cast<int>(state.range(0));
   options.factorization = static_cast<LocalGlobalArapOptions::Factorization>(state.range(1));
@@ -59,7 +59,7 @@ void BM_FullArapClawDrag(benchmark::State& state, const std::string& name, int n
     Eigen::Matrix3Xd deformed = edit.mesh.vertices;
     for (int f = 0; f < num_frames && f < static_cast<int>(edit.path.size()); ++f) {
       const LocalGlobalArapSummary summary = arap.Solve(
-          ConstrainedTargets(edit.mesh.vertices, constrained, follows_handle, edit.path[f]),
+          ConstrainedTargets(edit.mesh.vertices, constrained, handle_group, edit.path[f]),
           &deformed);
       CHECK(summary.converged || max_iterations > 0) << name << " frame " << f;
       frame_ms += summary.ms_trace.back();

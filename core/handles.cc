@@ -11,6 +11,9 @@
 #include <limits>
 #include <sstream>
 
+#include <Eigen/QR>
+#include <Eigen/SVD>
+
 #include "msdeform/core/atomic_file.h"
 
 namespace msdeform {
@@ -67,30 +70,150 @@ bool CheckIds(const std::vector<int>& ids, int num_vertices, const char* what, s
 
 }  // namespace
 
+int HandleLayout::num_groups() const {
+  return group.empty() ? 1 : 1 + *std::max_element(group.begin(), group.end());
+}
+
+int HandleLayout::GroupOfVertex(int v) const {
+  const auto it = std::lower_bound(moveable.begin(), moveable.end(), v);
+  if (it == moveable.end() || *it != v) return -1;
+  return group_of(static_cast<int>(it - moveable.begin()));
+}
+
+bool HandleTransforms::IsIdentity() const {
+  for (const Eigen::Affine3d& transform : transforms_) {
+    if (!transform.matrix().isIdentity(0.0)) return false;
+  }
+  return true;
+}
+
+bool HandleTransforms::CheckFinite(std::string* error) const {
+  for (size_t g = 0; g < transforms_.size(); ++g) {
+    if (!transforms_[g].matrix().allFinite()) {
+      *error = transforms_.size() == 1
+                   ? std::string("the handle transform is not finite")
+                   : "the transform of handle group " + std::to_string(g) + " is not finite";
+      return false;
+    }
+  }
+  return true;
+}
+
+bool HandleTransforms::Fits(const HandleLayout& layout, std::string* error) const {
+  if (size() == 1 || size() == layout.num_groups()) return true;
+  *error = std::to_string(size()) + " handle transforms for a layout of " +
+           std::to_string(layout.num_groups()) + " handle groups (give one, or one a group)";
+  return false;
+}
+
+namespace {
+
+// The rigid motion x -> R (x - c) + d that maps `from` (3 by n, centroid c)
+// onto `to` (centroid d) best in least squares (Kabsch: R from the SVD of the
+// cross-covariance, its determinant kept positive).
+Eigen::Affine3d BestRigidMotion(const Eigen::Matrix3Xd& from, const Eigen::Matrix3Xd& to) {
+  const Eigen::Vector3d c = from.rowwise().mean(), d = to.rowwise().mean();
+  const Eigen::Matrix3d covariance = (to.colwise() - d) * (from.colwise() - c).transpose();
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance,
+                                              Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d flip = Eigen::Matrix3d::Identity();
+  if ((svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0) flip(2, 2) = -1.0;
+  Eigen::Affine3d motion = Eigen::Affine3d::Identity();
+  motion.linear() = svd.matrixU() * flip * svd.matrixV().transpose();
+  motion.translation() = d - motion.linear() * c;
+  return motion;
+}
+
+// The affine map x -> A (x - c) + d that maps `from` onto `to` best in least
+// squares, A by a complete orthogonal decomposition (the minimum-norm A when
+// the points span less than 3 dimensions).
+Eigen::Affine3d BestAffineMap(const Eigen::Matrix3Xd& from, const Eigen::Matrix3Xd& to) {
+  const Eigen::Vector3d c = from.rowwise().mean(), d = to.rowwise().mean();
+  const Eigen::MatrixXd x = (from.colwise() - c).transpose();  // n by 3
+  const Eigen::MatrixXd y = (to.colwise() - d).transpose();
+  const Eigen::Matrix3d a = x.completeOrthogonalDecomposition().solve(y).transpose();
+  Eigen::Affine3d map = Eigen::Affine3d::Identity();
+  map.linear() = a;
+  map.translation() = d - a * c;
+  return map;
+}
+
+double LargestMiss(const Eigen::Affine3d& map, const Eigen::Matrix3Xd& from,
+                   const Eigen::Matrix3Xd& to) {
+  double miss = 0.0;
+  for (Eigen::Index i = 0; i < from.cols(); ++i) {
+    miss = std::max(miss, (map * Eigen::Vector3d(from.col(i)) - to.col(i)).norm());
+  }
+  return miss;
+}
+
+}  // namespace
+
+bool HandleTransformsFromTargets(const Eigen::Matrix3Xd& rest, const HandleLayout& layout,
+                                 const Eigen::Matrix3Xd& targets, double tolerance,
+                                 HandleTransforms* transforms, std::string* error) {
+  if (targets.cols() != static_cast<Eigen::Index>(layout.moveable.size())) {
+    *error = std::to_string(targets.cols()) + " targets for " +
+             std::to_string(layout.moveable.size()) + " moveable vertices";
+    return false;
+  }
+  if (!targets.allFinite()) {
+    *error = "the targets are not finite";
+    return false;
+  }
+  const int num_groups = layout.num_groups();
+  std::vector<std::vector<int>> members(num_groups);  // entries of layout.moveable
+  for (int i = 0; i < static_cast<int>(layout.moveable.size()); ++i) {
+    members[layout.group_of(i)].push_back(i);
+  }
+  std::vector<Eigen::Affine3d> fitted;
+  for (int g = 0; g < num_groups; ++g) {
+    Eigen::Matrix3Xd from(3, members[g].size()), to(3, members[g].size());
+    for (size_t k = 0; k < members[g].size(); ++k) {
+      from.col(k) = rest.col(layout.moveable[members[g][k]]);
+      to.col(k) = targets.col(members[g][k]);
+    }
+    Eigen::Affine3d map = BestRigidMotion(from, to);
+    if (!(LargestMiss(map, from, to) <= tolerance)) map = BestAffineMap(from, to);
+    const double miss = LargestMiss(map, from, to);
+    if (!(miss <= tolerance)) {
+      std::ostringstream message;
+      message << "the targets of handle group " << g << " are no affine map of its rest "
+              << "positions (the best misses by " << miss << ", tolerance " << tolerance
+              << "): give the parts that move independently their own handle groups";
+      *error = message.str();
+      return false;
+    }
+    fitted.push_back(map);
+  }
+  *transforms = num_groups == 1 ? HandleTransforms(fitted[0]) : HandleTransforms(fitted);
+  return true;
+}
+
 void ConstrainedVertices(const HandleLayout& layout, std::vector<int>* constrained,
-                         std::vector<char>* follows_handle) {
+                         std::vector<int>* handle_group) {
   constrained->clear();
-  follows_handle->clear();
+  handle_group->clear();
   // Merge the two sorted, disjoint lists.
   size_t f = 0, m = 0;
   while (f < layout.fixed.size() || m < layout.moveable.size()) {
     const bool take_moveable =
         f == layout.fixed.size() ||
         (m < layout.moveable.size() && layout.moveable[m] < layout.fixed[f]);
+    handle_group->push_back(take_moveable ? layout.group_of(static_cast<int>(m)) : -1);
     constrained->push_back(take_moveable ? layout.moveable[m++] : layout.fixed[f++]);
-    follows_handle->push_back(take_moveable ? 1 : 0);
   }
 }
 
 Eigen::Matrix3Xd ConstrainedTargets(const Eigen::Matrix3Xd& rest,
                                     const std::vector<int>& constrained,
-                                    const std::vector<char>& follows_handle,
-                                    const Eigen::Affine3d& deformed_from_rest) {
+                                    const std::vector<int>& handle_group,
+                                    const HandleTransforms& handles) {
   Eigen::Matrix3Xd targets(3, constrained.size());
   for (size_t j = 0; j < constrained.size(); ++j) {
     const Eigen::Vector3d at_rest = rest.col(constrained[j]);
     targets.col(j) =
-        follows_handle[j] ? Eigen::Vector3d(deformed_from_rest * at_rest) : at_rest;
+        handle_group[j] >= 0 ? Eigen::Vector3d(handles[handle_group[j]] * at_rest) : at_rest;
   }
   return targets;
 }
@@ -109,6 +232,30 @@ bool ValidateHandles(const HandleLayout& layout, int num_vertices, std::string* 
     *error = "vertex " + std::to_string(both.front()) + " is both fixed and moveable (" +
              std::to_string(both.size()) + " such vertices)";
     return false;
+  }
+  if (layout.group.empty()) return true;
+  if (layout.group.size() != layout.moveable.size()) {
+    *error = "the handle groups list " + std::to_string(layout.group.size()) +
+             " entries for " + std::to_string(layout.moveable.size()) + " moveable vertices";
+    return false;
+  }
+  std::vector<int> count;
+  for (size_t i = 0; i < layout.group.size(); ++i) {
+    const int g = layout.group[i];
+    if (g < 0 || g >= kMaxHandleGroups) {
+      *error = "moveable vertex " + std::to_string(layout.moveable[i]) + " has handle group " +
+               std::to_string(g) + ", outside 0.." + std::to_string(kMaxHandleGroups - 1);
+      return false;
+    }
+    if (g >= static_cast<int>(count.size())) count.resize(g + 1, 0);
+    ++count[g];
+  }
+  for (size_t g = 0; g < count.size(); ++g) {
+    if (count[g] == 0) {
+      *error = "handle group " + std::to_string(g) + " has no vertex (groups are 0.." +
+               std::to_string(count.size() - 1) + ", each used)";
+      return false;
+    }
   }
   return true;
 }
@@ -191,6 +338,12 @@ bool WriteSel(const std::string& path, const HandleLayout& layout, int num_verti
   std::string problem;
   if (!ValidateHandles(layout, num_vertices, &problem)) {
     return Fail(path, "refusing to write an invalid layout: " + problem, error);
+  }
+  if (layout.num_groups() > 1) {
+    return Fail(path,
+                "a .sel file holds one handle group; this layout has " +
+                    std::to_string(layout.num_groups()) + " (save a scenario instead)",
+                error);
   }
   std::vector<char> status(num_vertices, '1');
   for (int v : layout.fixed) status[v] = '0';

@@ -25,6 +25,20 @@ double HandleRmsError(const Mesh& rest, const Eigen::Matrix3Xd& deformed,
   return std::sqrt(sum / static_cast<double>(vertices.size()));
 }
 
+double HandleRmsError(const Mesh& rest, const Eigen::Matrix3Xd& deformed,
+                      const HandleLayout& layout, const HandleTransforms& deformed_from_rest) {
+  CHECK_EQ(rest.vertices.cols(), deformed.cols());
+  if (layout.moveable.empty()) return 0.0;
+  double sum = 0.0;
+  for (int i = 0; i < static_cast<int>(layout.moveable.size()); ++i) {
+    const int v = layout.moveable[i];
+    sum += (deformed.col(v) -
+            deformed_from_rest[layout.group_of(i)] * Eigen::Vector3d(rest.vertices.col(v)))
+               .squaredNorm();
+  }
+  return std::sqrt(sum / static_cast<double>(layout.moveable.size()));
+}
+
 Displacement VertexDisplacement(const Mesh& rest, const Eigen::Matrix3Xd& deformed,
                                 const std::vector<int>& vertices) {
   CHECK_EQ(rest.vertices.cols(), deformed.cols());

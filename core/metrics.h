@@ -14,6 +14,7 @@
 #include <Eigen/Geometry>
 
 #include "msdeform/core/deformation_graph.h"
+#include "msdeform/core/handles.h"
 #include "msdeform/core/mesh.h"
 
 namespace msdeform {
@@ -22,6 +23,10 @@ namespace msdeform {
 // `vertices` (the moveable handle). 0 for an empty list.
 double HandleRmsError(const Mesh& rest, const Eigen::Matrix3Xd& deformed,
                       const std::vector<int>& vertices, const Eigen::Affine3d& deformed_from_rest);
+// The same over every moveable vertex of `layout`, each against its handle
+// group's transform.
+double HandleRmsError(const Mesh& rest, const Eigen::Matrix3Xd& deformed,
+                      const HandleLayout& layout, const HandleTransforms& deformed_from_rest);
 
 // Mean and max displacement |deformed_v - rest_v| over `vertices` (fixed
 // vertices, or a watch region for leakage). Zeros for an empty list.

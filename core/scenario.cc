@@ -281,8 +281,8 @@ class ScenarioParser {
   bool Parse(const Json& root, const std::string& path, Scenario* scenario) {
     if (!ExpectObject(
             root, "",
-            {"name", "description", "mesh", "fixed", "handle", "watch", "transform", "frames",
-             "sel", "def"})) {
+            {"name", "description", "mesh", "fixed", "handle", "handles", "watch", "transform",
+             "frames", "sel", "def"})) {
       return false;
     }
     scenario->name = fs::path(path).stem().string();
@@ -306,7 +306,7 @@ class ScenarioParser {
     }
     if (root.contains("sel") || root.contains("def")) {
       // A Botsch-Sorkine pair instead of regions and a transform.
-      for (const char* key : {"fixed", "handle", "transform"}) {
+      for (const char* key : {"fixed", "handle", "handles", "transform"}) {
         if (root.contains(key)) {
           return Fail(key, "not allowed with \"sel\" and \"def\" (they give the handles and "
                            "the transform)");
@@ -325,16 +325,53 @@ class ScenarioParser {
       if (!ReadDef(scenario->def_path, &scenario->def_transform, &problem)) {
         return Fail("def", problem);
       }
+    } else if (root.contains("handles")) {
+      // Several handles, each with its own transform.
+      for (const char* key : {"handle", "transform"}) {
+        if (root.contains(key)) {
+          return Fail(key, "not allowed with \"handles\" (each handle has its region and "
+                           "transform there)");
+        }
+      }
+      const Json& handles = root["handles"];
+      if (!ExpectType(handles, "handles", handles.is_array(), "an array of handles")) {
+        return false;
+      }
+      if (handles.empty()) return Fail("handles", "is empty (give at least one handle)");
+      if (handles.size() > static_cast<size_t>(kMaxHandleGroups)) {
+        return Fail("handles", "has " + std::to_string(handles.size()) + " handles; at most " +
+                                   std::to_string(kMaxHandleGroups));
+      }
+      scenario->handles.resize(handles.size());
+      for (size_t i = 0; i < handles.size(); ++i) {
+        const std::string at = Index("handles", i);
+        if (!ExpectObject(handles[i], at, {"region", "transform"})) return false;
+        if (!handles[i].contains("region")) {
+          return Fail(Join(at, "region"), "missing (the region to drag)");
+        }
+        if (!Region(handles[i]["region"], Join(at, "region"), &scenario->handles[i].region)) {
+          return false;
+        }
+        if (handles[i].contains("transform") &&
+            !Motion(handles[i]["transform"], Join(at, "transform"),
+                    &scenario->handles[i].motion)) {
+          return false;
+        }
+      }
     } else {
-      if (!root.contains("handle")) return Fail("handle", "missing (the region to drag)");
-      if (!Region(root["handle"], "handle", &scenario->handle)) return false;
+      if (!root.contains("handle")) {
+        return Fail("handle", "missing (the region to drag, or \"handles\")");
+      }
+      scenario->handles.resize(1);
+      if (!Region(root["handle"], "handle", &scenario->handles[0].region)) return false;
+      if (root.contains("transform") &&
+          !Motion(root["transform"], "transform", &scenario->handles[0].motion)) {
+        return false;
+      }
     }
     if (root.contains("watch")) {
       scenario->has_watch = true;
       if (!Region(root["watch"], "watch", &scenario->watch)) return false;
-    }
-    if (root.contains("transform")) {
-      if (!Motion(root["transform"], "transform", &scenario->motion)) return false;
     }
     if (root.contains("frames")) {
       if (!Integer(root["frames"], "frames", &scenario->frames)) return false;
@@ -502,8 +539,16 @@ bool ReadScenario(const std::string& path, Scenario* scenario, std::string* erro
   return true;
 }
 
+std::vector<int> HandleGroupVertices(const HandleLayout& layout, int g) {
+  std::vector<int> vertices;
+  for (int i = 0; i < static_cast<int>(layout.moveable.size()); ++i) {
+    if (layout.group_of(i) == g) vertices.push_back(layout.moveable[i]);
+  }
+  return vertices;
+}
+
 bool ResolveScenario(const Scenario& scenario, const Mesh& mesh, HandleLayout* layout,
-                     std::vector<int>* watch, Eigen::Affine3d* deformed_from_rest,
+                     std::vector<int>* watch, HandleTransforms* deformed_from_rest,
                      std::string* error, int num_threads) {
   const std::string& where = scenario.path.empty() ? std::string("scenario") : scenario.path;
   if (mesh.num_vertices() == 0) {
@@ -534,10 +579,31 @@ bool ResolveScenario(const Scenario& scenario, const Mesh& mesh, HandleLayout* l
                    std::back_inserter(merged));
     result.fixed.swap(merged);
   }
-  if (!scenario.uses_sel_def() &&
-      !Select(scenario.handle, mesh, frame, &result.moveable, &problem)) {
-    *error = where + ": " + problem;
-    return false;
+  if (!scenario.uses_sel_def()) {
+    // Each handle's vertices, tagged with its group, merged in vertex order.
+    std::vector<std::pair<int, int>> tagged;  // (vertex, group)
+    const int num_groups = static_cast<int>(scenario.handles.size());
+    for (int g = 0; g < num_groups; ++g) {
+      std::vector<int> ids;
+      if (!Select(scenario.handles[g].region, mesh, frame, &ids, &problem)) {
+        *error = where + ": " + problem;
+        return false;
+      }
+      for (int v : ids) tagged.emplace_back(v, g);
+    }
+    std::sort(tagged.begin(), tagged.end());
+    for (size_t i = 1; i < tagged.size(); ++i) {
+      if (tagged[i].first == tagged[i - 1].first) {
+        *error = where + ": handles[" + std::to_string(tagged[i - 1].second) + "] and handles[" +
+                 std::to_string(tagged[i].second) + "] share vertex " +
+                 std::to_string(tagged[i].first) + " (a vertex follows one handle)";
+        return false;
+      }
+    }
+    for (const auto& [v, g] : tagged) {
+      result.moveable.push_back(v);
+      if (num_groups > 1) result.group.push_back(g);
+    }
   }
   std::vector<int> watched;
   if (scenario.has_watch && !Select(scenario.watch, mesh, frame, &watched, &problem)) {
@@ -548,24 +614,53 @@ bool ResolveScenario(const Scenario& scenario, const Mesh& mesh, HandleLayout* l
     *error = where + ": fixed and handle regions: " + problem;
     return false;
   }
-  *deformed_from_rest =
-      scenario.uses_sel_def()
-          ? scenario.def_transform
-          : DragFrame(ScenarioDragMotion(scenario.motion, Centroid(mesh, result.moveable),
-                                         frame.diagonal),
-                      1.0);
+  if (scenario.uses_sel_def()) {
+    *deformed_from_rest = scenario.def_transform;
+  } else {
+    std::vector<Eigen::Affine3d> transforms;
+    for (int g = 0; g < static_cast<int>(scenario.handles.size()); ++g) {
+      transforms.push_back(
+          DragFrame(ScenarioDragMotion(scenario.handles[g].motion,
+                                       Centroid(mesh, HandleGroupVertices(result, g)),
+                                       frame.diagonal),
+                    1.0));
+    }
+    *deformed_from_rest = transforms.size() == 1 ? HandleTransforms(transforms[0])
+                                                 : HandleTransforms(std::move(transforms));
+  }
   *layout = std::move(result);
   *watch = std::move(watched);
   return true;
 }
 
-std::vector<Eigen::Affine3d> DragPath(const Scenario& scenario, const Mesh& mesh,
-                                      const HandleLayout& layout, int num_threads) {
-  const Eigen::Vector3d centroid = Centroid(mesh, layout.moveable);
-  const double diagonal = BoundingBoxDiagonal(mesh, num_threads);
+std::vector<HandleTransforms> DragPath(const Scenario& scenario, const Mesh& mesh,
+                                       const HandleLayout& layout, int num_threads) {
   const int frames = std::max(1, scenario.frames);
-  if (scenario.uses_sel_def()) return InterpolateDragPath(scenario.def_transform, centroid, frames);
-  return InterpolateDragPath(ScenarioDragMotion(scenario.motion, centroid, diagonal), frames);
+  if (scenario.uses_sel_def()) {
+    const std::vector<Eigen::Affine3d> path =
+        InterpolateDragPath(scenario.def_transform, Centroid(mesh, layout.moveable), frames);
+    return std::vector<HandleTransforms>(path.begin(), path.end());
+  }
+  const double diagonal = BoundingBoxDiagonal(mesh, num_threads);
+  const int num_groups = static_cast<int>(scenario.handles.size());
+  std::vector<std::vector<Eigen::Affine3d>> per_group;  // [group][frame]
+  for (int g = 0; g < num_groups; ++g) {
+    const Eigen::Vector3d centroid =
+        Centroid(mesh, num_groups == 1 ? layout.moveable : HandleGroupVertices(layout, g));
+    per_group.push_back(InterpolateDragPath(
+        ScenarioDragMotion(scenario.handles[g].motion, centroid, diagonal), frames));
+  }
+  std::vector<HandleTransforms> path;
+  for (int f = 0; f < frames; ++f) {
+    if (num_groups == 1) {
+      path.emplace_back(per_group[0][f]);
+      continue;
+    }
+    std::vector<Eigen::Affine3d> transforms;
+    for (int g = 0; g < num_groups; ++g) transforms.push_back(per_group[g][f]);
+    path.emplace_back(std::move(transforms));
+  }
+  return path;
 }
 
 }  // namespace msdeform

@@ -1,6 +1,7 @@
 // Editing scenarios: a JSON file naming a mesh, the regions held fixed, the
-// one moveable handle, the handle's motion, and an optional "watch" region of
-// vertices that should not move (to measure leakage).
+// moveable handle and its motion (or several handles, each with its own
+// motion), and an optional "watch" region of vertices that should not move
+// (to measure leakage).
 //
 // Example (comments are allowed in the file):
 //
@@ -20,6 +21,16 @@
 //     },
 //     "frames": 30                                    // optional, default 1
 //   }
+//
+// Instead of "handle" and "transform", a scenario may give several handles
+// that move independently (handle groups, core/handles.h), each a region and
+// its own optional transform, about its own centroid:
+//     "handles": [
+//       {"region": {"sphere": {"center_vertex": 12, "radius_rel": 0.05}},
+//        "transform": {"translation_rel": [0, 0.1, 0]}},
+//       {"region": {"slab": {"axis": "x", "from": 0.9, "to": 1.0}}}   // stays put
+//     ],
+// Two handles' regions may not share a vertex.
 //
 // Instead of "fixed", "handle" and "transform", a scenario may name a
 // Botsch-Sorkine pair, relative to its folder (docs/formats.md):
@@ -107,15 +118,22 @@ constexpr int kMaxScenarioFrames = 100000;
 // allowed to overflow the stack (20000 levels did). Real regions nest 2 or 3.
 constexpr int kMaxRegionDepth = 64;
 
+// One handle of a scenario: its region and its motion.
+struct ScenarioHandle {
+  VertexRegion region;
+  HandleMotion motion;
+};
+
 struct Scenario {
   std::string path;       // the scenario file itself, for messages.
   std::string name;       // "name", or the file stem.
   std::string mesh_path;  // "mesh" resolved against the scenario's folder.
   std::vector<VertexRegion> fixed;
-  VertexRegion handle;
+  // "handle" and "transform" (one entry), or "handles": handle group g is
+  // handles[g]. Empty with "sel" and "def".
+  std::vector<ScenarioHandle> handles;
   bool has_watch = false;
   VertexRegion watch;
-  HandleMotion motion;
   int frames = 1;  // 1 .. kMaxScenarioFrames.
   // "sel" and "def" (resolved), instead of "fixed", "handle" and "transform":
   // the handles from a .sel file (read against the mesh by ResolveScenario)
@@ -132,24 +150,29 @@ struct Scenario {
 bool ReadScenario(const std::string& path, Scenario* scenario, std::string* error);
 
 // Applies a scenario to its mesh: selects the fixed, handle and watch
-// vertices (sorted, unique; from the .sel file when the scenario names one)
-// and computes the final handle transform. Fails,
-// naming the region, when a region selects nothing or names a vertex outside
-// the mesh, or when the layout does not validate (e.g. a vertex both fixed
+// vertices (sorted, unique; from the .sel file when the scenario names one;
+// the layout's handle groups from "handles") and computes the final handle
+// transforms (one, or one a group). Fails, naming the region, when a region
+// selects nothing or names a vertex outside the mesh, when two handles share
+// a vertex, or when the layout does not validate (e.g. a vertex both fixed
 // and moveable). The passes over all vertices (bounding box, regions) use up
 // to `num_threads` threads, with the same result for any count.
 bool ResolveScenario(const Scenario& scenario, const Mesh& mesh, HandleLayout* layout,
-                     std::vector<int>* watch, Eigen::Affine3d* deformed_from_rest,
+                     std::vector<int>* watch, HandleTransforms* deformed_from_rest,
                      std::string* error, int num_threads = 1);
 
-// The drag path: scenario.frames transforms, frame k (1-based) carrying the
-// fraction k / frames of the motion (core/drag_path.h: k / frames of the angle
-// about the rotation centre, which moves by k / frames of the translation;
-// a .def's rotation part slerped, its rest blended linearly); the last equals
-// ResolveScenario's transform. `layout` is the resolved layout (its handle
-// gives the centroid). The bounding box takes up to `num_threads` threads.
-std::vector<Eigen::Affine3d> DragPath(const Scenario& scenario, const Mesh& mesh,
-                                      const HandleLayout& layout, int num_threads = 1);
+// The drag path: scenario.frames frames, frame k (1-based) carrying the
+// fraction k / frames of each handle's motion (core/drag_path.h: k / frames
+// of the angle about the rotation centre, which moves by k / frames of the
+// translation; a .def's rotation part slerped, its rest blended linearly);
+// the last equals ResolveScenario's transforms. `layout` is the resolved
+// layout (each group's rest centroid is its rotation centre unless given).
+// The bounding box takes up to `num_threads` threads.
+std::vector<HandleTransforms> DragPath(const Scenario& scenario, const Mesh& mesh,
+                                       const HandleLayout& layout, int num_threads = 1);
+
+// The vertices of handle group g of a layout (sorted).
+std::vector<int> HandleGroupVertices(const HandleLayout& layout, int g);
 
 }  // namespace msdeform
 

@@ -280,7 +280,7 @@ bool FirstIterationWithin(const std::vector<double>& energy_trace,
 }
 
 bool MeasureFullArap(const Mesh& mesh, const HandleLayout& layout,
-                     const std::vector<Eigen::Affine3d>& path, const ArapLabOptions& options,
+                     const std::vector<HandleTransforms>& path, const ArapLabOptions& options,
                      std::vector<ArapLabFrame>* frames, std::string* error) {
   frames->clear();
   if (!ValidateHandles(layout, mesh.num_vertices(), error)) return false;
@@ -291,8 +291,8 @@ bool MeasureFullArap(const Mesh& mesh, const HandleLayout& layout,
     return false;
   }
   std::vector<int> constrained;
-  std::vector<char> follows_handle;
-  ConstrainedVertices(layout, &constrained, &follows_handle);
+  std::vector<int> handle_group;
+  ConstrainedVertices(layout, &constrained, &handle_group);
 
   // The reference: E*_f, and the converged frame f - 1 of each measured f.
   LocalGlobalArapOptions reference_options;
@@ -308,7 +308,7 @@ bool MeasureFullArap(const Mesh& mesh, const HandleLayout& layout,
   for (int f = 1; f <= measured.back(); ++f) {
     if (std::binary_search(measured.begin(), measured.end(), f)) start[f] = deformed;
     const LocalGlobalArapSummary summary = reference.Solve(
-        ConstrainedTargets(mesh.vertices, constrained, follows_handle, path[f - 1]), &deformed);
+        ConstrainedTargets(mesh.vertices, constrained, handle_group, path[f - 1]), &deformed);
     if (!std::isfinite(summary.final_energy)) {
       *error = "the reference's energy at frame " + std::to_string(f) + " is not finite";
       return false;
@@ -330,7 +330,7 @@ bool MeasureFullArap(const Mesh& mesh, const HandleLayout& layout,
     for (int f : measured) {
       Eigen::Matrix3Xd x = start[f];
       const LocalGlobalArapSummary summary = arap.Solve(
-          ConstrainedTargets(mesh.vertices, constrained, follows_handle, path[f - 1]), &x);
+          ConstrainedTargets(mesh.vertices, constrained, handle_group, path[f - 1]), &x);
       ArapLabFrame frame;
       frame.variant = name;
       frame.frame = f;
@@ -368,7 +368,7 @@ std::vector<SubspaceVariant> SubspaceVariants(const ArapLabOptions& options) {
 }
 
 bool MeasureSubspaceArap(const Mesh& mesh, const HandleLayout& layout,
-                         const std::vector<Eigen::Affine3d>& path, const ArapLabOptions& options,
+                         const std::vector<HandleTransforms>& path, const ArapLabOptions& options,
                          std::vector<ArapLabFrame>* frames, std::string* error) {
   frames->clear();
   const std::vector<int> measured =

@@ -128,12 +128,12 @@ struct ArapLabFrame {
 // frame order. False with one line on a bad layout or a reference frame that
 // does not finish.
 bool MeasureFullArap(const Mesh& mesh, const HandleLayout& layout,
-                     const std::vector<Eigen::Affine3d>& path, const ArapLabOptions& options,
+                     const std::vector<HandleTransforms>& path, const ArapLabOptions& options,
                      std::vector<ArapLabFrame>* frames, std::string* error);
 
 // The subspace part on one edit: names "local_global" and "gauss_newton".
 bool MeasureSubspaceArap(const Mesh& mesh, const HandleLayout& layout,
-                         const std::vector<Eigen::Affine3d>& path, const ArapLabOptions& options,
+                         const std::vector<HandleTransforms>& path, const ArapLabOptions& options,
                          std::vector<ArapLabFrame>* frames, std::string* error);
 
 // Runs both parts on every selected scenario and writes arap_solvers.csv

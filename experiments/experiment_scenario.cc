@@ -23,7 +23,7 @@ bool LoadExperimentScenario(const std::string& path, int frames, ExperimentScena
   scenario->name = parsed.name;
   scenario->mesh_path = mesh_path.empty() ? parsed.mesh_path : mesh_path;
   if (!ReadMesh(scenario->mesh_path, &scenario->mesh, error)) return false;
-  Eigen::Affine3d target;
+  HandleTransforms target;
   if (!ResolveScenario(parsed, scenario->mesh, &scenario->layout, &scenario->watch, &target,
                        error)) {
     *error = path + " on " + scenario->mesh_path + ": " + *error;

@@ -24,7 +24,7 @@ struct ExperimentScenario {
   HandleLayout layout;
   bool has_watch = false;
   std::vector<int> watch;  // sorted, unique
-  std::vector<Eigen::Affine3d> path;  // one transform per frame; back() is the target
+  std::vector<HandleTransforms> path;  // one transform per frame; back() is the target
 };
 
 // Reads the entry at `path` and its mesh; `frames` > 0 overrides the entry's

@@ -41,7 +41,7 @@ void MeasureQuality(const ExperimentScenario& scenario, const Eigen::Matrix3Xd& 
   result->faces = mesh.num_faces();
   result->diagonal = diag;
   result->handle_rms_rel =
-      HandleRmsError(mesh, deformed, scenario.layout.moveable, scenario.path.back()) / diag;
+      HandleRmsError(mesh, deformed, scenario.layout, scenario.path.back()) / diag;
   result->fixed_max_rel = VertexDisplacement(mesh, deformed, scenario.layout.fixed).max / diag;
   if (scenario.has_watch) {
     const Displacement watch = VertexDisplacement(mesh, deformed, scenario.watch);

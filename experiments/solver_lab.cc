@@ -169,7 +169,7 @@ bool RunLabDrag(const ExperimentScenario& scenario, const DeformerOptions& optio
   const Eigen::Matrix3Xd& deformed = deformer.deformed_vertices();
   drag->result_finite = deformed.allFinite();
   drag->handle_rms_rel =
-      HandleRmsError(scenario.mesh, deformed, scenario.layout.moveable, scenario.path.back()) /
+      HandleRmsError(scenario.mesh, deformed, scenario.layout, scenario.path.back()) /
       BoundingBoxDiagonal(scenario.mesh);
   return true;
 }

@@ -33,6 +33,7 @@ struct CgalArap::Impl {
   std::unique_ptr<Deformation<CGAL::SRE_ARAP>> sre;
   std::vector<VertexIndex> handle;
   std::vector<Eigen::Vector3d> handle_rest;
+  std::vector<int> handle_group;  // per entry of handle
 
   // Calls f with the deformation object, whichever variant it is.
   template <class F>
@@ -105,7 +106,9 @@ bool CgalArap::Init(const Mesh& mesh, const HandleLayout& layout, const std::vec
     deformation.insert_roi_vertices(roi_vertices.begin(), roi_vertices.end());
     impl_->handle.clear();
     impl_->handle_rest.clear();
-    for (int v : layout.moveable) {
+    impl_->handle_group.clear();
+    for (int i = 0; i < static_cast<int>(layout.moveable.size()); ++i) {
+      const int v = layout.moveable[i];
       if (!in_roi[v]) {
         *error = "handle vertex " + std::to_string(v) + " is not in the region of interest";
         ok = false;
@@ -114,6 +117,7 @@ bool CgalArap::Init(const Mesh& mesh, const HandleLayout& layout, const std::vec
       deformation.insert_control_vertex(vertex[v]);
       impl_->handle.push_back(vertex[v]);
       impl_->handle_rest.push_back(mesh.vertices.col(v));
+      impl_->handle_group.push_back(layout.group_of(i));
     }
     deformation.set_iterations(options.iterations);
     deformation.set_tolerance(options.tolerance);
@@ -130,7 +134,7 @@ bool CgalArap::Init(const Mesh& mesh, const HandleLayout& layout, const std::vec
   return true;
 }
 
-bool CgalArap::Drag(const Eigen::Affine3d& deformed_from_rest, CgalArapStats* stats,
+bool CgalArap::Drag(const HandleTransforms& deformed_from_rest, CgalArapStats* stats,
                     std::string* error) {
   if (impl_ == nullptr || (impl_->original == nullptr && impl_->sre == nullptr)) {
     *error = "CgalArap::Drag before a successful Init";
@@ -140,7 +144,8 @@ bool CgalArap::Drag(const Eigen::Affine3d& deformed_from_rest, CgalArapStats* st
   CgalArapStats& frame = stats != nullptr ? *stats : local;
   const auto solve_start = std::chrono::steady_clock::now();
   for (size_t h = 0; h < impl_->handle.size(); ++h) {
-    const Eigen::Vector3d target = deformed_from_rest * impl_->handle_rest[h];
+    const Eigen::Vector3d target =
+        deformed_from_rest[impl_->handle_group[h]] * impl_->handle_rest[h];
     impl_->Visit([&](auto& deformation) {
       deformation.set_target_position(impl_->handle[h], Point(target.x(), target.y(), target.z()));
     });
@@ -179,7 +184,7 @@ bool CgalArapMethod::DoSetHandles(const HandleLayout& layout, std::string* error
   return arap_.Init(mesh_, layout, {}, options_, error);
 }
 
-bool CgalArapMethod::DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* stats,
+bool CgalArapMethod::DoDrag(const HandleTransforms& deformed_from_rest, MethodStats* stats,
                             std::string* error) {
   const auto frame_start = std::chrono::steady_clock::now();
   CgalArapStats frame;

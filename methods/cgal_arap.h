@@ -61,9 +61,9 @@ class CgalArap {
   bool Init(const Mesh& mesh, const HandleLayout& layout, const std::vector<int>& roi,
             const CgalArapOptions& options, std::string* error);
 
-  // Moves every handle vertex to deformed_from_rest * (its rest position)
+  // Moves every handle vertex to deformed_from_rest[its group] * (its rest position)
   // and runs the iterations, starting from the previous frame.
-  bool Drag(const Eigen::Affine3d& deformed_from_rest, CgalArapStats* stats, std::string* error);
+  bool Drag(const HandleTransforms& deformed_from_rest, CgalArapStats* stats, std::string* error);
 
   const Eigen::Matrix3Xd& deformed_vertices() const { return deformed_vertices_; }
   int roi_size() const { return roi_size_; }
@@ -101,7 +101,7 @@ class CgalArapMethod : public EditingMethod {
  protected:
   bool DoPrecompute(const Mesh& mesh, const MethodOptions& options, std::string* error) override;
   bool DoSetHandles(const HandleLayout& layout, std::string* error) override;
-  bool DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* stats,
+  bool DoDrag(const HandleTransforms& deformed_from_rest, MethodStats* stats,
               std::string* error) override;
 
  private:

@@ -51,14 +51,15 @@ bool FastLsm::DoPrecompute(const Mesh& mesh, const MethodOptions& options, std::
 bool FastLsm::DoSetHandles(const HandleLayout& layout, std::string* error) {
   const auto start = Clock::now();
   if (!ValidateHandles(layout, mesh_.num_vertices(), error)) return false;
-  std::vector<int> fixed, driven;
-  if (!ParticlesOfVertices(lattice_, layout.fixed, &fixed, error) ||
-      !ParticlesOfVertices(lattice_, layout.moveable, &driven, error)) {
-    return false;
-  }
   const int n = lattice_.num_particles();
+  std::vector<int> fixed;
+  if (!ParticlesOfVertices(lattice_, layout.fixed, &fixed, error)) return false;
+  // Each handle group drives the particles of its vertices' cells.
+  if (!HandleGroupOfParticles(lattice_, layout, &driven_group_, error)) return false;
   kind_.assign(n, Kind::kFree);
-  for (int p : driven) kind_[p] = Kind::kDriven;
+  for (int p = 0; p < n; ++p) {
+    if (driven_group_[p] >= 0) kind_[p] = Kind::kDriven;
+  }
   for (int p : fixed) kind_[p] = Kind::kFixed;  // a cell holding both stays fixed
   num_free_ = 0;
   int num_driven = 0;
@@ -80,7 +81,7 @@ bool FastLsm::DoSetHandles(const HandleLayout& layout, std::string* error) {
   return true;
 }
 
-bool FastLsm::DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* stats,
+bool FastLsm::DoDrag(const HandleTransforms& deformed_from_rest, MethodStats* stats,
                      std::string* error) {
   const auto frame_start = Clock::now();
   *stats = MethodStats();
@@ -88,7 +89,7 @@ bool FastLsm::DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* sta
   const int n = lattice_.num_particles();
   for (int i = 0; i < n; ++i) {
     if (kind_[i] == Kind::kDriven) {
-      positions_.col(i) = deformed_from_rest * rest.col(i);
+      positions_.col(i) = deformed_from_rest[driven_group_[i]] * rest.col(i);
       velocities_.col(i).setZero();
     }
   }
@@ -119,7 +120,7 @@ bool FastLsm::DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* sta
   return true;
 }
 
-void FastLsm::Skin(const Eigen::Affine3d& deformed_from_rest) {
+void FastLsm::Skin(const HandleTransforms& deformed_from_rest) {
   const Eigen::Matrix3Xd& rest = lattice_.rest_positions();
   const CompressedLists& regions = shape_matching_.regions();
   const CompressedLists& adjacency = lattice_.particle_adjacency();
@@ -131,7 +132,7 @@ void FastLsm::Skin(const Eigen::Affine3d& deformed_from_rest) {
   Eigen::Matrix3Xd centroid(3, n), rest_centroid(3, n);
   auto frame_of = [&](int p, const Eigen::Vector3d& x0) -> Eigen::Vector3d {
     if (kind_[p] == Kind::kFixed) return x0;
-    if (kind_[p] == Kind::kDriven) return deformed_from_rest * x0;
+    if (kind_[p] == Kind::kDriven) return deformed_from_rest[driven_group_[p]] * x0;
     if (!fitted[p]) {
       Eigen::Vector3d c = Eigen::Vector3d::Zero(), c0 = Eigen::Vector3d::Zero();
       for (const int* j = regions.begin(p); j != regions.end(p); ++j) {

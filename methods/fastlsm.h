@@ -4,7 +4,8 @@
 //
 // Each particle i has the region R_i of its r-ring (scales/rigidity.h's
 // regions). The particles of cells holding moveable-handle vertices are
-// driven: at deformed_from_rest * x0 every frame. Those of cells holding
+// driven: at deformed_from_rest[g] * x0 every frame, g the handle group of
+// the cell's vertices (a cell holding two groups' vertices is refused). Those of cells holding
 // fixed vertices stay at x0 (a cell holding both is fixed). The other
 // particles run `steps_per_frame` FastLSM steps per Drag, from where the last
 // frame left them (h = 1):
@@ -72,18 +73,19 @@ class FastLsm : public EditingMethod {
  protected:
   bool DoPrecompute(const Mesh& mesh, const MethodOptions& options, std::string* error) override;
   bool DoSetHandles(const HandleLayout& layout, std::string* error) override;
-  bool DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* stats,
+  bool DoDrag(const HandleTransforms& deformed_from_rest, MethodStats* stats,
               std::string* error) override;
 
  private:
   enum class Kind : char { kFree, kFixed, kDriven };
-  void Skin(const Eigen::Affine3d& deformed_from_rest);
+  void Skin(const HandleTransforms& deformed_from_rest);
 
   FastLsmOptions options_;
   Mesh mesh_;
   Lattice lattice_;
   RigidityEstimator shape_matching_;  // its goals (Eq. 2) are FastLSM's
   std::vector<Kind> kind_;            // per particle
+  std::vector<int> driven_group_;     // per particle: the handle group driving it, or -1
   bool first_step_ = true;            // of the layout: shape matching cold-starts
   int num_free_ = 0;
   Eigen::Matrix3Xd positions_, velocities_, goals_;

@@ -62,21 +62,17 @@ bool FullArapMethod::DoPrecompute(const Mesh& mesh, const MethodOptions& options
 
 bool FullArapMethod::DoSetHandles(const HandleLayout& layout, std::string* error) {
   if (!ValidateHandles(layout, mesh_.num_vertices(), error)) return false;
-  ConstrainedVertices(layout, &constrained_, &follows_handle_);
+  ConstrainedVertices(layout, &constrained_, &handle_group_);
   deformed_ = mesh_.vertices;
   summary_ = LocalGlobalArapSummary();
   return arap_.Setup(mesh_, constrained_, options_, error);
 }
 
-bool FullArapMethod::DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* stats,
+bool FullArapMethod::DoDrag(const HandleTransforms& deformed_from_rest, MethodStats* stats,
                             std::string* error) {
   const auto frame_start = std::chrono::steady_clock::now();
-  if (!deformed_from_rest.matrix().allFinite()) {
-    *error = "the handle transform is not finite";
-    return false;
-  }
   summary_ = arap_.Solve(
-      ConstrainedTargets(mesh_.vertices, constrained_, follows_handle_, deformed_from_rest),
+      ConstrainedTargets(mesh_.vertices, constrained_, handle_group_, deformed_from_rest),
       &deformed_);
   *stats = MethodStats();
   stats->solve_ms = MillisecondsSince(frame_start);

@@ -48,7 +48,7 @@ class FullArapMethod : public EditingMethod {
  protected:
   bool DoPrecompute(const Mesh& mesh, const MethodOptions& options, std::string* error) override;
   bool DoSetHandles(const HandleLayout& layout, std::string* error) override;
-  bool DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* stats,
+  bool DoDrag(const HandleTransforms& deformed_from_rest, MethodStats* stats,
               std::string* error) override;
 
  private:
@@ -58,7 +58,7 @@ class FullArapMethod : public EditingMethod {
   // The constrained vertices (sorted) and, per entry, whether it follows the
   // handle (else it is fixed at rest).
   std::vector<int> constrained_;
-  std::vector<char> follows_handle_;
+  std::vector<int> handle_group_;  // per entry of constrained_, -1 fixed
   Eigen::Matrix3Xd deformed_;
   LocalGlobalArapSummary summary_;
   double precompute_ms_ = 0.0;

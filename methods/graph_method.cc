@@ -78,7 +78,7 @@ bool GraphMethod::DoSetHandles(const HandleLayout& layout, std::string* error) {
   return true;
 }
 
-bool GraphMethod::DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* stats,
+bool GraphMethod::DoDrag(const HandleTransforms& deformed_from_rest, MethodStats* stats,
                          std::string* error) {
   return session_->Drag(deformed_from_rest, stats, error);
 }

@@ -133,7 +133,7 @@ class GraphMethod : public EditingMethod {
  protected:
   bool DoPrecompute(const Mesh& mesh, const MethodOptions& options, std::string* error) override;
   bool DoSetHandles(const HandleLayout& layout, std::string* error) override;
-  bool DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* stats,
+  bool DoDrag(const HandleTransforms& deformed_from_rest, MethodStats* stats,
               std::string* error) override;
 
  private:

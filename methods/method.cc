@@ -23,21 +23,28 @@ bool EditingMethod::SetHandles(const HandleLayout& layout, std::string* error) {
   }
   stage_ = Stage::kPrecomputed;
   if (!DoSetHandles(layout, error)) return false;
+  num_handle_groups_ = layout.num_groups();
   stage_ = Stage::kHandlesSet;
   return true;
 }
 
-bool EditingMethod::Drag(const Eigen::Affine3d& deformed_from_rest, MethodStats* stats,
+bool EditingMethod::Drag(const HandleTransforms& deformed_from_rest, MethodStats* stats,
                          std::string* error) {
   if (stage_ != Stage::kHandlesSet) {
     *error = name_ + ": Drag before a successful SetHandles";
+    return false;
+  }
+  if (!deformed_from_rest.CheckFinite(error)) return false;
+  if (deformed_from_rest.size() != 1 && deformed_from_rest.size() != num_handle_groups_) {
+    *error = std::to_string(deformed_from_rest.size()) + " handle transforms for a layout of " +
+             std::to_string(num_handle_groups_) + " handle groups (give one, or one a group)";
     return false;
   }
   MethodStats local;
   return DoDrag(deformed_from_rest, stats != nullptr ? stats : &local, error);
 }
 
-bool DragAlong(EditingMethod* method, const std::vector<Eigen::Affine3d>& path,
+bool DragAlong(EditingMethod* method, const std::vector<HandleTransforms>& path,
                const DragAlongOptions& options, DragLog* log, std::string* error) {
   *log = DragLog();
   const int num_frames = static_cast<int>(path.size());
@@ -55,6 +62,12 @@ bool DragAlong(EditingMethod* method, const std::vector<Eigen::Affine3d>& path,
     log->frames.push_back(std::move(stats));
   }
   return true;
+}
+
+bool DragAlong(EditingMethod* method, const std::vector<Eigen::Affine3d>& path,
+               const DragAlongOptions& options, DragLog* log, std::string* error) {
+  return DragAlong(method, std::vector<HandleTransforms>(path.begin(), path.end()), options, log,
+                   error);
 }
 
 }  // namespace msdeform

@@ -57,9 +57,11 @@ class EditingMethod {
   // with a message on an invalid layout (then only SetHandles or Precompute
   // are accepted).
   bool SetHandles(const HandleLayout& layout, std::string* error);
-  // Moves the moveable handle to deformed_from_rest * (its rest position) and
-  // deforms the mesh, starting from the previous frame. `stats` may be null.
-  bool Drag(const Eigen::Affine3d& deformed_from_rest, MethodStats* stats, std::string* error);
+  // Moves each handle group g to deformed_from_rest[g] * (its rest
+  // positions) and deforms the mesh, starting from the previous frame. One
+  // transform moves every group; else one a group, or false with a message.
+  // `stats` may be null.
+  bool Drag(const HandleTransforms& deformed_from_rest, MethodStats* stats, std::string* error);
 
   // #V by 3 (as 3 by #V): the rest vertices until the first Drag.
   virtual const Eigen::Matrix3Xd& deformed_vertices() const = 0;
@@ -85,19 +87,22 @@ class EditingMethod {
 
   bool precomputed() const { return stage_ != Stage::kEmpty; }
   bool handles_set() const { return stage_ == Stage::kHandlesSet; }
+  // The handle groups of the last SetHandles' layout.
+  int num_handle_groups() const { return num_handle_groups_; }
 
  protected:
   // The stages, called by the public ones in order only.
   virtual bool DoPrecompute(const Mesh& mesh, const MethodOptions& options,
                             std::string* error) = 0;
   virtual bool DoSetHandles(const HandleLayout& layout, std::string* error) = 0;
-  virtual bool DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* stats,
+  virtual bool DoDrag(const HandleTransforms& deformed_from_rest, MethodStats* stats,
                       std::string* error) = 0;
 
  private:
   enum class Stage { kEmpty, kPrecomputed, kHandlesSet };
   std::string name_;
   Stage stage_ = Stage::kEmpty;
+  int num_handle_groups_ = 1;
 };
 
 // A drag along a path of handle transforms: the per-frame loop of msdeform,
@@ -119,6 +124,9 @@ struct DragLog {
 
 // Drags `method` (SetHandles done) through `path`; false with "frame F of N:
 // <what failed>" in *error.
+bool DragAlong(EditingMethod* method, const std::vector<HandleTransforms>& path,
+               const DragAlongOptions& options, DragLog* log, std::string* error);
+// The same for a path of one transform a frame that every handle group follows.
 bool DragAlong(EditingMethod* method, const std::vector<Eigen::Affine3d>& path,
                const DragAlongOptions& options, DragLog* log, std::string* error);
 

@@ -53,7 +53,7 @@ bool Polisher::Setup(const Mesh& rest, const HandleLayout& layout, const PolishO
   ready_ = false;
   if (!options.Check(error)) return false;
   if (!ValidateHandles(layout, rest.num_vertices(), error)) return false;
-  ConstrainedVertices(layout, &constrained_, &follows_handle_);
+  ConstrainedVertices(layout, &constrained_, &handle_group_);
   rest_ = rest;
   options_ = options;
   if (!arap_.Setup(rest_, constrained_, SolverOptions(options_), error)) return false;
@@ -79,11 +79,11 @@ bool Polisher::SetOptions(const PolishOptions& options, std::string* error) {
   return true;
 }
 
-Eigen::Matrix3Xd Polisher::Targets(const Eigen::Affine3d& deformed_from_rest) const {
-  return ConstrainedTargets(rest_.vertices, constrained_, follows_handle_, deformed_from_rest);
+Eigen::Matrix3Xd Polisher::Targets(const HandleTransforms& deformed_from_rest) const {
+  return ConstrainedTargets(rest_.vertices, constrained_, handle_group_, deformed_from_rest);
 }
 
-PolishReport Polisher::Polish(const Eigen::Affine3d& deformed_from_rest,
+PolishReport Polisher::Polish(const HandleTransforms& deformed_from_rest,
                               Eigen::Matrix3Xd* vertices, const std::atomic<bool>* cancel) {
   CHECK(ready_) << "Polish before a successful Setup";
   CHECK_EQ(vertices->cols(), rest_.vertices.cols());
@@ -129,7 +129,7 @@ PolishReport Polisher::Polish(const Eigen::Affine3d& deformed_from_rest,
 }
 
 bool PolishOnce(const Mesh& rest, const HandleLayout& layout,
-                const Eigen::Affine3d& deformed_from_rest, const PolishOptions& options,
+                const HandleTransforms& deformed_from_rest, const PolishOptions& options,
                 Eigen::Matrix3Xd* vertices, PolishReport* report, std::string* error) {
   Polisher polisher;
   if (!polisher.Setup(rest, layout, options, error)) return false;

@@ -80,13 +80,13 @@ class Polisher {
   // Milliseconds of the last Setup.
   double setup_ms() const { return arap_.setup_ms(); }
   // The layout's constrained vertices at `deformed_from_rest`.
-  Eigen::Matrix3Xd Targets(const Eigen::Affine3d& deformed_from_rest) const;
+  Eigen::Matrix3Xd Targets(const HandleTransforms& deformed_from_rest) const;
 
   // Polishes *vertices (3 by #V) in place. The handle and fixed vertices are
   // set to their targets exactly; the free ones iterate from where they are.
   // `cancel`, when given, is read before each iteration; once true the polish
   // stops and *vertices is left as given (report.cancelled).
-  PolishReport Polish(const Eigen::Affine3d& deformed_from_rest, Eigen::Matrix3Xd* vertices,
+  PolishReport Polish(const HandleTransforms& deformed_from_rest, Eigen::Matrix3Xd* vertices,
                       const std::atomic<bool>* cancel = nullptr);
 
  private:
@@ -94,14 +94,14 @@ class Polisher {
   PolishOptions options_;
   LocalGlobalArap arap_;
   std::vector<int> constrained_;   // sorted
-  std::vector<char> follows_handle_;  // per entry of constrained_: moveable (else fixed)
+  std::vector<int> handle_group_;  // per entry of constrained_: its handle group, -1 fixed
   bool ready_ = false;
 };
 
 // The one-off call: Setup on `rest` and `layout`, then Polish.
 // False with a message when Setup fails.
 bool PolishOnce(const Mesh& rest, const HandleLayout& layout,
-                const Eigen::Affine3d& deformed_from_rest, const PolishOptions& options,
+                const HandleTransforms& deformed_from_rest, const PolishOptions& options,
                 Eigen::Matrix3Xd* vertices, PolishReport* report, std::string* error);
 
 }  // namespace msdeform

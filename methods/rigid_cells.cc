@@ -175,14 +175,15 @@ bool RigidCells::DoSetHandles(const HandleLayout& layout, std::string* error) {
   const auto start = Clock::now();
   StageTimes layout_stages;
   if (!ValidateHandles(layout, mesh_.num_vertices(), error)) return false;
-  std::vector<int> fixed, driven;
-  if (!ParticlesOfVertices(lattice_, layout.fixed, &fixed, error) ||
-      !ParticlesOfVertices(lattice_, layout.moveable, &driven, error)) {
-    return false;
-  }
+  std::vector<int> fixed;
+  if (!ParticlesOfVertices(lattice_, layout.fixed, &fixed, error)) return false;
+  // Each handle group drives the cells of its vertices.
+  if (!HandleGroupOfParticles(lattice_, layout, &driven_group_, error)) return false;
   const int n = lattice_.num_particles();
   kind_.assign(n, Kind::kFree);
-  for (int p : driven) kind_[p] = Kind::kDriven;
+  for (int p = 0; p < n; ++p) {
+    if (driven_group_[p] >= 0) kind_[p] = Kind::kDriven;
+  }
   for (int p : fixed) kind_[p] = Kind::kFixed;  // a cell holding both stays at rest
   num_free_ = static_cast<int>(std::count(kind_.begin(), kind_.end(), Kind::kFree));
   if (std::count(kind_.begin(), kind_.end(), Kind::kDriven) == 0) {
@@ -191,7 +192,11 @@ bool RigidCells::DoSetHandles(const HandleLayout& layout, std::string* error) {
     return false;
   }
   vertex_kind_.assign(mesh_.num_vertices(), static_cast<char>(Kind::kFree));
-  for (int v : layout.moveable) vertex_kind_[v] = static_cast<char>(Kind::kDriven);
+  vertex_group_.assign(mesh_.num_vertices(), -1);
+  for (int i = 0; i < static_cast<int>(layout.moveable.size()); ++i) {
+    vertex_kind_[layout.moveable[i]] = static_cast<char>(Kind::kDriven);
+    vertex_group_[layout.moveable[i]] = layout.group_of(i);
+  }
   for (int v : layout.fixed) vertex_kind_[v] = static_cast<char>(Kind::kFixed);
   rotations_ = Eigen::Matrix4Xd::Zero(4, n);
   rotations_.row(3).setOnes();
@@ -232,18 +237,22 @@ bool RigidCells::DoSetHandles(const HandleLayout& layout, std::string* error) {
   return true;
 }
 
-bool RigidCells::DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* stats,
+bool RigidCells::DoDrag(const HandleTransforms& deformed_from_rest, MethodStats* stats,
                         std::string* error) {
   const auto frame_start = Clock::now();
   *stats = MethodStats();
   const Eigen::Matrix3Xd& rest = lattice_.rest_positions();
-  // The driven cells' rotation: the handle's, or for a handle that scales or
-  // shears, the rotation nearest its linear part (its polar factor).
-  const Eigen::Quaterniond handle_rotation(BestRotation(deformed_from_rest.linear()));
+  // The driven cells' rotation: their handle's, or for a handle that scales
+  // or shears, the rotation nearest its linear part (its polar factor).
+  std::vector<Eigen::Quaterniond> handle_rotation;
+  for (int g = 0; g < std::max(1, deformed_from_rest.size()); ++g) {
+    handle_rotation.emplace_back(BestRotation(deformed_from_rest[g].linear()));
+  }
   for (int k = 0; k < lattice_.num_particles(); ++k) {
     if (kind_[k] != Kind::kDriven) continue;
-    rotations_.col(k) = handle_rotation.coeffs();
-    positions_.col(k) = deformed_from_rest * rest.col(k);
+    const int g = driven_group_[k];
+    rotations_.col(k) = handle_rotation[deformed_from_rest.size() == 1 ? 0 : g].coeffs();
+    positions_.col(k) = deformed_from_rest[g] * rest.col(k);
   }
   ceres::Solver::Options solver = options_.solver;
   solver.num_threads = std::max(1, num_threads_);
@@ -275,7 +284,7 @@ bool RigidCells::DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* 
   return true;
 }
 
-void RigidCells::Interpolate(const Eigen::Affine3d& deformed_from_rest) {
+void RigidCells::Interpolate(const HandleTransforms& deformed_from_rest) {
   const int n = lattice_.num_particles();
   // Right-hand sides: each centre's displacement T_k(r_k) - r_k, then the
   // polynomial's zero rows (one and one an axis).
@@ -284,7 +293,8 @@ void RigidCells::Interpolate(const Eigen::Affine3d& deformed_from_rest) {
     const Eigen::Vector3d r = rbf_centres_.col(k);
     // A driven cell moves with the handle itself, which need not be rigid.
     const Eigen::Vector3d moved =
-        kind_[k] == Kind::kDriven ? Eigen::Vector3d(deformed_from_rest * r) : cell_transform(k) * r;
+        kind_[k] == Kind::kDriven ? Eigen::Vector3d(deformed_from_rest[driven_group_[k]] * r)
+                                  : cell_transform(k) * r;
     rhs.row(k) = (moved - r).transpose();
   }
   Eigen::MatrixXd coefficients = rbf_lu_.solve(rhs);
@@ -312,7 +322,9 @@ void RigidCells::Interpolate(const Eigen::Affine3d& deformed_from_rest) {
                      continue;
                    }
                    const Eigen::Vector3d target =
-                       kind == Kind::kFixed ? x0 : Eigen::Vector3d(deformed_from_rest * x0);
+                       kind == Kind::kFixed
+                           ? x0
+                           : Eigen::Vector3d(deformed_from_rest[vertex_group_[v]] * x0);
                    chunk_gap[chunk] = std::max(chunk_gap[chunk], (interpolated - target).norm());
                    deformed_vertices_.col(v) = target;
                  }

@@ -99,13 +99,13 @@ class RigidCells : public EditingMethod {
  protected:
   bool DoPrecompute(const Mesh& mesh, const MethodOptions& options, std::string* error) override;
   bool DoSetHandles(const HandleLayout& layout, std::string* error) override;
-  bool DoDrag(const Eigen::Affine3d& deformed_from_rest, MethodStats* stats,
+  bool DoDrag(const HandleTransforms& deformed_from_rest, MethodStats* stats,
               std::string* error) override;
 
  private:
   enum class Kind : char { kFree, kFixed, kDriven };
   // Solves the RBF system for the cells' displacements and moves the mesh.
-  void Interpolate(const Eigen::Affine3d& deformed_from_rest);
+  void Interpolate(const HandleTransforms& deformed_from_rest);
 
   RigidCellsOptions options_;
   int num_threads_ = 1;
@@ -122,6 +122,8 @@ class RigidCells : public EditingMethod {
   Eigen::MatrixXd rbf_matrix_;                   // the system, for one refinement step
   std::vector<Kind> kind_;                       // per cell
   std::vector<char> vertex_kind_;                // per vertex: Kind of its constraint
+  std::vector<int> vertex_group_;                // per vertex: its handle group, or -1
+  std::vector<int> driven_group_;                // per cell: the handle group driving it, or -1
   int num_free_ = 0;
   // Parameter blocks: quaternions 4 by #cells (x, y, z, w), positions 3 by #cells.
   Eigen::Matrix4Xd rotations_;

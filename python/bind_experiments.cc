@@ -199,15 +199,9 @@ std::unique_ptr<ExperimentScenario> ScenarioFromArrays(const py::object& vertice
   if (!ValidateHandles(scenario->layout, num_vertices, &error)) {
     ThrowValueError("status: " + error);
   }
-  const py::array transforms = py::array::ensure(path);
-  if (!transforms) PyErr_Clear();
-  if (transforms && transforms.ndim() == 3) {
-    for (py::ssize_t f = 0; f < transforms.shape(0); ++f) {
-      const std::string field = "path[" + std::to_string(f) + "]";
-      scenario->path.push_back(TransformFromArray(transforms[py::int_(f)], field.c_str()));
-    }
-  } else {
-    scenario->path.push_back(TransformFromArray(path, "path"));
+  const int num_groups = scenario->layout.num_groups();
+  if (!PathFromArray(path, "path", num_groups, &scenario->path)) {
+    scenario->path.push_back(FrameFromArray(path, "path", num_groups));
   }
   if (scenario->path.empty()) ThrowValueError("path: no transform");
   if (static_cast<int>(scenario->path.size()) > kMaxScenarioFrames) {
@@ -232,8 +226,9 @@ void BindScenario(py::module_& m) {
   c.def(py::init(&ScenarioFromArrays), py::arg("V"), py::arg("F"), py::arg("status"),
         py::arg("path"), py::arg("watch") = py::none(), py::arg("name") = "arrays",
         "A scenario from arrays, for run_deformer and run_cgal_arap: V (#V, 3), F (#F, 3), "
-        "status per vertex (0 fixed, 1 free, 2 handle), path the handle's transforms, one "
-        "(4, 4) or (frames, 4, 4) (msdeform.drag_path makes one), watch optional vertex ids "
+        "status per vertex (0 fixed, 1 free, 2 + g handle group g), path the handle's "
+        "transforms, one (4, 4) or (frames, 4, 4) (msdeform.drag_path makes one; with several "
+        "handle groups (groups, 4, 4) or (frames, groups, 4, 4)), watch optional vertex ids "
         "whose displacement is the leakage. Raises ValueError (the C++ message) for bad "
         "arrays or a layout without a handle vertex.");
   c.def_readonly("name", &ExperimentScenario::name, "The scenario's name.");
@@ -256,8 +251,8 @@ void BindScenario(py::module_& m) {
       [](const ExperimentScenario& s) {
         return StatusFromLayout(s.layout, s.mesh.num_vertices());
       },
-      "The handle layout as a per-vertex status array (0 fixed, 1 free, 2 handle), for "
-      "Method.set_handles.");
+      "The handle layout as a per-vertex status array (0 fixed, 1 free, 2 + g handle group "
+      "g), for Method.set_handles.");
   c.def_property_readonly(
       "fixed", [](const ExperimentScenario& s) { return IdsToArray(s.layout.fixed); },
       "The fixed vertex ids, sorted.");
@@ -272,8 +267,10 @@ void BindScenario(py::module_& m) {
       },
       "The watch region's vertex ids (leakage), or None when the scenario has none.");
   c.def_property_readonly(
-      "path", [](const ExperimentScenario& s) { return TransformsToArray(s.path); },
-      "The drag path, one 4x4 transform per frame, a (frames, 4, 4) array; the last is the "
+      "path",
+      [](const ExperimentScenario& s) { return HandlePathToArray(s.path, s.layout.num_groups()); },
+      "The drag path, one 4x4 transform per frame, a (frames, 4, 4) array; for a scenario with "
+      "several handles one a handle group, (frames, groups, 4, 4). The last frame is the "
       "target. Method.drag_along(scenario.path) drags it as the runner does.");
   c.def_property_readonly(
       "frames", [](const ExperimentScenario& s) { return static_cast<int>(s.path.size()); },

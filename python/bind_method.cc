@@ -117,18 +117,21 @@ void SetHandles(PyMethod& self, const py::object& status) {
     self.failed_frames.clear();
     self.is_polished = false;
     self.polisher_layout_set = false;
-    self.last_transform = Eigen::Affine3d::Identity();
+    self.last_transform = HandleTransforms();
     ok = self.method->SetHandles(layout, &error);
     if (ok) self.layout = std::move(layout);
   }
   if (!ok) ThrowValueError(error);
 }
 
-// The handle's rest centroid: the pivot of msdeform's --sel/--def drags.
-Eigen::Vector3d HandleCentroid(const PyMethod& self) {
+// The rest centroid of handle group g (every moveable vertex for -1): the
+// pivot of msdeform's --sel/--def drags and of a scenario handle's motion.
+Eigen::Vector3d HandleCentroid(const PyMethod& self, int g = -1) {
+  const std::vector<int> vertices =
+      g < 0 ? self.layout.moveable : HandleGroupVertices(self.layout, g);
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (int v : self.layout.moveable) centroid += self.rest.vertices.col(v);
-  return centroid / static_cast<double>(self.layout.moveable.size());
+  for (int v : vertices) centroid += self.rest.vertices.col(v);
+  return centroid / static_cast<double>(vertices.size());
 }
 
 // `frames` (None: 1) as a frame count in 1..kMaxScenarioFrames.
@@ -147,42 +150,44 @@ int FrameCount(const py::object& frames) {
   return count.cast<int>();
 }
 
-// A (frames, 4, 4) array as a path of transforms named `name`[f] in errors,
-// or null when `matrix` is not 3-D.
-bool PathFromArray(const py::object& matrix, const char* name,
-                   std::vector<Eigen::Affine3d>* path) {
-  const py::array array = py::array::ensure(matrix);
-  if (!array || array.ndim() != 3) return false;
-  for (py::ssize_t f = 0; f < array.shape(0); ++f) {
-    const std::string frame = std::string(name) + "[" + std::to_string(f) + "]";
-    path->push_back(TransformFromArray(array[py::int_(f)], frame.c_str()));
-  }
-  if (path->empty()) ThrowValueError(std::string(name) + ": no transform");
-  return true;
-}
-
-// drag_along's path (the lock held, a layout set): a (frames, 4, 4) array as
-// given (then `frames` must be None), or one transform M reached in `frames`
-// equal steps (None: 1) about the handle's rest centroid.
-std::vector<Eigen::Affine3d> DragAlongPathOf(const PyMethod& self, const py::object& matrix,
-                                             const py::object& frames) {
-  std::vector<Eigen::Affine3d> path;
-  if (PathFromArray(matrix, "path", &path)) {
+// drag_along's path (the lock held, a layout set): a path as given (then
+// `frames` must be None), or one frame M reached in `frames` equal steps
+// (None: 1), each handle group's transform about the group's rest centroid.
+std::vector<HandleTransforms> DragAlongPathOf(const PyMethod& self, const py::object& matrix,
+                                              const py::object& frames) {
+  const int num_groups = self.layout.num_groups();
+  std::vector<HandleTransforms> path;
+  if (PathFromArray(matrix, "path", num_groups, &path)) {
     if (!frames.is_none()) {
       ThrowValueError("frames: give either a path of transforms (frames, 4, 4) or one "
                       "transform and frames, not both");
     }
     return path;
   }
-  const Eigen::Affine3d transform = TransformFromArray(matrix, "M");
-  return InterpolateDragPath(transform, HandleCentroid(self), FrameCount(frames));
+  const HandleTransforms target = FrameFromArray(matrix, "M", num_groups);
+  const int count = FrameCount(frames);
+  if (target.size() == 1) {
+    const std::vector<Eigen::Affine3d> one =
+        InterpolateDragPath(target[0], HandleCentroid(self), count);
+    return std::vector<HandleTransforms>(one.begin(), one.end());
+  }
+  std::vector<std::vector<Eigen::Affine3d>> per_group;
+  for (int g = 0; g < num_groups; ++g) {
+    per_group.push_back(InterpolateDragPath(target[g], HandleCentroid(self, g), count));
+  }
+  for (int f = 0; f < count; ++f) {
+    std::vector<Eigen::Affine3d> transforms;
+    for (int g = 0; g < num_groups; ++g) transforms.push_back(per_group[g][f]);
+    path.emplace_back(std::move(transforms));
+  }
+  return path;
 }
 
 // The one drag loop of drag and drag_along: the C++ DragAlong (the loop of
 // the command line and the runner) with the GIL released; every successful
 // frame's statistics appended. Returns a copy of the deformed vertices.
 py::array_t<double> DragThrough(const py::object& self_object, PyMethod& self,
-                                const std::vector<Eigen::Affine3d>& path,
+                                const std::vector<HandleTransforms>& path,
                                 bool continue_after_failure) {
   DragAlongOptions options;
   options.continue_after_failure = continue_after_failure;
@@ -215,21 +220,48 @@ py::array_t<double> DragThrough(const py::object& self_object, PyMethod& self,
   return PositionsToArray(self.shown());
 }
 
-py::array_t<double> Drag(const py::object& self_object, const py::object& matrix) {
+// Handle-vertex targets within this fraction of the bounding-box diagonal of
+// each group's best rigid or affine map are taken as that map.
+constexpr double kTargetTolerance = 1e-9;
+
+py::array_t<double> Drag(const py::object& self_object, const py::object& matrix,
+                         const py::object& targets) {
   PyMethod& self = self_object.cast<PyMethod&>();
-  std::vector<Eigen::Affine3d> path;
+  std::vector<HandleTransforms> path;
+  int num_groups;
   {
     std::lock_guard<std::mutex> lock(self.mutex);
     self.RequireHandles();
+    num_groups = self.layout.num_groups();
   }
-  if (!PathFromArray(matrix, "M", &path)) path.push_back(TransformFromArray(matrix, "M"));
+  if (matrix.is_none() == targets.is_none()) {
+    ThrowTypeError("drag: give M (the handle transforms) or targets (the handle vertices' "
+                   "positions), one of the two");
+  }
+  if (!targets.is_none()) {
+    Eigen::Matrix3Xd positions;
+    {
+      std::lock_guard<std::mutex> lock(self.mutex);
+      positions = PositionsFromArray(targets, "targets");
+      HandleTransforms fitted;
+      std::string error;
+      const double tolerance = kTargetTolerance * BoundingBoxDiagonal(self.rest);
+      if (!HandleTransformsFromTargets(self.rest.vertices, self.layout, positions, tolerance,
+                                       &fitted, &error)) {
+        ThrowValueError("targets: " + error);
+      }
+      path.push_back(std::move(fitted));
+    }
+  } else if (!PathFromArray(matrix, "M", num_groups, &path)) {
+    path.push_back(FrameFromArray(matrix, "M", num_groups));
+  }
   return DragThrough(self_object, self, path, /*continue_after_failure=*/false);
 }
 
 py::array_t<double> DragAlongPath(const py::object& self_object, const py::object& matrix,
                                   const py::object& frames, bool continue_after_failure) {
   PyMethod& self = self_object.cast<PyMethod&>();
-  std::vector<Eigen::Affine3d> path;
+  std::vector<HandleTransforms> path;
   {
     std::lock_guard<std::mutex> lock(self.mutex);
     self.RequireHandles();
@@ -313,7 +345,10 @@ py::dict Polish(const py::object& self_object, const py::kwargs& kwargs) {
       Eigen::Matrix3Xd vertices = self.shown();
       report = self.polisher.Polish(self.last_transform, &vertices);
       report.setup_ms = setup_ms;
-      self.polished = std::move(vertices);
+      // Copied into the buffer a deformed_vertices view may point at (a move
+      // would hand that buffer to `vertices`, freed here, and leave the view
+      // dangling); it is allocated once, on the first polish.
+      self.polished = vertices;
       self.is_polished = true;
     }
   }
@@ -372,15 +407,23 @@ void BindDragging(py::class_<PyMethod>& c) {
         py::arg("options") = py::none(), ConstructorDoc().c_str());
   c.def("set_handles", &SetHandles, py::arg("status"),
         "Sets the handle layout from a per-vertex status array (0 fixed, 1 free, 2 handle; "
-        "length #V) or the path of a .sel file (for the multi-scale method: rigidity "
+        "length #V; 3, 4, ... give more handles that move independently: status 2 + g is "
+        "handle group g, numbered without gaps) or the path of a .sel file (for the multi-scale method: rigidity "
         "estimation, scale selection and node classes). Resets the deformation to the rest "
         "pose and the frame statistics. Raises ValueError for a bad array or layout (the C++ "
         "message, e.g. 'the moveable handle has no vertex') and OSError for a bad .sel file; "
         "after a failure, drag raises until a layout is set.");
-  c.def("drag", &Drag, py::arg("M"),
+  c.def("drag", &Drag, py::arg("M") = py::none(), py::kw_only(),
+        py::arg("targets") = py::none(),
         "Moves the handle to M @ (its rest positions) (M: 4x4 with last row 0 0 0 1, or 3x4) "
         "and deforms the mesh warm-started from the previous frame; or, for a (frames, 4, 4) "
-        "M, each transform in turn. Returns the deformed vertices as a new float64 (#V, 3) "
+        "M, each transform in turn. With several handle groups (set_handles' statuses 3, "
+        "4, ...), a 4x4 M moves them all, a (groups, 4, 4) M moves group g by M[g], and a "
+        "path is (frames, groups, 4, 4). targets= instead of M: a (#handle vertices, 3) array "
+        "of where the handle vertices go (in vertex order, as libigl's bc): each group "
+        "follows the rigid motion, or else the affine map, that reaches its targets to "
+        "within 1e-9 of the diagonal; targets that move a group otherwise raise ValueError "
+        "(give those parts their own groups). Returns the deformed vertices as a new float64 (#V, 3) "
         "array (as libigl returns one): the next drag or drag_along does not change it "
         "(deformed_vertices is the read-only view that follows the current frame). "
         "Raises RuntimeError before set_handles and when a frame fails ('frame F of N: ' and "
@@ -390,7 +433,8 @@ void BindDragging(py::class_<PyMethod>& c) {
         "Drags through a path with the C++ DragAlong, the loop of the msdeform command line and "
         "the experiment runner. M is either one transform, dragged to in `frames` equal steps "
         "(default 1) about the handle's rest centroid as msdeform --sel/--def --frames=N does "
-        "(drag_path), or a (frames, 4, 4) array of transforms (then frames must be None). "
+        "(drag_path; with several handle groups, one frame as drag takes it, each group about "
+        "its own centroid), or a path as drag takes one (then frames must be None). "
         "continue_after_failure: a failed intermediate frame keeps the last good pose and the "
         "drag goes on (the command line's behaviour); otherwise the first failure raises. "
         "Returns a new (#V, 3) array as drag() does; frame_stats gains every frame's statistics and "
@@ -417,7 +461,7 @@ void BindDragging(py::class_<PyMethod>& c) {
       [](PyMethod& self, const py::object& matrix, const py::object& frames) {
         std::lock_guard<std::mutex> lock(self.mutex);
         self.RequireHandles();
-        return TransformsToArray(DragAlongPathOf(self, matrix, frames));
+        return HandlePathToArray(DragAlongPathOf(self, matrix, frames), self.layout.num_groups());
       },
       py::arg("M"), py::arg("frames"),
       "The (frames, 4, 4) path drag_along(M, frames=frames) drags through.");
@@ -553,7 +597,8 @@ void BindMeshAndLattice(py::class_<PyMethod>& c) {
       Locked([](const py::object&, PyMethod& s) {
         return StatusFromLayout(s.layout, s.rest.num_vertices());
       }, true),
-      "The handle layout as a per-vertex status array (0 fixed, 1 free, 2 handle).");
+      "The handle layout as a per-vertex status array (0 fixed, 1 free, 2 + g handle group "
+      "g).");
   c.def_property_readonly(
       "handle_centroid",
       Locked([](const py::object&, PyMethod& s) {

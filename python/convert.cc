@@ -212,19 +212,33 @@ HandleLayout LayoutFromStatus(const py::handle& object, int num_vertices, const 
   }
   HandleLayout layout;
   const std::int64_t* data = status.data();
+  std::int64_t largest = 2;
   for (int v = 0; v < num_vertices; ++v) {
-    switch (data[v]) {
-      case 0:
-        layout.fixed.push_back(v);
-        break;
-      case 1:
-        break;
-      case 2:
-        layout.moveable.push_back(v);
-        break;
-      default:
-        ThrowValueError(std::string(name) + ": vertex " + std::to_string(v) + " has status " +
-                        std::to_string(data[v]) + "; expected 0 (fixed), 1 (free) or 2 (handle)");
+    const std::int64_t s = data[v];
+    if (s == 0) {
+      layout.fixed.push_back(v);
+    } else if (s >= 2 && s < 2 + kMaxHandleGroups) {
+      layout.moveable.push_back(v);
+      layout.group.push_back(static_cast<int>(s - 2));
+      largest = std::max(largest, s);
+    } else if (s != 1) {
+      ThrowValueError(std::string(name) + ": vertex " + std::to_string(v) + " has status " +
+                      std::to_string(s) + "; expected 0 (fixed), 1 (free) or 2.." +
+                      std::to_string(1 + kMaxHandleGroups) + " (handle group status - 2)");
+    }
+  }
+  if (largest == 2) {
+    layout.group.clear();  // one group
+  } else {
+    std::vector<char> used(largest - 1, 0);
+    for (int g : layout.group) used[g] = 1;
+    for (size_t g = 0; g < used.size(); ++g) {
+      if (!used[g]) {
+        ThrowValueError(std::string(name) + ": no vertex has status " + std::to_string(g + 2) +
+                        " (handle group " + std::to_string(g) + "), but " +
+                        std::to_string(largest) + " is used: number the groups 2, 3, ... "
+                        "without gaps");
+      }
     }
   }
   return layout;
@@ -245,7 +259,9 @@ py::array_t<int> IdsToArray(const std::vector<int>& ids) {
 py::array_t<int> StatusFromLayout(const HandleLayout& layout, int num_vertices) {
   std::vector<int> status(num_vertices, 1);
   for (int v : layout.fixed) status[v] = 0;
-  for (int v : layout.moveable) status[v] = 2;
+  for (int i = 0; i < static_cast<int>(layout.moveable.size()); ++i) {
+    status[layout.moveable[i]] = 2 + layout.group_of(i);
+  }
   return IdsToArray(status);
 }
 
@@ -261,6 +277,62 @@ py::array_t<double> TransformsToArray(const std::vector<Eigen::Affine3d>& transf
   for (size_t f = 0; f < transforms.size(); ++f) {
     for (int r = 0; r < 4; ++r) {
       for (int c = 0; c < 4; ++c) out(f, r, c) = transforms[f].matrix()(r, c);
+    }
+  }
+  return array;
+}
+
+// One frame's handle transforms named `name` in errors: a 4x4 (or 3x4) that
+// every handle group follows, or, for a layout of G > 1 groups, a (G, 4, 4)
+// array, one a group.
+HandleTransforms FrameFromArray(const py::handle& matrix, const char* name, int num_groups) {
+  const py::array array = py::array::ensure(matrix);
+  if (num_groups > 1 && array && array.ndim() == 3) {
+    if (array.shape(0) != num_groups) {
+      ThrowValueError(std::string(name) + ": " + std::to_string(array.shape(0)) +
+                      " transforms for a layout of " + std::to_string(num_groups) +
+                      " handle groups (give one 4x4, or one a group)");
+    }
+    std::vector<Eigen::Affine3d> transforms;
+    for (int g = 0; g < num_groups; ++g) {
+      const std::string at = std::string(name) + "[" + std::to_string(g) + "]";
+      transforms.push_back(TransformFromArray(array[py::int_(g)], at.c_str()));
+    }
+    return HandleTransforms(std::move(transforms));
+  }
+  return TransformFromArray(matrix, name);
+}
+
+// A path: frames stacked on a first axis, (frames, 4, 4) for a layout of one
+// handle group, (frames, G, 4, 4) for G > 1; frame f named `name`[f] in
+// errors. False (nothing read) when `matrix` is one frame.
+bool PathFromArray(const py::object& matrix, const char* name, int num_groups,
+                   std::vector<HandleTransforms>* path) {
+  const py::array array = py::array::ensure(matrix);
+  if (!array || array.ndim() != (num_groups > 1 ? 4 : 3)) return false;
+  for (py::ssize_t f = 0; f < array.shape(0); ++f) {
+    const std::string frame = std::string(name) + "[" + std::to_string(f) + "]";
+    path->push_back(FrameFromArray(array[py::int_(f)], frame.c_str(), num_groups));
+  }
+  if (path->empty()) ThrowValueError(std::string(name) + ": no transform");
+  return true;
+}
+
+py::array_t<double> HandlePathToArray(const std::vector<HandleTransforms>& path,
+                                      int num_groups) {
+  if (num_groups == 1) {
+    std::vector<Eigen::Affine3d> transforms;
+    for (const HandleTransforms& frame : path) transforms.push_back(frame[0]);
+    return TransformsToArray(transforms);
+  }
+  py::array_t<double> array({static_cast<py::ssize_t>(path.size()),
+                             static_cast<py::ssize_t>(num_groups), py::ssize_t{4}, py::ssize_t{4}});
+  auto out = array.mutable_unchecked<4>();
+  for (size_t f = 0; f < path.size(); ++f) {
+    for (int g = 0; g < num_groups; ++g) {
+      for (int r = 0; r < 4; ++r) {
+        for (int c = 0; c < 4; ++c) out(f, g, r, c) = path[f][g].matrix()(r, c);
+      }
     }
   }
   return array;

@@ -35,8 +35,8 @@ struct PyMethod {
   std::vector<MethodStats> frames;  // every successful frame since set_handles
   std::vector<int> failed_frames;   // of the last drag or drag_along, 1-based
   Eigen::Matrix3Xd normals;  // deformed_normals of a method that is not a graph
-  // The last successful frame's handle transform (identity after set_handles).
-  Eigen::Affine3d last_transform = Eigen::Affine3d::Identity();
+  // The last successful frame's handle transforms (identity after set_handles).
+  HandleTransforms last_transform;
   // polish(): set up on the first call for a layout (polisher_layout_set);
   // `polished` replaces the method's frame as the deformed vertices until the
   // next drag or set_handles (`is_polished`).

@@ -229,10 +229,12 @@ void HandleSetup::BuildEnergy() {
     }
   }
 
-  // E_con: the moveable handle follows its target; the fixed handles are held
-  // at rest (static baselines: all; multi-scale: see below).
+  // E_con: each moveable handle vertex follows its group's target; the fixed
+  // handles are held at rest (handle_group -1; static baselines: all;
+  // multi-scale: see below).
   const double sqrt_con = std::sqrt(options.w_con) * length_scale;
-  auto add_position = [&](int v, bool follows_handle) {
+  energy_.num_handle_groups = handles_.num_groups();
+  auto add_position = [&](int v, int handle_group) {
     DeformationEnergy::Position term;
     for (int slot = 0; slot < graph.weights.k(); ++slot) {
       const double weight = graph.weights.weight(slot, v);
@@ -243,11 +245,13 @@ void HandleSetup::BuildEnergy() {
                             graph.positions.col(j)});
     }
     term.rest = mesh.vertices.col(v);
-    term.follows_handle = follows_handle;
+    term.handle_group = handle_group;
     term.sqrt_weight = sqrt_con;
     energy_.positions.push_back(std::move(term));
   };
-  for (int v : handles_.moveable) add_position(v, true);
+  for (int i = 0; i < static_cast<int>(handles_.moveable.size()); ++i) {
+    add_position(handles_.moveable[i], handles_.group_of(i));
+  }
   num_position_terms_ = static_cast<int>(handles_.moveable.size());
   // A still component's fixed vertices stay at rest without a term (they are
   // not skinned); a term would only pull on a node shared with a moving
@@ -255,11 +259,11 @@ void HandleSetup::BuildEnergy() {
   // has a non-Fixed node (a Half Free rotation or a Totally Free neighbour
   // would carry it along); elsewhere it stays at rest exactly.
   if (multiscale && options.hold_fixed_vertices) {
-    for (int v : FixedVerticesWithAFreeNode()) add_position(v, false);
+    for (int v : FixedVerticesWithAFreeNode()) add_position(v, -1);
   } else if (!multiscale) {
     for (int v : handles_.fixed) {
       if (!still_vertices_.empty() && still_vertices_[v]) continue;
-      add_position(v, false);
+      add_position(v, -1);
     }
   }
 

@@ -139,6 +139,31 @@ bool ParticlesOfVertices(const Lattice& lattice, const std::vector<int>& vertice
   return true;
 }
 
+bool HandleGroupOfParticles(const Lattice& lattice, const HandleLayout& layout,
+                            std::vector<int>* group_of_particle, std::string* error) {
+  group_of_particle->assign(lattice.num_particles(), -1);
+  const int num_vertices = static_cast<int>(lattice.particle_of_vertex().size());
+  for (int i = 0; i < static_cast<int>(layout.moveable.size()); ++i) {
+    const int v = layout.moveable[i];
+    if (v < 0 || v >= num_vertices) {
+      *error = "vertex id " + std::to_string(v) + " is out of range [0, " +
+               std::to_string(num_vertices) + ")";
+      return false;
+    }
+    const int g = layout.group_of(i);
+    int& group = (*group_of_particle)[lattice.particle_of_vertex(v)];
+    if (group >= 0 && group != g) {
+      *error = "a lattice cell holds vertices of handle groups " + std::to_string(group) +
+               " and " + std::to_string(g) +
+               " (vertex " + std::to_string(v) +
+               "): a cell follows one handle; separate the handles or refine the lattice";
+      return false;
+    }
+    group = g;
+  }
+  return true;
+}
+
 bool RigidityEstimator::Init(const Lattice& lattice, const RigidityOptions& options,
                              std::string* error, int num_threads) {
   if (!options.Check(error)) return false;

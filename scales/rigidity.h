@@ -50,6 +50,7 @@
 #include <Eigen/Geometry>
 
 #include "msdeform/core/option_table.h"
+#include "msdeform/core/handles.h"
 #include "msdeform/core/lattice.h"
 
 namespace msdeform {
@@ -173,6 +174,13 @@ struct RigidityEstimate {
 // a vertex of the mesh the lattice was built from.
 bool ParticlesOfVertices(const Lattice& lattice, const std::vector<int>& vertices,
                          std::vector<int>* particles, std::string* error);
+
+// Per particle: the handle group (core/handles.h) of the moveable vertices its
+// surface cell holds, or -1 for none: the cells a lattice method drives with
+// that group's transform. False with a message naming both groups when a
+// cell holds vertices of two (it cannot follow both), or on a bad vertex id.
+bool HandleGroupOfParticles(const Lattice& lattice, const HandleLayout& layout,
+                            std::vector<int>* group_of_particle, std::string* error);
 
 // Precomputes the regions and rest data of one lattice, then estimates
 // rigidity for any number of handle layouts. Not thread-safe (scratch buffers).

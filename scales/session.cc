@@ -41,11 +41,11 @@ std::unique_ptr<Session> Session::Create(std::shared_ptr<const HandleSetup> setu
   return session;
 }
 
-bool Session::Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats,
+bool Session::Drag(const HandleTransforms& deformed_from_rest, DragStats* stats,
                    std::string* error) {
   const auto frame_start = std::chrono::steady_clock::now();
-  if (!deformed_from_rest.matrix().allFinite()) {
-    *error = "the handle transform is not finite";
+  if (!deformed_from_rest.CheckFinite(error) ||
+      !deformed_from_rest.Fits(setup_->handles(), error)) {
     return false;
   }
   const Precompute& pre = setup_->precompute();
@@ -106,8 +106,10 @@ bool Session::Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats,
   // The vertices a term family places exactly (the subspace ARAP energy's
   // exact constraints: constants outside the subspace).
   for (const std::shared_ptr<const TermFamily>& family : setup_->energy().families) {
-    for (int v : family->exact_moveable())
-      deformed_vertices_.col(v) = deformed_from_rest * Eigen::Vector3d(pre.mesh().vertices.col(v));
+    for (int v : family->exact_moveable()) {
+      deformed_vertices_.col(v) = deformed_from_rest[setup_->handles().GroupOfVertex(v)] *
+                                  Eigen::Vector3d(pre.mesh().vertices.col(v));
+    }
     for (int v : family->exact_fixed()) deformed_vertices_.col(v) = pre.mesh().vertices.col(v);
   }
   normals_stale_ = true;
@@ -132,8 +134,9 @@ const Eigen::Matrix3Xd& Session::deformed_normals() const {
     // normals are the handle's transform of the rest normal (its inverse
     // transpose) and the rest normal.
     for (const std::shared_ptr<const TermFamily>& family : setup_->energy().families) {
-      const Eigen::Matrix3d normal_transform = handle_.linear().inverse().transpose();
       for (int v : family->exact_moveable()) {
+        const Eigen::Matrix3d normal_transform =
+            handle_[setup_->handles().GroupOfVertex(v)].linear().inverse().transpose();
         const Eigen::Vector3d n = normal_transform * Eigen::Vector3d(pre.rest_normals().col(v));
         const double length = n.norm();
         deformed_normals_.col(v) =

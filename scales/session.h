@@ -43,11 +43,11 @@ class Session {
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
 
-  // Moves the moveable handle to deformed_from_rest * (its rest position),
-  // solves warm-started from the previous frame and skins the mesh (only
+  // Moves each handle group g to deformed_from_rest[g] * (its rest
+  // positions), solves warm-started from the previous frame and skins the mesh (only
   // HandleSetup::skinned_vertices; the others stay at rest). A failed solve keeps
   // the last good transforms and returns false with a message.
-  bool Drag(const Eigen::Affine3d& deformed_from_rest, DragStats* stats, std::string* error);
+  bool Drag(const HandleTransforms& deformed_from_rest, DragStats* stats, std::string* error);
 
   const HandleSetup& setup() const { return *setup_; }
   const NodeTransforms& transforms() const { return transforms_; }
@@ -67,7 +67,7 @@ class Session {
   std::unique_ptr<FrameSolver> solver_;
   NodeTransforms transforms_;
   NodeTransforms previous_transforms_;  // the frame before, for kExtrapolated
-  Eigen::Affine3d handle_ = Eigen::Affine3d::Identity();  // the last Drag's
+  HandleTransforms handle_;  // the last Drag's
   int frames_ = 0;
   Eigen::Matrix3Xd deformed_vertices_;
   mutable Eigen::Matrix3Xd deformed_normals_;  // empty until first skinned

@@ -198,7 +198,10 @@ std::vector<std::pair<int, int>> ClassifyVertices(const SubspaceArapInput& input
   const std::vector<NodeClass>& node_class = *input.node_class;
   const int num_vertices = input.mesh->num_vertices();
   const int n = input.graph->num_nodes();
-  const int handle_node = n, rest_node = n + 1;
+  const HandleLayout& handles = *input.handles;
+  const int num_groups = handles.num_groups();
+  const int rest_node = n + num_groups;
+  if (num_groups > 1) data->vertex_handle_group.assign(num_vertices, -1);
   const bool exact = options.constraints == ArapConstraints::kExact;
   const std::vector<char>& still = *input.still_vertices;
   auto is_still = [&still](int v) { return !still.empty() && still[v]; };
@@ -214,8 +217,11 @@ std::vector<std::pair<int, int>> ClassifyVertices(const SubspaceArapInput& input
     }
   }
   std::vector<std::pair<int, int>> soft_terms;
-  for (int v : input.handles->moveable) {
+  for (int i = 0; i < static_cast<int>(handles.moveable.size()); ++i) {
+    const int v = handles.moveable[i];
     if (is_still(v)) continue;
+    const int handle_node = n + handles.group_of(i);
+    if (num_groups > 1) data->vertex_handle_group[v] = handles.group_of(i);
     if (exact) {
       data->kind[v] = VertexKind::kHandle;
       data->exact_moveable.push_back(v);
@@ -375,11 +381,12 @@ std::vector<ClusterChunk> AccumulateClusterChunks(const Mesh& mesh,
   data->covariance.assign(data->num_clusters(), Eigen::Matrix3d::Zero());
   constexpr int kChunks = 16;
   const int num_clusters = data->num_clusters();
-  std::vector<ClusterChunk> chunks(kChunks, ClusterChunk(n + 2));
+  const int num_pseudo = n + data->num_handle_groups + 1;
+  std::vector<ClusterChunk> chunks(kChunks, ClusterChunk(num_pseudo));
 #pragma omp parallel for schedule(dynamic) num_threads(std::max(1, num_threads))
   for (int chunk_index = 0; chunk_index < kChunks; ++chunk_index) {
     ClusterChunk& chunk = chunks[chunk_index];
-    std::vector<int> local_of_node(n + 2, -1);
+    std::vector<int> local_of_node(num_pseudo, -1);
     std::vector<int> local_nodes;
     std::vector<Eigen::Matrix<double, 3, 4>> local_k;
     SparseBasis ci;
@@ -459,9 +466,9 @@ BlockAccumulator InactiveAndSoftTerms(const Mesh& mesh, const FlatBases& bases,
                                       const std::vector<char>& active,
                                       const std::vector<std::pair<int, int>>& soft_terms,
                                       const Eigen::Vector3d& origin, const ArapOptions& options,
-                                      int num_nodes) {
+                                      int num_pseudo_nodes) {
   const int num_vertices = mesh.num_vertices();
-  BlockAccumulator q(num_nodes + 2);
+  BlockAccumulator q(num_pseudo_nodes);
   for (int v = 0; v < num_vertices; ++v) {
     if (omega[v] == 0.0 || active[v]) continue;
     q.AddOuter(bases.of(v), bases.of(v), omega[v]);
@@ -532,6 +539,7 @@ std::shared_ptr<const SubspaceArap> BuildSubspaceArap(const SubspaceArapInput& i
   SubspaceArapData data;
   data.options = options;
   data.num_nodes = n;
+  data.num_handle_groups = input.handles->num_groups();
   data.length_unit = input.length_unit;
   data.owner = input.owner;
   data.mesh = input.mesh;
@@ -566,7 +574,8 @@ std::shared_ptr<const SubspaceArap> BuildSubspaceArap(const SubspaceArapInput& i
       AccumulateClusterChunks(mesh, adjacency, cot, bases, omega, input.num_threads, &data);
   MergeKAndConstant(chunks, &data);
   AssembleQ(chunks,
-            InactiveAndSoftTerms(mesh, bases, omega, active, soft_terms, origin, options, n),
+            InactiveAndSoftTerms(mesh, bases, omega, active, soft_terms, origin, options,
+                                 n + data.num_handle_groups + 1),
             &data);
   SplitQByVariables(&data);
   return std::make_shared<const SubspaceArap>(std::move(data));

@@ -45,13 +45,13 @@ bool ArapLocalGlobalSolver::Setup(const DeformationEnergy& energy,
   return true;
 }
 
-SolveSummary ArapLocalGlobalSolver::Solve(const Eigen::Affine3d& handle,
+SolveSummary ArapLocalGlobalSolver::Solve(const HandleTransforms& handles,
                                           NodeTransforms* transforms) {
   const auto start = std::chrono::steady_clock::now();
   SolveSummary summary;
   SubspaceArap::Slots u, v, rhs, next;
   SubspaceArap::Rotations rotations;
-  arap_->Gather(*transforms, handle, &u);
+  arap_->Gather(*transforms, handles, &u);
   double energy = arap_->EnergyFromTrace(u, arap_->FitRotations(u, &rotations));
   summary.initial_cost = energy;
   summary.trace.push_back({0.0, energy});
@@ -184,10 +184,10 @@ bool ArapLocalGlobalSolver::Accelerate(const SubspaceArap::Slots& v,
   return true;
 }
 
-double ArapLocalGlobalSolver::Cost(const Eigen::Affine3d& handle,
+double ArapLocalGlobalSolver::Cost(const HandleTransforms& handles,
                                    const NodeTransforms& transforms) {
   SubspaceArap::Slots u;
-  arap_->Gather(transforms, handle, &u);
+  arap_->Gather(transforms, handles, &u);
   return arap_->Cost(u);
 }
 

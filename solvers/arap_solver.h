@@ -93,8 +93,8 @@ class ArapLocalGlobalSolver : public FrameSolver {
   // and no other terms.
   bool Setup(const DeformationEnergy& energy, const NodeTransforms& transforms,
              std::string* error) override;
-  SolveSummary Solve(const Eigen::Affine3d& handle, NodeTransforms* transforms) override;
-  double Cost(const Eigen::Affine3d& handle, const NodeTransforms& transforms) override;
+  SolveSummary Solve(const HandleTransforms& handles, NodeTransforms* transforms) override;
+  double Cost(const HandleTransforms& handles, const NodeTransforms& transforms) override;
   int num_variables() const override { return arap_ ? arap_->num_variables() : 0; }
 
  private:
@@ -134,8 +134,8 @@ class ArapGaussNewtonSolver : public FrameSolver {
   // As ArapLocalGlobalSolver::Setup.
   bool Setup(const DeformationEnergy& energy, const NodeTransforms& transforms,
              std::string* error) override;
-  SolveSummary Solve(const Eigen::Affine3d& handle, NodeTransforms* transforms) override;
-  double Cost(const Eigen::Affine3d& handle, const NodeTransforms& transforms) override;
+  SolveSummary Solve(const HandleTransforms& handles, NodeTransforms* transforms) override;
+  double Cost(const HandleTransforms& handles, const NodeTransforms& transforms) override;
   int num_variables() const override { return arap_ ? arap_->num_variables() : 0; }
 
  private:

@@ -200,10 +200,10 @@ void ArapGaussNewtonSolver::Assemble(const SubspaceArap::Slots& u,
 // (2 unit^2 E); the cost and the gradient in the energy's.
 class ArapGaussNewtonSolver::Frame : public DampedGaussNewtonProblem {
  public:
-  Frame(ArapGaussNewtonSolver* solver, const Eigen::Affine3d& handle,
+  Frame(ArapGaussNewtonSolver* solver, const HandleTransforms& handles,
         const NodeTransforms& transforms)
       : solver_(*solver), arap_(*solver->arap_) {
-    arap_.Gather(transforms, handle, &u_);
+    arap_.Gather(transforms, handles, &u_);
     energy_ = arap_.EnergyFromTrace(u_, arap_.FitRotations(u_, &rotations_));
     arap_.Variables(u_, &v_);
     if (std::isfinite(energy_)) Linearize();
@@ -285,10 +285,10 @@ class ArapGaussNewtonSolver::Frame : public DampedGaussNewtonProblem {
   Eigen::VectorXd gradient_, rhs_;
 };
 
-SolveSummary ArapGaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
+SolveSummary ArapGaussNewtonSolver::Solve(const HandleTransforms& handles,
                                           NodeTransforms* transforms) {
   const auto start = std::chrono::steady_clock::now();
-  Frame frame(this, handle, *transforms);
+  Frame frame(this, handles, *transforms);
   SolveSummary summary;
   summary.initial_cost = frame.cost();
   summary.trace.push_back({0.0, frame.cost()});
@@ -304,10 +304,10 @@ SolveSummary ArapGaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
   return summary;
 }
 
-double ArapGaussNewtonSolver::Cost(const Eigen::Affine3d& handle,
+double ArapGaussNewtonSolver::Cost(const HandleTransforms& handles,
                                    const NodeTransforms& transforms) {
   SubspaceArap::Slots u;
-  arap_->Gather(transforms, handle, &u);
+  arap_->Gather(transforms, handles, &u);
   return arap_->Cost(u);
 }
 

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <map>
+#include <utility>
 
 #include <ceres/problem.h>
 #include <ceres/solver.h>
@@ -150,9 +151,11 @@ struct CeresSolver::Impl {
     PositionCostAnalytic* cost;  // owned by problem (analytic), or
     PositionCost* functor;       // owned by its autodiff cost function
     Eigen::Vector3d rest;
+    int handle_group;
   };
-  std::vector<PositionTerm> position_costs;      // ungrouped
-  std::vector<PositionGroupCost*> position_groups;  // grouped, owned by problem
+  std::vector<PositionTerm> position_costs;  // ungrouped
+  // Grouped (the cost owned by problem) and the handle group each follows.
+  std::vector<std::pair<PositionGroupCost*, int>> position_groups;
   // The blocks of the families with their own structure (solvers/term_family.h).
   std::vector<std::unique_ptr<CeresFamilyBlocks>> families;
 };
@@ -252,16 +255,19 @@ bool CeresSolver::Setup(const DeformationEnergy& energy, const NodeTransforms& t
         cost = analytic = new PositionCostAnalytic(term.terms, term.rest, term.sqrt_weight);
       }
       problem.AddResidualBlock(cost, nullptr, blocks);
-      if (term.follows_handle) impl.position_costs.push_back({analytic, functor, term.rest});
+      if (term.follows_handle()) {
+        impl.position_costs.push_back({analytic, functor, term.rest, term.handle_group});
+      }
     }
     return true;
   }
-  // Handle vertices with the same nodes (and the same kind of target) become
+  // Handle vertices with the same nodes (and the same handle group, or held
+  // at rest) become
   // one PositionGroupCost; a vertex's terms are put in node-id order.
   std::map<std::vector<int>, int> group_of_key;
   struct Group {
     std::vector<int> nodes;
-    bool follows_handle;
+    int handle_group;
     double sqrt_weight;
     std::vector<std::vector<SkinningTerm>> terms;
     std::vector<Eigen::Vector3d> rest;
@@ -272,7 +278,7 @@ bool CeresSolver::Setup(const DeformationEnergy& energy, const NodeTransforms& t
     for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
     std::sort(order.begin(), order.end(),
               [&](int a, int b) { return term.nodes[a] < term.nodes[b]; });
-    std::vector<int> key = {term.follows_handle ? 1 : 0};
+    std::vector<int> key = {term.handle_group};
     std::vector<SkinningTerm> terms;
     for (int i : order) {
       key.push_back(term.nodes[i]);
@@ -280,7 +286,7 @@ bool CeresSolver::Setup(const DeformationEnergy& energy, const NodeTransforms& t
     }
     auto [it, inserted] = group_of_key.emplace(key, static_cast<int>(groups.size()));
     if (inserted) {
-      groups.push_back({std::vector<int>(key.begin() + 1, key.end()), term.follows_handle,
+      groups.push_back({std::vector<int>(key.begin() + 1, key.end()), term.handle_group,
                         term.sqrt_weight, {}, {}});
     }
     CHECK_EQ(groups[it->second].sqrt_weight, term.sqrt_weight);
@@ -295,50 +301,51 @@ bool CeresSolver::Setup(const DeformationEnergy& energy, const NodeTransforms& t
       blocks.push_back(translation(j));
     }
     auto* cost =
-        new PositionGroupCost(group.terms, group.rest, group.follows_handle, group.sqrt_weight);
+        new PositionGroupCost(group.terms, group.rest, group.handle_group >= 0, group.sqrt_weight);
     problem.AddResidualBlock(cost, nullptr, blocks);
-    impl.position_groups.push_back(cost);
+    impl.position_groups.push_back({cost, std::max(0, group.handle_group)});
   }
   return true;
 }
 
-// Moves the handle targets to `handle`; returns what the grouped position
+// Moves the handle targets to `handles`; returns what the grouped position
 // blocks leave out of Ceres's cost.
-double CeresSolver::SetHandle(const Eigen::Affine3d& handle) {
+double CeresSolver::SetHandles(const HandleTransforms& handles) {
   Impl& impl = *impl_;
   for (Impl::PositionTerm& term : impl.position_costs) {
-    if (term.cost != nullptr) term.cost->set_target(handle * term.rest);
-    if (term.functor != nullptr) term.functor->target = handle * term.rest;
+    const Eigen::Vector3d target = handles[term.handle_group] * term.rest;
+    if (term.cost != nullptr) term.cost->set_target(target);
+    if (term.functor != nullptr) term.functor->target = target;
   }
   double constant_cost = 0.0;
-  for (PositionGroupCost* group : impl.position_groups) {
-    group->SetHandle(handle);
+  for (const auto& [group, handle_group] : impl.position_groups) {
+    group->SetHandle(handles[handle_group]);
     constant_cost += group->ConstantCost();
   }
   return constant_cost;
 }
 
-double CeresSolver::Cost(const Eigen::Affine3d& handle, const NodeTransforms& transforms) {
+double CeresSolver::Cost(const HandleTransforms& handles, const NodeTransforms& transforms) {
   CHECK(impl_ != nullptr) << "Setup first";
   Impl& impl = *impl_;
   CHECK_EQ(transforms.num_nodes(), impl.parameters.num_nodes());
   impl.parameters.rotations = transforms.rotations;
   impl.parameters.translations = transforms.translations;
-  const double constant_cost = SetHandle(handle);
-  for (auto& family : impl.families) family->SetFrame(handle, impl.parameters);
+  const double constant_cost = SetHandles(handles);
+  for (auto& family : impl.families) family->SetFrame(handles, impl.parameters);
   double cost = 0.0;
   impl.problem->Evaluate(ceres::Problem::EvaluateOptions(), &cost, nullptr, nullptr, nullptr);
   return cost + constant_cost;
 }
 
-SolveSummary CeresSolver::Solve(const Eigen::Affine3d& handle, NodeTransforms* transforms) {
+SolveSummary CeresSolver::Solve(const HandleTransforms& handles, NodeTransforms* transforms) {
   CHECK(impl_ != nullptr) << "Setup first";
   Impl& impl = *impl_;
   CHECK_EQ(transforms->num_nodes(), impl.parameters.num_nodes());
   impl.parameters.rotations = transforms->rotations;
   impl.parameters.translations = transforms->translations;
-  const double constant_cost = SetHandle(handle);
-  for (auto& family : impl.families) family->SetFrame(handle, impl.parameters);
+  const double constant_cost = SetHandles(handles);
+  for (auto& family : impl.families) family->SetFrame(handles, impl.parameters);
   ceres::Solver::Summary ceres_summary;
   ceres::Solve(impl.solver, impl.problem.get(), &ceres_summary);
   VLOG(1) << ceres_summary.FullReport();  // msdeform --verbose --v=1

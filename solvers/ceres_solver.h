@@ -74,12 +74,12 @@ class CeresSolver : public FrameSolver {
 
   bool Setup(const DeformationEnergy& energy, const NodeTransforms& transforms,
              std::string* error) override;
-  SolveSummary Solve(const Eigen::Affine3d& handle, NodeTransforms* transforms) override;
-  double Cost(const Eigen::Affine3d& handle, const NodeTransforms& transforms) override;
+  SolveSummary Solve(const HandleTransforms& handles, NodeTransforms* transforms) override;
+  double Cost(const HandleTransforms& handles, const NodeTransforms& transforms) override;
   int num_variables() const override { return num_variables_; }
 
  private:
-  double SetHandle(const Eigen::Affine3d& handle);
+  double SetHandles(const HandleTransforms& handles);
 
   struct Impl;
   std::unique_ptr<Impl> impl_;

@@ -166,9 +166,9 @@ CeresArapProblem::CeresArapProblem(std::shared_ptr<const SubspaceArap> arap,
   if (!manifold_used) delete manifold_owner;
 }
 
-void CeresArapProblem::SetFrame(const Eigen::Affine3d& handle, const NodeTransforms& parameters) {
+void CeresArapProblem::SetFrame(const HandleTransforms& handles, const NodeTransforms& parameters) {
   SubspaceArap::Slots u;
-  arap_->Gather(parameters, handle, &u);
+  arap_->Gather(parameters, handles, &u);
   const int h = 4 * arap_->num_nodes();
   for (int m = 0; m < 4; ++m) handle_.segment<3>(3 * m) = u.row(h + m).transpose();
   SubspaceArap::Rotations fitted;

@@ -36,7 +36,7 @@ class CeresArapProblem {
 
   // Before a solve or an evaluation at `parameters`: the handle block and
   // each cluster's rotation at its best fit.
-  void SetFrame(const Eigen::Affine3d& handle, const NodeTransforms& parameters);
+  void SetFrame(const HandleTransforms& handles, const NodeTransforms& parameters);
 
   int num_clusters() const { return static_cast<int>(rotations_.size()); }
 

@@ -47,7 +47,7 @@ std::vector<DeformationEnergy::Gauge> GaugeTerms(const DeformationEnergy& energy
 }
 
 double EvaluateEnergy(const DeformationEnergy& energy, const NodeTransforms& transforms,
-                      const Eigen::Affine3d& handle) {
+                      const HandleTransforms& handles) {
   double sum = 0.0;
   for (int j : energy.rot_nodes) {
     double r[6];
@@ -71,7 +71,7 @@ double EvaluateEnergy(const DeformationEnergy& energy, const NodeTransforms& tra
       parameters.push_back(transforms.translations.col(j).data());
     }
     const Eigen::Vector3d target =
-        term.follows_handle ? Eigen::Vector3d(handle * term.rest) : term.rest;
+        term.follows_handle() ? Eigen::Vector3d(handles[term.handle_group] * term.rest) : term.rest;
     Eigen::Vector3d r;
     PositionCost(term.terms, target, term.sqrt_weight)(parameters.data(), r.data());
     sum += r.squaredNorm();
@@ -84,7 +84,7 @@ double EvaluateEnergy(const DeformationEnergy& energy, const NodeTransforms& tra
   double extra = 0.0;
   for (const EnergyTerm& term : energy.terms) extra += EnergyTermCost(term, transforms);
   for (const std::shared_ptr<const TermFamily>& family : energy.families) {
-    extra += family->Cost(transforms, handle);
+    extra += family->Cost(transforms, handles);
   }
   return 0.5 * sum + extra;
 }

@@ -26,6 +26,7 @@
 #include <Eigen/Geometry>
 
 #include "msdeform/core/deformation_graph.h"
+#include "msdeform/core/handles.h"
 #include "msdeform/energies/energy_term.h"
 #include "msdeform/energies/position_cost.h"
 #include "msdeform/solvers/node_class.h"
@@ -50,16 +51,20 @@ struct DeformationEnergy {
   };
   std::vector<Coherence> coherence;
   // Position (Eq. 16): sqrt_weight * (sum_i w_i [R_i o_i + g_i + t_i] - q),
-  // q = handle * rest when follows_handle, else q = rest (fixed vertices held
-  // at rest). Nodes distinct, zero weights dropped.
+  // q = handles[handle_group] * rest for a handle vertex, q = rest when
+  // handle_group is -1 (fixed vertices held at rest). Nodes distinct, zero
+  // weights dropped.
   struct Position {
     std::vector<int> nodes;
     std::vector<SkinningTerm> terms;
     Eigen::Vector3d rest;
-    bool follows_handle;
+    int handle_group;  // -1: held at rest
     double sqrt_weight;
+    bool follows_handle() const { return handle_group >= 0; }
   };
   std::vector<Position> positions;
+  // The layout's handle groups (core/handles.h): handle_group < this.
+  int num_handle_groups = 1;
   // Gauge fixing (energies/gauge_cost.h, docs/decisions/gauge-freedom.md):
   //   sqrt_weight * axis^T omega(R_node),  omega(R) = 1/2 (R32 - R23, R13 - R31, R21 - R12),
   // one per unit axis along which Eq. 17 leaves R_node free (GaugeTerms).
@@ -102,11 +107,11 @@ struct DeformationEnergy {
 std::vector<DeformationEnergy::Gauge> GaugeTerms(const DeformationEnergy& energy);
 
 // 1/2 sum of squared residuals of `energy` at `transforms` with the handle at
-// `handle` (deformed_from_rest), evaluated term by term through the functors
+// `handles` (deformed_from_rest a handle group), evaluated term by term through the functors
 // of energies/ (the reference every backend's reported cost is tested
 // against).
 double EvaluateEnergy(const DeformationEnergy& energy, const NodeTransforms& transforms,
-                      const Eigen::Affine3d& handle);
+                      const HandleTransforms& handles);
 
 }  // namespace msdeform
 

@@ -18,6 +18,7 @@
 #include <Eigen/Geometry>
 
 #include "msdeform/core/deformation_graph.h"
+#include "msdeform/core/handles.h"
 #include "msdeform/core/option_table.h"
 #include "msdeform/solvers/deformation_energy.h"
 
@@ -68,13 +69,13 @@ class FrameSolver {
 
   // Minimises the energy with the handle at `handle` (deformed_from_rest),
   // starting from *transforms, which it updates in place.
-  virtual SolveSummary Solve(const Eigen::Affine3d& handle, NodeTransforms* transforms) = 0;
+  virtual SolveSummary Solve(const HandleTransforms& handles, NodeTransforms* transforms) = 0;
 
   // The energy (1/2 sum of squared residuals, as Solve reports it) with the
   // handle at `handle` and the nodes at `transforms`; the free blocks are
   // read from `transforms`, the constant ones are Setup's. For choosing
   // between initial guesses: cheaper than a solve.
-  virtual double Cost(const Eigen::Affine3d& handle, const NodeTransforms& transforms) = 0;
+  virtual double Cost(const HandleTransforms& handles, const NodeTransforms& transforms) = 0;
 
   virtual int num_variables() const = 0;
 };

@@ -34,8 +34,9 @@ struct VariableColumns {
   }
 };
 
-// The handle's parameter column of pattern entry d for coordinate a.
-int HandleColumn(int d, int a) { return d < 3 ? d * 3 + a : 9 + a; }
+// Handle group g's parameter column of pattern entry d for coordinate a
+// (tau: 12 numbers a group, GaussNewtonSolver's HandleParameters).
+int HandleColumn(int g, int d, int a) { return 12 * g + (d < 3 ? d * 3 + a : 9 + a); }
 
 // Linear residuals r = A x + c - P tau, row by row: A's entries, c, and the
 // next row.
@@ -102,13 +103,15 @@ void AppendGaugeRows(const DeformationEnergy& energy, const VariableColumns& col
 }
 
 // The terms' rows for the compressed residuals (LinearTerms::root), grouped
-// by their variable nodes (sorted) and whether they follow the handle. A row
-// [u_1 .. u_k, p, c] (4 k + 7 numbers; u_i with 0 for a translation that
-// is not a variable) gives coordinate a's residual as
+// by their variable nodes (sorted) and the handle group they follow (-1:
+// none). A row [u_1 .. u_k, p, c] (4 k + 7 numbers; u_i with 0 for a
+// translation that is not a variable) gives coordinate a's residual as
 //   row . [X_1a .. X_ka, -theta_a, e_a],
-// X_ia = (R_i(a, 0..2), t_i(a)), theta_a = (handle(a, 0..2), its translation(a)).
+// X_ia = (R_i(a, 0..2), t_i(a)), theta_a = (handle(a, 0..2), its translation(a))
+// of the group's handle.
 struct PositionGroup {
   std::vector<int> nodes;
+  int handle_group;          // -1: p = 0
   std::vector<double> rows;  // row-major, 4 k + 7 wide
 };
 
@@ -121,8 +124,10 @@ struct PositionGroup {
 // the handle row's pattern.
 struct PositionMoments {
   int num_nodes = 0;
+  int num_handle_groups = 1;
   std::unordered_map<int64_t, Eigen::Matrix4d> pair_moment;  // sum u_j u_k^T
-  std::vector<Eigen::Matrix4d> handle_moment;                // sum u_j p^T
+  // sum u_j p^T of node j's terms that follow handle group g, at j G + g.
+  std::unordered_map<int64_t, Eigen::Matrix4d> handle_moment;
   std::vector<Eigen::Matrix<double, 4, 3>> constant_moment;  // sum u_j c^T
   std::vector<PositionGroup> groups;
 };
@@ -136,8 +141,8 @@ void AccumulatePositionTerms(const DeformationEnergy& energy, const NodeTransfor
   std::vector<PositionGroup>& groups = moments->groups;
   std::map<std::vector<int>, int> group_of_key;
   std::vector<int> key, order;
+  const int num_handle_groups = moments->num_handle_groups;
   if (!energy.positions.empty()) {
-    handle_moment.assign(num_position_nodes, Eigen::Matrix4d::Zero());
     constant_moment.assign(num_position_nodes, Eigen::Matrix<double, 4, 3>::Zero());
   }
   std::vector<int> variable_nodes;
@@ -160,7 +165,8 @@ void AccumulatePositionTerms(const DeformationEnergy& energy, const NodeTransfor
       }
     }
     Eigen::Vector4d p = Eigen::Vector4d::Zero();
-    if (term.follows_handle) {
+    if (term.follows_handle()) {
+      CHECK_LT(term.handle_group, num_handle_groups);
       p << s * term.rest, s;
     } else {
       c -= s * term.rest;
@@ -169,10 +175,12 @@ void AccumulatePositionTerms(const DeformationEnergy& energy, const NodeTransfor
     for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
     std::sort(order.begin(), order.end(),
               [&](int a, int b) { return variable_nodes[a] < variable_nodes[b]; });
-    key.assign(1, term.follows_handle ? 1 : 0);
+    key.assign(1, term.handle_group);
     for (int i : order) key.push_back(variable_nodes[i]);
     auto [group, inserted] = group_of_key.try_emplace(key, static_cast<int>(groups.size()));
-    if (inserted) groups.push_back({std::vector<int>(key.begin() + 1, key.end()), {}});
+    if (inserted) {
+      groups.push_back({std::vector<int>(key.begin() + 1, key.end()), term.handle_group, {}});
+    }
     std::vector<double>& rows = groups[group->second].rows;
     for (int i : order) {
       for (int e = 0; e < 4; ++e) {
@@ -184,7 +192,11 @@ void AccumulatePositionTerms(const DeformationEnergy& energy, const NodeTransfor
     for (int a = 0; a < 3; ++a) rows.push_back(c[a]);
     for (size_t i = 0; i < variable_nodes.size(); ++i) {
       const int j = variable_nodes[i];
-      if (term.follows_handle) handle_moment[j].noalias() += patterns[i] * p.transpose();
+      if (term.follows_handle()) {
+        const int64_t at = static_cast<int64_t>(j) * num_handle_groups + term.handle_group;
+        auto [it, inserted] = handle_moment.try_emplace(at, Eigen::Matrix4d::Zero());
+        it->second.noalias() += patterns[i] * p.transpose();
+      }
       constant_moment[j].noalias() += patterns[i] * c.transpose();
       for (size_t k = 0; k < variable_nodes.size(); ++k) {
         const int64_t key = static_cast<int64_t>(j) * num_position_nodes + variable_nodes[k];
@@ -196,7 +208,7 @@ void AccumulatePositionTerms(const DeformationEnergy& energy, const NodeTransfor
 }
 
 // The position terms' moments as entries of H (n by n) and of A^T P (n by
-// 13; column 12 is -c, p_matrix's last column).
+// 12 G + 1; column 12 G is -c, p_matrix's last column).
 void ExpandPositionMoments(const PositionMoments& moments, const VariableColumns& columns,
                            SparseMatrix* hessian_positions, SparseMatrix* atp_positions) {
   const int num_position_nodes = moments.num_nodes;
@@ -220,20 +232,31 @@ void ExpandPositionMoments(const PositionMoments& moments, const VariableColumns
       }
     }
   }
-  for (int j = 0; j < static_cast<int>(handle_moment.size()); ++j) {
-    if (columns.rotation(j) < 0) continue;
+  const int num_handle_groups = moments.num_handle_groups;
+  const int constant_column = 12 * num_handle_groups;
+  for (const auto& [at, moment] : handle_moment) {
+    const int j = static_cast<int>(at / num_handle_groups);
+    const int g = static_cast<int>(at % num_handle_groups);
     for (int a = 0; a < 3; ++a) {
       for (int c = 0; c < 4; ++c) {
         const int row_variable = columns.of(j, c, a);
         if (row_variable < 0) continue;
         for (int d = 0; d < 4; ++d) {
-          if (handle_moment[j](c, d) != 0.0) {
-            position_atp.emplace_back(row_variable, HandleColumn(d, a), handle_moment[j](c, d));
+          if (moment(c, d) != 0.0) {
+            position_atp.emplace_back(row_variable, HandleColumn(g, d, a), moment(c, d));
           }
         }
-        // Column 12 is -c (p_matrix's last column).
-        if (constant_moment[j](c, a) != 0.0) {
-          position_atp.emplace_back(row_variable, 12, -constant_moment[j](c, a));
+      }
+    }
+  }
+  for (int j = 0; j < static_cast<int>(constant_moment.size()); ++j) {
+    if (columns.rotation(j) < 0) continue;
+    for (int a = 0; a < 3; ++a) {
+      for (int c = 0; c < 4; ++c) {
+        const int row_variable = columns.of(j, c, a);
+        // The constant column is -c (p_matrix's last column).
+        if (row_variable >= 0 && constant_moment[j](c, a) != 0.0) {
+          position_atp.emplace_back(row_variable, constant_column, -constant_moment[j](c, a));
         }
       }
     }
@@ -276,7 +299,9 @@ std::vector<Eigen::MatrixXd> GroupFactors(const std::vector<PositionGroup>& grou
 // rows themselves when there are no more of them than columns.
 void CompressResiduals(const LinearRows& rows, const std::vector<Triplet>& p_entries,
                        const std::vector<PositionGroup>& groups, const VariableColumns& columns,
-                       int n, int num_threads, int min_parallel_rows, LinearTerms* out) {
+                       int n, int num_handle_groups, int num_threads, int min_parallel_rows,
+                       LinearTerms* out) {
+  const int constant_column = 12 * num_handle_groups;
   std::vector<Triplet> root_entries = rows.a_entries, root_handle_entries;
   for (const Triplet& entry : p_entries)
     root_handle_entries.emplace_back(entry.row(), entry.col(), -entry.value());
@@ -297,12 +322,15 @@ void CompressResiduals(const LinearRows& rows, const std::vector<Triplet>& p_ent
             if (value != 0.0 && variable >= 0) root_entries.emplace_back(root_rows, variable, value);
           }
         }
-        for (int d = 0; d < 4; ++d) {
+        for (int d = 0; d < 4 && group.handle_group >= 0; ++d) {
           const double value = factor(i, 4 * k + d);
-          if (value != 0.0) root_handle_entries.emplace_back(root_rows, HandleColumn(d, a), -value);
+          if (value != 0.0) {
+            root_handle_entries.emplace_back(root_rows, HandleColumn(group.handle_group, d, a),
+                                             -value);
+          }
         }
         const double value = factor(i, 4 * k + 4 + a);
-        if (value != 0.0) root_handle_entries.emplace_back(root_rows, 12, value);
+        if (value != 0.0) root_handle_entries.emplace_back(root_rows, constant_column, value);
         ++root_rows;
       }
     }
@@ -310,7 +338,7 @@ void CompressResiduals(const LinearRows& rows, const std::vector<Triplet>& p_ent
   out->root.resize(root_rows, n);
   out->root.setFromTriplets(root_entries.begin(), root_entries.end());
   out->root.makeCompressed();
-  out->root_handle.resize(root_rows, 13);
+  out->root_handle.resize(root_rows, constant_column + 1);
   out->root_handle.setFromTriplets(root_handle_entries.begin(), root_handle_entries.end());
 }
 
@@ -322,31 +350,35 @@ void AssembleLinearTerms(const DeformationEnergy& energy, const NodeTransforms& 
   const VariableColumns columns{energy, offset};
   LinearRows rows;
   AppendCoherenceRows(energy, transforms, columns, &rows);
+  const int num_handle_groups = energy.num_handle_groups;
+  const int constant_column = 12 * num_handle_groups;
+  out->num_handle_groups = num_handle_groups;
   PositionMoments moments;
   moments.num_nodes = transforms.num_nodes();
+  moments.num_handle_groups = num_handle_groups;
   AccumulatePositionTerms(energy, transforms, columns, &moments);
   AppendGaugeRows(energy, columns, &rows);
   terms.AppendLinearRows(&rows.a_entries, &rows.constant, &rows.row);
 
   const int row = rows.row;
-  SparseMatrix a_matrix(row, n), p_matrix(row, 13);
+  SparseMatrix a_matrix(row, n), p_matrix(row, constant_column + 1);
   a_matrix.setFromTriplets(rows.a_entries.begin(), rows.a_entries.end());
   std::vector<Triplet> p_entries;
   for (int r = 0; r < row; ++r) {
-    if (rows.constant[r] != 0.0) p_entries.emplace_back(r, 12, -rows.constant[r]);
+    if (rows.constant[r] != 0.0) p_entries.emplace_back(r, constant_column, -rows.constant[r]);
   }
   // p_matrix = [P, -c]: the residual is A x - p_matrix [tau; 1].
   p_matrix.setFromTriplets(p_entries.begin(), p_entries.end());
   const SparseMatrix a_transposed = a_matrix.transpose();
-  SparseMatrix hessian_positions(n, n), atp_positions(n, 13);
+  SparseMatrix hessian_positions(n, n), atp_positions(n, constant_column + 1);
   ExpandPositionMoments(moments, columns, &hessian_positions, &atp_positions);
   out->hessian = (SparseMatrix(a_transposed * a_matrix) + hessian_positions).pruned();
-  const SparseMatrix atp = a_transposed * p_matrix + atp_positions;  // n by 13
-  out->handle_gradient = atp.leftCols(12);
-  out->linear_gradient = -Eigen::VectorXd(atp.col(12));
+  const SparseMatrix atp = a_transposed * p_matrix + atp_positions;  // n by 12 G + 1
+  out->handle_gradient = atp.leftCols(constant_column);
+  out->linear_gradient = -Eigen::VectorXd(atp.col(constant_column));
 
-  CompressResiduals(rows, p_entries, moments.groups, columns, n, num_threads, min_parallel_rows,
-                    out);
+  CompressResiduals(rows, p_entries, moments.groups, columns, n, num_handle_groups, num_threads,
+                    min_parallel_rows, out);
 }
 
 }  // namespace msdeform

@@ -1,7 +1,7 @@
 // The Gauss-Newton backend's linear terms (solvers/gauss_newton_solver.h),
 // assembled once per handle layout: every Coherence (Eq. 14), Position
 // (Eq. 16) and gauge residual and the linear DeformationEnergy::terms, all
-// affine in the variables x and the handle's 12 numbers tau,
+// affine in the variables x and the handle groups' 12 numbers each, tau,
 //   r = A x + c - P tau,
 // kept as H = A^T A, A^T c, A^T P and a compressed form of the residuals
 // with the same sum of squares (the cost is taken from it, not from the
@@ -26,12 +26,13 @@ struct LinearTerms {
   using RowSparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
   SparseMatrix hessian;             // H = A^T A, #variables square
   Eigen::VectorXd linear_gradient;  // A^T c
-  SparseMatrix handle_gradient;     // A^T P, #variables by 12
+  int num_handle_groups = 1;       // G
+  SparseMatrix handle_gradient;     // A^T P, #variables by 12 G
   // |root x + root_handle [tau; 1]|^2 = |A x + c - P tau|^2: A's Coherence,
   // gauge and linear-term rows as they are; per group of position terms with
   // the same variable nodes, the triangular factor of a QR of their rows.
   RowSparseMatrix root;         // m by #variables
-  RowSparseMatrix root_handle;  // m by 13
+  RowSparseMatrix root_handle;  // m by 12 G + 1
 };
 
 // `offset[j]`: node j's first variable (R_j, then t_j for a Totally Free

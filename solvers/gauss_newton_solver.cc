@@ -20,22 +20,16 @@ using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 using RowSparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 using Matrix9d = Eigen::Matrix<double, 9, 9>;
 using Vector9d = Eigen::Matrix<double, 9, 1>;
-using Vector12d = Eigen::Matrix<double, 12, 1>;
-
-// The 12 numbers tau of a handle transform: matrix column-major, translation.
-Vector12d HandleParameters(const Eigen::Affine3d& handle) {
-  Vector12d tau;
-  Eigen::Map<Eigen::Matrix3d>(tau.data()) = handle.linear();
-  tau.tail<3>() = handle.translation();
+// tau, 12 numbers a handle group (group g's at 12 g): its transform's matrix
+// column-major, then its translation; and a trailing 1 when with_one.
+Eigen::VectorXd HandleParameters(const HandleTransforms& handles, int num_groups, bool with_one) {
+  Eigen::VectorXd tau(12 * num_groups + (with_one ? 1 : 0));
+  for (int g = 0; g < num_groups; ++g) {
+    Eigen::Map<Eigen::Matrix3d>(tau.data() + 12 * g) = handles[g].linear();
+    tau.segment<3>(12 * g + 9) = handles[g].translation();
+  }
+  if (with_one) tau[12 * num_groups] = 1.0;
   return tau;
-}
-
-// [tau; 1].
-Eigen::Matrix<double, 13, 1> HandleParametersAndOne(const Eigen::Affine3d& handle) {
-  Eigen::Matrix<double, 13, 1> tau1;
-  tau1.head<12>() = HandleParameters(handle);
-  tau1[12] = 1.0;
-  return tau1;
 }
 
 // Position of `index` in the column `col` of a compressed matrix.
@@ -111,7 +105,8 @@ struct GaussNewtonSolver::Impl {
     hessian_compact.makeCompressed();
   }
   Eigen::VectorXd linear_gradient;  // A^T c
-  SparseMatrix handle_gradient;     // A^T P, #variables by 12
+  int num_handle_groups = 1;        // G
+  SparseMatrix handle_gradient;     // A^T P, #variables by 12 G
   // The linear residuals in a compressed form that keeps their sum of
   // squares: |root x + root_handle [tau; 1]|^2 = |A x + c - P tau|^2. The
   // Coherence and gauge rows of A as they are; per group of position terms
@@ -121,7 +116,7 @@ struct GaussNewtonSolver::Impl {
   // |c - P tau|^2, which grows with the handle's size and its distance from
   // the origin (4e-7 of the energy on the 416K claw).
   RowSparseMatrix root;         // m by #variables
-  RowSparseMatrix root_handle;  // m by 13
+  RowSparseMatrix root_handle;  // m by 12 G + 1
   SparseMatrix system;              // pattern of J^T J, full (both triangles)
   std::vector<double> base_values;  // H on that pattern
   std::vector<int> rot_value_index;  // 81 per rot node, column-major 9x9
@@ -231,16 +226,17 @@ struct GaussNewtonSolver::Impl {
   }
 
   // g0 = A^T c - A^T P tau: the gradient of the linear terms at x = 0.
-  Eigen::VectorXd HandleGradient(const Eigen::Affine3d& handle) const {
-    return linear_gradient - handle_gradient * HandleParameters(handle);
+  Eigen::VectorXd HandleGradient(const HandleTransforms& handles) const {
+    return linear_gradient -
+           handle_gradient * HandleParameters(handles, num_handle_groups, /*with_one=*/false);
   }
 
   // root_handle [tau; 1]: the frame's part of the compressed residuals.
   // By hand, in the order of Eigen's row-major product (the same bits):
   // Eigen's runs an OpenMP region above 20,000 entries, whose wake-up on a
   // busy machine can cost more than this whole pass.
-  Eigen::VectorXd RootOffset(const Eigen::Affine3d& handle) const {
-    const Eigen::Matrix<double, 13, 1> tau1 = HandleParametersAndOne(handle);
+  Eigen::VectorXd RootOffset(const HandleTransforms& handles) const {
+    const Eigen::VectorXd tau1 = HandleParameters(handles, num_handle_groups, /*with_one=*/true);
     const int* outer = root_handle.outerIndexPtr();
     const int* inner = root_handle.innerIndexPtr();
     const double* values = root_handle.valuePtr();
@@ -363,6 +359,7 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
   impl.hessian_rows = impl.hessian;
   impl.CompactHessian();
   impl.linear_gradient = std::move(linear.linear_gradient);
+  impl.num_handle_groups = linear.num_handle_groups;
   impl.handle_gradient = std::move(linear.handle_gradient);
   impl.root = std::move(linear.root);
   impl.root_handle = std::move(linear.root_handle);
@@ -398,12 +395,12 @@ bool GaussNewtonSolver::Setup(const DeformationEnergy& energy, const NodeTransfo
   return true;
 }
 
-double GaussNewtonSolver::Cost(const Eigen::Affine3d& handle, const NodeTransforms& transforms) {
+double GaussNewtonSolver::Cost(const HandleTransforms& handles, const NodeTransforms& transforms) {
   CHECK(impl_ != nullptr) << "Setup first";
   const Impl& impl = *impl_;
   CHECK_EQ(static_cast<int>(impl.offset.size()), transforms.num_nodes());
   const Eigen::VectorXd x = impl.Gather(transforms);
-  return impl.LinearCost(x, impl.RootOffset(handle)) +
+  return impl.LinearCost(x, impl.RootOffset(handles)) +
          impl.NonlinearCost(x, nullptr);
 }
 
@@ -415,11 +412,11 @@ double GaussNewtonSolver::Cost(const Eigen::Affine3d& handle, const NodeTransfor
 // the energy on the 416K claw in one step).
 class GaussNewtonSolver::Frame : public DampedGaussNewtonProblem {
  public:
-  Frame(Impl* impl, const Eigen::Affine3d& handle, const NodeTransforms& transforms)
+  Frame(Impl* impl, const HandleTransforms& handles, const NodeTransforms& transforms)
       : impl_(*impl),
         x_(impl->Gather(transforms)),
-        g0_(impl->HandleGradient(handle)),
-        root_offset_(impl->RootOffset(handle)),
+        g0_(impl->HandleGradient(handles)),
+        root_offset_(impl->RootOffset(handles)),
         blocks_(impl->rot_nodes.size()) {
     impl_.HessianTimes(x_, &hx_);
     linear_cost_ = impl_.LinearCost(x_, root_offset_);
@@ -478,13 +475,13 @@ class GaussNewtonSolver::Frame : public DampedGaussNewtonProblem {
   Eigen::VectorXd x_new_, h_delta_;  // the last trial
 };
 
-SolveSummary GaussNewtonSolver::Solve(const Eigen::Affine3d& handle,
+SolveSummary GaussNewtonSolver::Solve(const HandleTransforms& handles,
                                       NodeTransforms* transforms) {
   CHECK(impl_ != nullptr) << "Setup first";
   const auto start = std::chrono::steady_clock::now();
   Impl& impl = *impl_;
   CHECK_EQ(static_cast<int>(impl.offset.size()), transforms->num_nodes());
-  Frame frame(&impl, handle, *transforms);
+  Frame frame(&impl, handles, *transforms);
   SolveSummary summary;
   summary.initial_cost = frame.cost();
   summary.trace.push_back({0.0, frame.cost()});

@@ -159,8 +159,8 @@ class GaussNewtonSolver : public FrameSolver {
   // Variables, H, A^T c, A^T P, the pattern and the symbolic factorisation.
   bool Setup(const DeformationEnergy& energy, const NodeTransforms& transforms,
              std::string* error) override;
-  SolveSummary Solve(const Eigen::Affine3d& handle, NodeTransforms* transforms) override;
-  double Cost(const Eigen::Affine3d& handle, const NodeTransforms& transforms) override;
+  SolveSummary Solve(const HandleTransforms& handles, NodeTransforms* transforms) override;
+  double Cost(const HandleTransforms& handles, const NodeTransforms& transforms) override;
   int num_variables() const override { return num_variables_; }
 
  private:

@@ -90,7 +90,7 @@ void AppendSubspaceBasis(int v, int pseudo_node, const Mesh& mesh, const Deforma
   }
 }
 
-void SubspaceArap::Gather(const NodeTransforms& transforms, const Eigen::Affine3d& handle,
+void SubspaceArap::Gather(const NodeTransforms& transforms, const HandleTransforms& handles,
                           Slots* u) const {
   CHECK_EQ(transforms.num_nodes(), data_.num_nodes);
   u->resize(num_slots(), 3);
@@ -101,12 +101,17 @@ void SubspaceArap::Gather(const NodeTransforms& transforms, const Eigen::Affine3
     u->block<3, 3>(4 * j, 0) = r.transpose();  // slot 4j + m, coordinate d: R(d, m)
     u->row(4 * j + 3) = t.transpose();
   }
-  const int h = 4 * data_.num_nodes;
-  u->block<3, 3>(h, 0) = handle.linear().transpose();
-  // x' - o = A (x - o) + (A o + t - o).
-  u->row(h + 3) = (handle.linear() * data_.origin + handle.translation() - data_.origin).transpose();
-  u->block<3, 3>(h + 4, 0).setIdentity();
-  u->row(h + 7).setZero();
+  for (int g = 0; g < data_.num_handle_groups; ++g) {
+    const Eigen::Affine3d& handle = handles[g];
+    const int h = 4 * (data_.num_nodes + g);
+    u->block<3, 3>(h, 0) = handle.linear().transpose();
+    // x' - o = A (x - o) + (A o + t - o).
+    u->row(h + 3) =
+        (handle.linear() * data_.origin + handle.translation() - data_.origin).transpose();
+  }
+  const int r = 4 * data_.rest_node();
+  u->block<3, 3>(r, 0).setIdentity();
+  u->row(r + 3).setZero();
 }
 
 void SubspaceArap::Scatter(const Slots& u, NodeTransforms* transforms) const {
@@ -173,9 +178,9 @@ void SubspaceArap::GlobalRhs(const Slots& u, const Rotations& rotations, Slots* 
 int SubspaceArapData::PseudoNode(int vertex) const {
   switch (kind[vertex]) {
     case VertexKind::kHandle:
-      return num_nodes;
+      return num_nodes + (vertex_handle_group.empty() ? 0 : vertex_handle_group[vertex]);
     case VertexKind::kRest:
-      return num_nodes + 1;
+      return rest_node();
     case VertexKind::kSkinned:
       break;
   }

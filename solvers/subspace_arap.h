@@ -47,6 +47,7 @@
 
 #include "msdeform/core/cotangent_weights.h"
 #include "msdeform/core/deformation_graph.h"
+#include "msdeform/core/handles.h"
 #include "msdeform/core/mesh.h"
 #include "msdeform/core/option_table.h"
 #include "msdeform/solvers/node_class.h"
@@ -101,6 +102,10 @@ struct SubspaceArapData {
 
   ArapOptions options;
   int num_nodes = 0;
+  // Handle groups (core/handles.h), each a pseudo-node after the nodes.
+  int num_handle_groups = 1;
+  // Per vertex: its handle group when the layout has several (else empty).
+  std::vector<int> vertex_handle_group;
   double length_unit = 1.0;
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   int num_active_vertices = 0;
@@ -126,11 +131,14 @@ struct SubspaceArapData {
   std::vector<Eigen::Matrix3d> covariance;  // Cov_c
   double constant = 0.0;  // C
 
-  int num_slots() const { return 4 * num_nodes + 8; }
+  // The nodes', each handle group's and the rest pose's 4 slots.
+  int num_slots() const { return 4 * (num_nodes + num_handle_groups + 1); }
+  // The rest pose's pseudo-node; handle group g's is num_nodes + g.
+  int rest_node() const { return num_nodes + num_handle_groups; }
   int num_slot_variables() const { return static_cast<int>(variable_slot.size()); }
   int num_clusters() const { return static_cast<int>(cluster_offsets.size()) - 1; }
-  // The pseudo-node a vertex is (num_nodes for the handle, num_nodes + 1 for
-  // the rest pose), or -1 for a skinned vertex.
+  // The pseudo-node a vertex is (num_nodes + g for handle group g,
+  // rest_node() for the rest pose), or -1 for a skinned vertex.
   int PseudoNode(int vertex) const;
 };
 
@@ -179,7 +187,7 @@ class SubspaceArap {
 
   // u at `transforms` (Fixed nodes and Half Free translations from it, as
   // the layout holds them) with the handle at `handle`.
-  void Gather(const NodeTransforms& transforms, const Eigen::Affine3d& handle, Slots* u) const;
+  void Gather(const NodeTransforms& transforms, const HandleTransforms& handles, Slots* u) const;
   // Writes the variable slots of u into *transforms (R_j rows, t_j = t'_j - g_j).
   void Scatter(const Slots& u, NodeTransforms* transforms) const;
   // S_c at u.

@@ -14,8 +14,8 @@ class CeresArapBlocks : public CeresFamilyBlocks {
   CeresArapBlocks(std::shared_ptr<const SubspaceArap> arap, NodeTransforms* parameters,
                   const std::function<void(int)>& ensure_blocks, ceres::Problem* problem)
       : problem_(std::move(arap), parameters, ensure_blocks, problem) {}
-  void SetFrame(const Eigen::Affine3d& handle, const NodeTransforms& parameters) override {
-    problem_.SetFrame(handle, parameters);
+  void SetFrame(const HandleTransforms& handles, const NodeTransforms& parameters) override {
+    problem_.SetFrame(handles, parameters);
   }
 
  private:
@@ -30,9 +30,9 @@ SubspaceArapTerms::SubspaceArapTerms(std::shared_ptr<const SubspaceArap> arap)
 std::string SubspaceArapTerms::name() const { return "the subspace ARAP energy (--energy=arap)"; }
 
 double SubspaceArapTerms::Cost(const NodeTransforms& transforms,
-                               const Eigen::Affine3d& handle) const {
+                               const HandleTransforms& handles) const {
   SubspaceArap::Slots u;
-  arap_->Gather(transforms, handle, &u);
+  arap_->Gather(transforms, handles, &u);
   return arap_->Cost(u);
 }
 

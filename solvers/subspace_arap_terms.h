@@ -23,7 +23,7 @@ class SubspaceArapTerms : public TermFamily {
   explicit SubspaceArapTerms(std::shared_ptr<const SubspaceArap> arap);
 
   std::string name() const override;
-  double Cost(const NodeTransforms& transforms, const Eigen::Affine3d& handle) const override;
+  double Cost(const NodeTransforms& transforms, const HandleTransforms& handles) const override;
   // arap.solver's solver (ArapOptions::solver).
   std::unique_ptr<FrameSolver> MakeSolver(const FrameSolverOptions& options) const override;
   // Refused unless the energy holds this family alone.

@@ -26,6 +26,7 @@
 #include <Eigen/Geometry>
 
 #include "msdeform/core/deformation_graph.h"
+#include "msdeform/core/handles.h"
 
 namespace ceres {
 class Problem;
@@ -42,7 +43,7 @@ struct DeformationEnergy;
 class CeresFamilyBlocks {
  public:
   virtual ~CeresFamilyBlocks() = default;
-  virtual void SetFrame(const Eigen::Affine3d& handle, const NodeTransforms& parameters) = 0;
+  virtual void SetFrame(const HandleTransforms& handles, const NodeTransforms& parameters) = 0;
 };
 
 class TermFamily {
@@ -55,7 +56,7 @@ class TermFamily {
   // 1/2 sum of squared residuals with the nodes at `transforms` and the
   // handle at `handle` (deformed_from_rest), auxiliary variables at their
   // optimum.
-  virtual double Cost(const NodeTransforms& transforms, const Eigen::Affine3d& handle) const = 0;
+  virtual double Cost(const NodeTransforms& transforms, const HandleTransforms& handles) const = 0;
 
   // The frame solver that --backend=gauss_newton runs `energy` with when it
   // holds this family, or null when the shared Gauss-Newton solver

@@ -47,7 +47,13 @@ bool WriteEditFile(const EditSession& session, EditFile kind, const std::string&
       if (WriteSel(path, layout, session.mesh().num_vertices(), &problem)) return true;
       break;
     case EditFile::kDef:
-      if (WriteDef(path, session.transform(), &problem)) return true;
+      if (session.transform().size() > 1) {
+        problem = "a .def file holds one transform; this edit has " +
+                  std::to_string(session.transform().size()) +
+                  " handle groups (save a scenario instead)";
+        break;
+      }
+      if (WriteDef(path, session.transform()[0], &problem)) return true;
       break;
     case EditFile::kScenario: {
       ScenarioText what;

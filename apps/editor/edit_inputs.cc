@@ -50,7 +50,7 @@ bool ResolveInputNames(const OpenRequest& request, EditInputs* inputs, std::stri
 bool ReadInputFiles(const OpenRequest& request, EditInputs* inputs, std::string* error) {
   if (!ReadMesh(inputs->mesh_path, &inputs->mesh, &inputs->read_report, error)) return false;
   if (!inputs->scenario_path.empty()) {
-    Eigen::Affine3d deformed_from_rest;
+    HandleTransforms deformed_from_rest;
     if (!ResolveScenario(inputs->scenario, inputs->mesh, &inputs->layout, &inputs->watch,
                          &deformed_from_rest, error)) {
       return false;
@@ -68,7 +68,9 @@ bool ReadInputFiles(const OpenRequest& request, EditInputs* inputs, std::string*
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (int v : inputs->layout.moveable) centroid += inputs->mesh.vertices.col(v);
   centroid /= static_cast<double>(inputs->layout.moveable.size());
-  inputs->path = InterpolateDragPath(deformed_from_rest, centroid, std::max(request.frames, 1));
+  const std::vector<Eigen::Affine3d> path =
+      InterpolateDragPath(deformed_from_rest, centroid, std::max(request.frames, 1));
+  inputs->path.assign(path.begin(), path.end());
   inputs->has_layout = true;
   return true;
 }

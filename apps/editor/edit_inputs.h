@@ -47,7 +47,7 @@ struct EditInputs {
   // has_layout is false for a mesh opened alone.
   bool has_layout = false;
   HandleLayout layout;
-  std::vector<Eigen::Affine3d> path;  // frame k's handle transform, deformed_from_rest
+  std::vector<HandleTransforms> path;  // frame k's handle transform, deformed_from_rest
   std::vector<int> watch;             // the scenario's watch region, if any
 
   // Every input file, for output checks ("" entries skipped by them).

@@ -29,7 +29,7 @@ struct EditSession::Job {
   const Mesh* mesh = nullptr;  // the session's, unchanged while the job runs
   std::string mesh_path;
   HandleLayout layout;
-  std::vector<Eigen::Affine3d> path;
+  std::vector<HandleTransforms> path;
   std::unique_ptr<EditingMethod> method;  // reused unless init
   Clock::time_point requested;
   std::function<void()> on_done;
@@ -95,7 +95,7 @@ struct EditSession::PolishJob {
   const Mesh* mesh = nullptr;  // the session's: Open waits for the polish first
   HandleLayout layout;
   PolishOptions options;
-  Eigen::Affine3d transform = Eigen::Affine3d::Identity();
+  HandleTransforms transform;
   Eigen::Matrix3Xd vertices;   // the pose in, the polished mesh out
   int geometry_version = 0;    // of the pose polished
   PolishReport report;
@@ -217,7 +217,7 @@ void EditSession::Open(EditInputs inputs, const DeformerOptions& options) {
   method_.reset();
   configured_ = false;
   error_.clear();
-  transform_ = Eigen::Affine3d::Identity();
+  transform_ = HandleTransforms();
   committed_layout_ = inputs_.has_layout ? inputs_.layout : HandleLayout();
   labels_ = LabelsFromLayout(committed_layout_, mesh_.num_vertices());
   labels_changed_ = false;
@@ -238,8 +238,8 @@ void EditSession::SetOptions(const DeformerOptions& options) {
     pending_init_ = true;
     return;
   }
-  std::vector<Eigen::Affine3d> path;
-  if (!transform_.matrix().isIdentity(0.0)) path.push_back(transform_);
+  std::vector<HandleTransforms> path;
+  if (!transform_.IsIdentity()) path.push_back(transform_);
   StartJob(/*init=*/true, /*set_handles=*/!committed_layout_.moveable.empty(), std::move(path));
 }
 
@@ -267,7 +267,7 @@ bool EditSession::CommitLayout(std::string* why) {
   labels_changed_ = false;
   if (SameLayout(layout, committed_layout_) && (configured_ || busy())) return true;
   committed_layout_ = layout;
-  transform_ = Eigen::Affine3d::Identity();
+  transform_ = HandleTransforms();
   if (layout.moveable.empty()) {
     configured_ = false;
     ++geometry_version_;
@@ -284,7 +284,7 @@ bool EditSession::CommitLayout(std::string* why) {
 
 void EditSession::ResetPose() {
   if (committed_layout_.moveable.empty()) return;
-  transform_ = Eigen::Affine3d::Identity();
+  transform_ = HandleTransforms();
   if (busy()) {
     pending_layout_ = true;
     return;
@@ -292,7 +292,7 @@ void EditSession::ResetPose() {
   StartJob(/*init=*/method_ == nullptr, /*set_handles=*/true, {});
 }
 
-void EditSession::StartJob(bool init, bool set_handles, std::vector<Eigen::Affine3d> path) {
+void EditSession::StartJob(bool init, bool set_handles, std::vector<HandleTransforms> path) {
   auto job = std::make_unique<Job>();
   job->requested = Clock::now();
   job->init = init;
@@ -321,14 +321,14 @@ void EditSession::TakeJob() {
   error_in_path_ = job->path_failed;
   last_drag_ = std::move(job->last_frame);
   if (job->configured && !job->path.empty()) transform_ = job->path.back();
-  if (!job->configured) transform_ = Eigen::Affine3d::Identity();
+  if (!job->configured) transform_ = HandleTransforms();
   layout_timings_.push_back(job->timing);
   ++geometry_version_;
   if (pending_init_ || pending_layout_) {
-    std::vector<Eigen::Affine3d> path;
+    std::vector<HandleTransforms> path;
     // New options keep the pose; a new layout starts from rest.
-    if (!pending_layout_ && !transform_.matrix().isIdentity(0.0)) path.push_back(transform_);
-    if (pending_layout_) transform_ = Eigen::Affine3d::Identity();
+    if (!pending_layout_ && !transform_.IsIdentity()) path.push_back(transform_);
+    if (pending_layout_) transform_ = HandleTransforms();
     const bool init = pending_init_ || method_ == nullptr;
     pending_init_ = pending_layout_ = false;
     StartJob(init, !committed_layout_.moveable.empty(), std::move(path));
@@ -358,7 +358,7 @@ bool EditSession::WaitFor(std::chrono::milliseconds timeout) const {
 
 bool EditSession::ready() const { return !busy() && method_ != nullptr && configured_; }
 
-bool EditSession::Drag(const Eigen::Affine3d& deformed_from_rest, std::string* error) {
+bool EditSession::Drag(const HandleTransforms& deformed_from_rest, std::string* error) {
   if (!ready()) {
     *error = busy() ? "the method is being set up" : "no moveable handle set up";
     return false;

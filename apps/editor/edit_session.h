@@ -123,9 +123,9 @@ class EditSession {
 
   // The deformer is set up for the committed layout and no job runs.
   bool ready() const;
-  // One frame: moves the handle to deformed_from_rest * (rest position).
-  // False (and the pose kept) when not ready or the solve fails.
-  bool Drag(const Eigen::Affine3d& deformed_from_rest, std::string* error);
+  // One frame: moves each handle group g to deformed_from_rest[g] * (rest
+  // position). False (and the pose kept) when not ready or the solve fails.
+  bool Drag(const HandleTransforms& deformed_from_rest, std::string* error);
 
   bool has_mesh() const { return mesh_.num_vertices() > 0; }
   const Mesh& mesh() const { return mesh_; }
@@ -142,7 +142,8 @@ class EditSession {
   }
   // The method when one exists and no job runs, else null.
   const EditingMethod* method() const { return busy() ? nullptr : method_.get(); }
-  const Eigen::Affine3d& transform() const { return transform_; }
+  // The pose: each handle group's transform (one for all after a reset).
+  const HandleTransforms& transform() const { return transform_; }
   // Positions and normals to draw: the deformer's when ready, else the rest
   // mesh's. 3 by #V.
   const Eigen::Matrix3Xd& positions() const;
@@ -189,7 +190,7 @@ class EditSession {
  private:
   struct Job;
   struct PolishJob;
-  void StartJob(bool init, bool set_handles, std::vector<Eigen::Affine3d> path);
+  void StartJob(bool init, bool set_handles, std::vector<HandleTransforms> path);
   void TakeJob();
   // Takes a finished polish; true when positions() changed.
   bool TakePolish();
@@ -217,7 +218,7 @@ class EditSession {
   // A follow-up requested while a job runs.
   bool pending_init_ = false;
   bool pending_layout_ = false;
-  Eigen::Affine3d transform_ = Eigen::Affine3d::Identity();
+  HandleTransforms transform_;
   std::string error_;
   bool error_in_path_ = false;
   int geometry_version_ = 0;

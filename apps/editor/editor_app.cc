@@ -505,7 +505,6 @@ void EditorApp::PaintLasso(VertexLabel label, const std::vector<Eigen::Vector2d>
 
 void EditorApp::DragHandleBy(const Eigen::Vector2d& delta, DragMode mode) {
   if (!session_->ready() || delta.isZero()) return;
-  const Eigen::Affine3d current = session_->transform();
   Eigen::Affine3d change = Eigen::Affine3d::Identity();
   if (mode == DragMode::kTranslate) {
     const Eigen::Vector3d move = camera_.ViewPlaneDelta(delta, drag_anchor_, viewport());
@@ -528,8 +527,12 @@ void EditorApp::DragHandleBy(const Eigen::Vector2d& delta, DragMode mode) {
     change.rotate(Eigen::AngleAxisd(angle, axis));
     change.translate(-pivot);
   }
+  // Every handle group moves by the change.
+  std::vector<Eigen::Affine3d> moved;
+  const HandleTransforms& current = session_->transform();
+  for (int g = 0; g < current.size(); ++g) moved.push_back(change * current[g]);
   std::string error;
-  if (!session_->Drag(change * current, &error)) status_.Show(error);
+  if (!session_->Drag(HandleTransforms(std::move(moved)), &error)) status_.Show(error);
 }
 
 bool EditorApp::MouseDragHandle(const Eigen::Vector2d& by, int steps, DragMode mode,

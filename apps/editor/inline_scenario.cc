@@ -32,7 +32,7 @@ bool ResolveOneOff(const nlohmann::json& scenario, const Mesh& mesh, const std::
   close(fd);
   std::string problem;
   std::vector<int> watch;
-  Eigen::Affine3d final_transform;
+  HandleTransforms final_transform;
   const bool ok = written && ReadScenario(name, parsed, &problem) &&
                   ResolveScenario(*parsed, mesh, layout, &watch, &final_transform, &problem);
   std::error_code ignored;
@@ -66,7 +66,7 @@ bool SelectInlineRegion(const nlohmann::json& region, const Mesh& mesh, const st
 
 bool InlineMotionPath(const nlohmann::json& transform, int frames, const Mesh& mesh,
                       const std::vector<int>& moveable, const std::string& where,
-                      std::vector<Eigen::Affine3d>* path, std::string* error) {
+                      std::vector<HandleTransforms>* path, std::string* error) {
   const nlohmann::json scenario = {{"mesh", "inline.off"},
                                    {"handle", {{"vertices", moveable}}},
                                    {"transform", transform},

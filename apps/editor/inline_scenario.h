@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "msdeform/core/handles.h"
 #include "msdeform/core/mesh.h"
 
 namespace msdeform {
@@ -32,7 +33,7 @@ bool SelectInlineRegion(const nlohmann::json& region, const Mesh& mesh, const st
 // "<where>.transform.<field>: <problem>".
 bool InlineMotionPath(const nlohmann::json& transform, int frames, const Mesh& mesh,
                       const std::vector<int>& moveable, const std::string& where,
-                      std::vector<Eigen::Affine3d>* path, std::string* error);
+                      std::vector<HandleTransforms>* path, std::string* error);
 
 }  // namespace editor
 }  // namespace msdeform

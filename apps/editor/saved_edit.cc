@@ -40,17 +40,13 @@ std::string MeshReference(const std::string& mesh, const std::string& scenario) 
   return shared <= 1 || relative.empty() ? mesh_abs.string() : relative.string();
 }
 
-}  // namespace
-
-bool EditScenarioJson(const ScenarioText& what, const Mesh& mesh, const HandleLayout& layout,
-                      const Eigen::Affine3d& deformed_from_rest, std::string* text,
-                      std::string* error) {
-  if (!ValidateHandles(layout, mesh.num_vertices(), error)) return false;
-  if (what.frames < 1 || what.frames > kMaxScenarioFrames) {
-    *error = "frames: " + std::to_string(what.frames) + ": expected 1.." +
-             std::to_string(kMaxScenarioFrames);
-    return false;
-  }
+// x -> A x + b as a scenario's "transform": a rotation R = A about the rest
+// centroid c of `vertices`, then a translation t: R (x - c) + c + t, so
+// t = A c + b - c. False when A is not a rotation, which a scenario cannot
+// state exactly.
+bool ScenarioTransform(const Mesh& mesh, const std::vector<int>& vertices,
+                       const Eigen::Affine3d& deformed_from_rest, Json* transform,
+                       std::string* error) {
   const Eigen::Matrix3d rotation = deformed_from_rest.linear();
   const double off_rotation =
       (rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).norm();
@@ -62,20 +58,49 @@ bool EditScenarioJson(const ScenarioText& what, const Mesh& mesh, const HandleLa
     *error = text.str();
     return false;
   }
-  // x -> A x + b read as a rotation R = A about the rest centroid c, then a
-  // translation t: R (x - c) + c + t, so t = A c + b - c.
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (int v : layout.moveable) centroid += mesh.vertices.col(v);
-  centroid /= static_cast<double>(layout.moveable.size());
+  for (int v : vertices) centroid += mesh.vertices.col(v);
+  centroid /= static_cast<double>(vertices.size());
   const Eigen::Vector3d translation = deformed_from_rest * centroid - centroid;
   const Eigen::AngleAxisd angle_axis(rotation);
-
-  Json transform = {{"translation", {translation.x(), translation.y(), translation.z()}}};
+  *transform = {{"translation", {translation.x(), translation.y(), translation.z()}}};
   if (angle_axis.angle() != 0.0) {
     const Eigen::Vector3d axis = angle_axis.axis();
-    transform["rotation"] = {{"axis", {axis.x(), axis.y(), axis.z()}},
-                             {"angle_deg", angle_axis.angle() * 180.0 / M_PI},
-                             {"center", "centroid"}};
+    (*transform)["rotation"] = {{"axis", {axis.x(), axis.y(), axis.z()}},
+                                {"angle_deg", angle_axis.angle() * 180.0 / M_PI},
+                                {"center", "centroid"}};
+  }
+  return true;
+}
+
+}  // namespace
+
+bool EditScenarioJson(const ScenarioText& what, const Mesh& mesh, const HandleLayout& layout,
+                      const HandleTransforms& deformed_from_rest, std::string* text,
+                      std::string* error) {
+  if (!ValidateHandles(layout, mesh.num_vertices(), error) ||
+      !deformed_from_rest.Fits(layout, error)) {
+    return false;
+  }
+  if (what.frames < 1 || what.frames > kMaxScenarioFrames) {
+    *error = "frames: " + std::to_string(what.frames) + ": expected 1.." +
+             std::to_string(kMaxScenarioFrames);
+    return false;
+  }
+  const int num_groups = layout.num_groups();
+  // Each group's transform as the scenario states it (a rotation about the
+  // group's rest centroid, then a translation), and its vertices.
+  std::vector<Json> transforms;
+  std::vector<std::vector<int>> group_vertices;
+  for (int g = 0; g < num_groups; ++g) {
+    group_vertices.push_back(num_groups == 1 ? layout.moveable : HandleGroupVertices(layout, g));
+    Json transform;
+    if (!ScenarioTransform(mesh, group_vertices.back(), deformed_from_rest[g], &transform,
+                           error)) {
+      if (num_groups > 1) *error = "handle group " + std::to_string(g) + ": " + *error;
+      return false;
+    }
+    transforms.push_back(std::move(transform));
   }
   std::ostringstream out;
   out << "{\n"
@@ -85,10 +110,21 @@ bool EditScenarioJson(const ScenarioText& what, const Mesh& mesh, const HandleLa
   if (!layout.fixed.empty()) {
     out << "  \"fixed\": [{\"vertices\": " << IdList(layout.fixed, "                ") << "}],\n";
   }
-  out << "  \"handle\": {\"vertices\": " << IdList(layout.moveable, "                         ")
-      << "},\n"
-      << "  \"transform\": " << transform.dump() << ",\n"
-      << "  \"frames\": " << what.frames << "\n"
+  if (num_groups == 1) {
+    out << "  \"handle\": {\"vertices\": " << IdList(layout.moveable, "                         ")
+        << "},\n"
+        << "  \"transform\": " << transforms[0].dump() << ",\n";
+  } else {
+    out << "  \"handles\": [\n";
+    for (int g = 0; g < num_groups; ++g) {
+      out << "    {\"region\": {\"vertices\": "
+          << IdList(group_vertices[g], "                            ") << "},\n"
+          << "     \"transform\": " << transforms[g].dump() << "}"
+          << (g + 1 < num_groups ? "," : "") << "\n";
+    }
+    out << "  ],\n";
+  }
+  out << "  \"frames\": " << what.frames << "\n"
       << "}\n";
   *text = out.str();
   return true;

@@ -39,13 +39,15 @@ struct ScenarioText {
   int frames = 30;            // "frames": msdeform's drag steps to the transform, 1..100000
 };
 
-// The scenario for `layout` (valid for `mesh`) and the handle transform
-// `deformed_from_rest` (a rotation and a translation: |A^T A - I| < 1e-9,
-// det A > 0). False with a message when it is not one (a scenario could state
-// it only approximately, e.g. a .def written with six digits; save the
-// .sel/.def pair instead) or frames is out of range.
+// The scenario for `layout` (valid for `mesh`) and the handle transforms
+// `deformed_from_rest` (one, or one a handle group; each a rotation and a
+// translation: |A^T A - I| < 1e-9, det A > 0), with "handle" and "transform"
+// for one group and "handles" for several. False with a message when a
+// transform is not one (a scenario could state it only approximately, e.g. a
+// .def written with six digits; save the .sel/.def pair instead) or frames is
+// out of range.
 bool EditScenarioJson(const ScenarioText& what, const Mesh& mesh, const HandleLayout& layout,
-                      const Eigen::Affine3d& deformed_from_rest, std::string* text,
+                      const HandleTransforms& deformed_from_rest, std::string* text,
                       std::string* error);
 
 }  // namespace editor

@@ -212,7 +212,7 @@ class Runner {
     const int frames = args.value("frames", 1);
     const Mesh& mesh = session_.mesh();
     const std::vector<int>& moveable = session_.committed_layout().moveable;
-    std::vector<Eigen::Affine3d> path;
+    std::vector<HandleTransforms> path;
     if (args.contains("transform")) {
       if (!InlineMotionPath(args["transform"], frames, mesh, moveable, where, &path, error)) {
         error->erase(0, std::min(error->size(), where.size() + 1));
@@ -238,7 +238,8 @@ class Runner {
       Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
       for (int v : moveable) centroid += mesh.vertices.col(v);
       centroid /= static_cast<double>(moveable.size());
-      path = InterpolateDragPath(target, centroid, frames);
+      const std::vector<Eigen::Affine3d> steps = InterpolateDragPath(target, centroid, frames);
+      path.assign(steps.begin(), steps.end());
     }
     for (size_t f = 0; f < path.size(); ++f) {
       if (!session_.Drag(path[f], error)) {

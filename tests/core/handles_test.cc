@@ -1,6 +1,7 @@
 #include "msdeform/core/handles.h"
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <string>
 
@@ -198,17 +199,117 @@ INSTANTIATE_TEST_SUITE_P(
         BadDef{"empty", "# only a comment\n", "has 0 numbers"}),
     [](const testing::TestParamInfo<BadDef>& info) { return std::string(info.param.name); });
 
-// The two sorted lists merged by vertex id, each entry marked moveable (1)
-// or fixed (0); hand-merged answer.
+// The two sorted lists merged by vertex id, each entry marked with its
+// handle group, or -1 for fixed; hand-merged answer.
 TEST(HandlesTest, ConstrainedVerticesMergesMoveableAndFixedInOrder) {
   HandleLayout layout;
   layout.moveable = {2, 5, 9};
+  layout.group = {0, 1, 0};
   layout.fixed = {0, 3, 4, 10};
   std::vector<int> constrained = {7};  // replaced, not appended to
-  std::vector<char> follows_handle;
-  ConstrainedVertices(layout, &constrained, &follows_handle);
+  std::vector<int> handle_group;
+  ConstrainedVertices(layout, &constrained, &handle_group);
   EXPECT_EQ(constrained, (std::vector<int>{0, 2, 3, 4, 5, 9, 10}));
-  EXPECT_EQ(follows_handle, (std::vector<char>{0, 1, 0, 0, 1, 1, 0}));
+  EXPECT_EQ(handle_group, (std::vector<int>{-1, 0, -1, -1, 1, 0, -1}));
+
+  // Each group goes to its own transform, the fixed ones stay at rest.
+  Eigen::Matrix3Xd rest = Eigen::Matrix3Xd::Zero(3, 11);
+  for (int v = 0; v < 11; ++v) rest.col(v) = Eigen::Vector3d(v, 0, 0);
+  const Eigen::Affine3d up(Eigen::Translation3d(0, 1, 0)), down(Eigen::Translation3d(0, -2, 0));
+  const Eigen::Matrix3Xd targets =
+      ConstrainedTargets(rest, constrained, handle_group, HandleTransforms({up, down}));
+  EXPECT_EQ(targets.col(1), Eigen::Vector3d(2, 1, 0));   // vertex 2, group 0
+  EXPECT_EQ(targets.col(4), Eigen::Vector3d(5, -2, 0));  // vertex 5, group 1
+  EXPECT_EQ(targets.col(2), Eigen::Vector3d(3, 0, 0));   // vertex 3, fixed
+  // One transform moves every group.
+  const Eigen::Matrix3Xd together = ConstrainedTargets(rest, constrained, handle_group, up);
+  EXPECT_EQ(together.col(4), Eigen::Vector3d(5, 1, 0));
+}
+
+TEST(HandlesTest, HandleGroupsAreValidated) {
+  HandleLayout layout;
+  layout.moveable = {2, 5, 9};
+  std::string error;
+  EXPECT_EQ(layout.num_groups(), 1);
+  layout.group = {0, 1, 0};
+  ASSERT_TRUE(ValidateHandles(layout, 11, &error)) << error;
+  EXPECT_EQ(layout.num_groups(), 2);
+  EXPECT_EQ(layout.GroupOfVertex(5), 1);
+  EXPECT_EQ(layout.GroupOfVertex(9), 0);
+  EXPECT_EQ(layout.GroupOfVertex(4), -1);
+
+  layout.group = {0, 1};
+  EXPECT_FALSE(ValidateHandles(layout, 11, &error));
+  EXPECT_EQ(error, "the handle groups list 2 entries for 3 moveable vertices");
+  layout.group = {0, 2, 0};
+  EXPECT_FALSE(ValidateHandles(layout, 11, &error));
+  EXPECT_EQ(error, "handle group 1 has no vertex (groups are 0..2, each used)");
+  layout.group = {0, -1, 0};
+  EXPECT_FALSE(ValidateHandles(layout, 11, &error));
+  EXPECT_EQ(error, "moveable vertex 5 has handle group -1, outside 0..63");
+
+  // Transforms: one for all groups, or one a group.
+  layout.group = {0, 1, 0};
+  EXPECT_TRUE(HandleTransforms(Eigen::Affine3d::Identity()).Fits(layout, &error));
+  EXPECT_TRUE(HandleTransforms({Eigen::Affine3d::Identity(), Eigen::Affine3d::Identity()})
+                  .Fits(layout, &error));
+  const HandleTransforms three(std::vector<Eigen::Affine3d>(3, Eigen::Affine3d::Identity()));
+  EXPECT_FALSE(three.Fits(layout, &error));
+  EXPECT_EQ(error, "3 handle transforms for a layout of 2 handle groups (give one, or one a group)");
+  Eigen::Affine3d bad = Eigen::Affine3d::Identity();
+  bad(0, 3) = std::nan("");
+  EXPECT_FALSE(HandleTransforms({Eigen::Affine3d::Identity(), bad}).CheckFinite(&error));
+  EXPECT_EQ(error, "the transform of handle group 1 is not finite");
+}
+
+// Per-vertex targets: a rigid motion of a flat group (coplanar: no unique
+// affine map) and an affine map of a solid one are found exactly; targets
+// that bend a group are refused, naming it.
+TEST(HandlesTest, TargetsBecomeEachGroupsRigidOrAffineMap) {
+  Eigen::Matrix3Xd rest(3, 9);
+  rest << 0, 1, 0, 1, 5, 6, 5, 5, 6,  // group 0 a flat square, group 1 a solid
+      0, 0, 1, 1, 0, 0, 1, 0, 1,      //
+      0, 0, 0, 0, 0, 0, 0, 1, 1;
+  HandleLayout layout;
+  layout.moveable = {0, 1, 2, 3, 4, 5, 6, 7, 8};
+  layout.group = {0, 0, 0, 0, 1, 1, 1, 1, 1};
+  Eigen::Affine3d turn = Eigen::Affine3d::Identity();
+  turn.rotate(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()));
+  turn.pretranslate(Eigen::Vector3d(0.5, -1, 2));
+  Eigen::Affine3d stretch = Eigen::Affine3d::Identity();
+  stretch.linear() << 2, 0.5, 0, 0, 1, 0, 0, 0.25, 3;
+  stretch.translation() = Eigen::Vector3d(1, 1, 1);
+  Eigen::Matrix3Xd targets(3, 9);
+  for (int i = 0; i < 9; ++i) {
+    targets.col(i) = (i < 4 ? turn : stretch) * Eigen::Vector3d(rest.col(i));
+  }
+  HandleTransforms fitted;
+  std::string error;
+  ASSERT_TRUE(HandleTransformsFromTargets(rest, layout, targets, 1e-9, &fitted, &error)) << error;
+  ASSERT_EQ(fitted.size(), 2);
+  EXPECT_LT((fitted[0].matrix() - turn.matrix()).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((fitted[1].matrix() - stretch.matrix()).cwiseAbs().maxCoeff(), 1e-12);
+
+  targets(2, 5) += 0.1;  // group 1 no longer moves as one piece
+  EXPECT_FALSE(HandleTransformsFromTargets(rest, layout, targets, 1e-9, &fitted, &error));
+  EXPECT_EQ(error.rfind("the targets of handle group 1 are no affine map", 0), 0u) << error;
+  EXPECT_FALSE(HandleTransformsFromTargets(rest, layout, targets.leftCols(8), 1e-9, &fitted,
+                                           &error));
+  EXPECT_EQ(error, "8 targets for 9 moveable vertices");
+}
+
+// A .sel file holds one group: a layout of two is refused, no file written.
+TEST(HandlesTest, WriteSelRefusesSeveralHandleGroups) {
+  HandleLayout layout;
+  layout.moveable = {2, 5};
+  layout.group = {0, 1};
+  const std::string path = ::testing::TempDir() + "/two_groups.sel";
+  std::remove(path.c_str());
+  std::string error;
+  EXPECT_FALSE(WriteSel(path, layout, 11, &error));
+  EXPECT_EQ(error, path + ": a .sel file holds one handle group; this layout has 2 (save a "
+                          "scenario instead)");
+  EXPECT_FALSE(std::ifstream(path).good());
 }
 
 }  // namespace

@@ -39,7 +39,8 @@ struct Resolved {
   Scenario scenario;
   HandleLayout layout;
   std::vector<int> watch;
-  Eigen::Affine3d deformed_from_rest = Eigen::Affine3d::Identity();
+  HandleTransforms transforms;
+  Eigen::Affine3d deformed_from_rest = Eigen::Affine3d::Identity();  // transforms[0]
 };
 
 Resolved ReadAndResolveOn(const std::string& json, const Mesh& mesh) {
@@ -47,7 +48,8 @@ Resolved ReadAndResolveOn(const std::string& json, const Mesh& mesh) {
   const std::string path = WriteText(FreshFolder() + "/scenario.json", json);
   if (!ReadScenario(path, &result.scenario, &result.error)) return result;
   result.ok = ResolveScenario(result.scenario, mesh, &result.layout, &result.watch,
-                              &result.deformed_from_rest, &result.error);
+                              &result.transforms, &result.error);
+  result.deformed_from_rest = result.transforms[0];
   return result;
 }
 
@@ -189,17 +191,59 @@ TEST(ScenarioTest, DragPathSplitsTheMotionIntoEqualSteps) {
       "transform": {"translation": [0, 0, 1], "rotation": {"axis": [0, 0, 1], "angle_deg": 90}},
       "frames": 4})");
   ASSERT_TRUE(resolved.ok) << resolved.error;
-  const std::vector<Eigen::Affine3d> path = DragPath(resolved.scenario, Strip(), resolved.layout);
+  const std::vector<HandleTransforms> path = DragPath(resolved.scenario, Strip(), resolved.layout);
   ASSERT_EQ(path.size(), 4u);
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 4; ++c) {
-      EXPECT_NEAR(path.back().matrix()(r, c), resolved.deformed_from_rest.matrix()(r, c), 1e-12);
+      EXPECT_NEAR(path.back()[0].matrix()(r, c), resolved.deformed_from_rest.matrix()(r, c), 1e-12);
     }
   }
   // Frame 2 of 4: 45 degrees about the centroid (10, 0.5, 0), lifted by 0.5.
   const double h = 0.5 * std::sqrt(0.5);
   EXPECT_TRUE(
-      (path[1] * Eigen::Vector3d(10, 0, 0)).isApprox(Eigen::Vector3d(10 + h, 0.5 - h, 0.5)));
+      (path[1][0] * Eigen::Vector3d(10, 0, 0)).isApprox(Eigen::Vector3d(10 + h, 0.5 - h, 0.5)));
+}
+
+TEST(ScenarioTest, SeveralHandlesEachMoveAboutTheirOwnCentroid) {
+  const Resolved resolved = ReadAndResolve(R"({"mesh": "m.off",
+      "handles": [{"region": {"vertices": [20, 21]},
+                   "transform": {"rotation": {"axis": [0, 0, 1], "angle_deg": 90}}},
+                  {"region": {"vertices": [1, 0]}, "transform": {"translation": [0, 0, 2]}},
+                  {"region": {"vertices": [10]}}],
+      "frames": 2})");
+  ASSERT_TRUE(resolved.ok) << resolved.error;
+  EXPECT_EQ(resolved.layout.moveable, (std::vector<int>{0, 1, 10, 20, 21}));
+  EXPECT_EQ(resolved.layout.group, (std::vector<int>{1, 1, 2, 0, 0}));
+  ASSERT_EQ(resolved.transforms.size(), 3);
+  // Group 0 turns about its own centroid (10, 0.5, 0): (10, 0, 0) goes to (10.5, 0.5, 0).
+  EXPECT_TRUE((resolved.transforms[0] * Eigen::Vector3d(10, 0, 0))
+                  .isApprox(Eigen::Vector3d(10.5, 0.5, 0), 1e-12));
+  EXPECT_TRUE(resolved.transforms[1].translation().isApprox(Eigen::Vector3d(0, 0, 2)));
+  EXPECT_TRUE(resolved.transforms[2].matrix().isIdentity(0.0));  // no transform: stays
+  const std::vector<HandleTransforms> path = DragPath(resolved.scenario, Strip(), resolved.layout);
+  ASSERT_EQ(path.size(), 2u);
+  EXPECT_TRUE(path[0][1].translation().isApprox(Eigen::Vector3d(0, 0, 1)));
+  EXPECT_EQ(path[1][0].matrix(), resolved.transforms[0].matrix());
+}
+
+TEST(ScenarioTest, HandlesThatShareAVertexOrMixWithHandleAreErrors) {
+  Resolved resolved = ReadAndResolve(R"({"mesh": "m.off",
+      "handles": [{"region": {"vertices": [3, 4]}}, {"region": {"vertices": [4, 5]}}]})");
+  EXPECT_FALSE(resolved.ok);
+  EXPECT_NE(resolved.error.find(": handles[0] and handles[1] share vertex 4 (a vertex follows "
+                                "one handle)"),
+            std::string::npos)
+      << resolved.error;
+  resolved = ReadAndResolve(R"({"mesh": "m.off", "handle": {"vertices": [3]},
+      "handles": [{"region": {"vertices": [4]}}]})");
+  EXPECT_FALSE(resolved.ok);
+  EXPECT_NE(resolved.error.find(": handle: not allowed with \"handles\""), std::string::npos)
+      << resolved.error;
+  resolved = ReadAndResolve(R"({"mesh": "m.off", "handles": []})");
+  EXPECT_NE(resolved.error.find(": handles: is empty"), std::string::npos) << resolved.error;
+  resolved = ReadAndResolve(R"({"mesh": "m.off", "handles": [{"transform": {}}]})");
+  EXPECT_NE(resolved.error.find(": handles[0].region: missing"), std::string::npos)
+      << resolved.error;
 }
 
 TEST(ScenarioTest, DragPathTurnsTheLongWayPastHalfATurn) {
@@ -208,16 +252,16 @@ TEST(ScenarioTest, DragPathTurnsTheLongWayPastHalfATurn) {
   const Resolved resolved = ReadAndResolve(R"({"mesh": "m.off", "handle": {"vertices": [20, 21]},
       "transform": {"rotation": {"axis": [0, 0, 1], "angle_deg": 270}}, "frames": 2})");
   ASSERT_TRUE(resolved.ok) << resolved.error;
-  const std::vector<Eigen::Affine3d> path = DragPath(resolved.scenario, Strip(), resolved.layout);
+  const std::vector<HandleTransforms> path = DragPath(resolved.scenario, Strip(), resolved.layout);
   ASSERT_EQ(path.size(), 2u);
   const Eigen::Matrix3d turn_135 =
       Eigen::AngleAxisd(0.75 * M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  EXPECT_LT((path[0].linear() - turn_135).norm(), 1e-12) << path[0].linear();
+  EXPECT_LT((path[0][0].linear() - turn_135).norm(), 1e-12) << path[0][0].linear();
   // About the centroid (10, 0.5, 0): (10, 0, 0) is 0.5 below it.
   const double h = 0.5 * std::sqrt(0.5);
   EXPECT_TRUE(
-      (path[0] * Eigen::Vector3d(10, 0, 0)).isApprox(Eigen::Vector3d(10 + h, 0.5 + h, 0), 1e-12));
-  EXPECT_EQ(path[1].matrix(), resolved.deformed_from_rest.matrix());
+      (path[0][0] * Eigen::Vector3d(10, 0, 0)).isApprox(Eigen::Vector3d(10 + h, 0.5 + h, 0), 1e-12));
+  EXPECT_EQ(path[1][0].matrix(), resolved.deformed_from_rest.matrix());
 }
 
 TEST(ScenarioTest, MeshPathIsRelativeToTheScenarioFolderAndNameDefaultsToStem) {
@@ -430,11 +474,11 @@ TEST(ScenarioTest, SameRegionsAndPathAtAnyThreadCount) {
   ASSERT_TRUE(ReadScenario(path, &scenario, &error)) << error;
   HandleLayout reference;
   std::vector<int> reference_watch;
-  Eigen::Affine3d reference_transform;
+  HandleTransforms reference_transform;
   ASSERT_TRUE(ResolveScenario(scenario, sphere, &reference, &reference_watch,
                               &reference_transform, &error, 1))
       << error;
-  const std::vector<Eigen::Affine3d> reference_path = DragPath(scenario, sphere, reference, 1);
+  const std::vector<HandleTransforms> reference_path = DragPath(scenario, sphere, reference, 1);
 
   // The plain walk: the fixed slab and the watched vertices.
   const Eigen::AlignedBox3d box = BoundingBox(sphere);
@@ -454,17 +498,17 @@ TEST(ScenarioTest, SameRegionsAndPathAtAnyThreadCount) {
   for (int threads : {2, 3}) {
     HandleLayout layout;
     std::vector<int> watch;
-    Eigen::Affine3d transform;
+    HandleTransforms transform;
     ASSERT_TRUE(ResolveScenario(scenario, sphere, &layout, &watch, &transform, &error, threads))
         << error;
     EXPECT_EQ(layout.fixed, reference.fixed) << threads;
     EXPECT_EQ(layout.moveable, reference.moveable) << threads;
     EXPECT_EQ(watch, reference_watch) << threads;
-    EXPECT_EQ(transform.matrix(), reference_transform.matrix()) << threads;
-    const std::vector<Eigen::Affine3d> drag = DragPath(scenario, sphere, layout, threads);
+    EXPECT_EQ(transform[0].matrix(), reference_transform[0].matrix()) << threads;
+    const std::vector<HandleTransforms> drag = DragPath(scenario, sphere, layout, threads);
     ASSERT_EQ(drag.size(), reference_path.size());
     for (size_t k = 0; k < drag.size(); ++k) {
-      EXPECT_EQ(drag[k].matrix(), reference_path[k].matrix()) << threads << " " << k;
+      EXPECT_EQ(drag[k][0].matrix(), reference_path[k][0].matrix()) << threads << " " << k;
     }
   }
 }

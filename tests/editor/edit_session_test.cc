@@ -53,7 +53,7 @@ TEST(EditSessionTest, OpensASelDefPairAsMsdeformDoes) {
   ASSERT_TRUE(session.error().empty()) << session.error();
   ASSERT_TRUE(session.ready());
   EXPECT_EQ(session.positions(), reference.deformed_vertices());  // bit for bit
-  EXPECT_TRUE(session.transform().matrix() == inputs.path.back().matrix());
+  EXPECT_TRUE(session.transform()[0].matrix() == inputs.path.back()[0].matrix());
   EXPECT_EQ(session.layout_timings().size(), 1u);
   EXPECT_TRUE(session.layout_timings()[0].init);
 }
@@ -156,7 +156,7 @@ TEST(EditSessionTest, LabelsBecomeALayoutAtCommit) {
   session.ResetPose();
   session.Wait();
   EXPECT_EQ(session.positions(), session.mesh().vertices);
-  EXPECT_TRUE(session.transform().matrix().isIdentity(0.0));
+  EXPECT_TRUE(session.transform().IsIdentity());
 }
 
 // Polish on release (methods/polish.h): the polished mesh replaces the frame
@@ -187,7 +187,7 @@ TEST(EditSessionTest, PolishReplacesTheFrameAndADragCancelsIt) {
   EXPECT_GT(report.setup_ms, 0.0);  // the first release for the layout factorises
   for (int v : session.committed_layout().moveable) {
     EXPECT_EQ(session.positions().col(v),
-              Eigen::Vector3d(session.transform() * session.mesh().vertices.col(v)));
+              Eigen::Vector3d(session.transform()[0] * session.mesh().vertices.col(v)));
   }
   for (int v : session.committed_layout().fixed) {
     EXPECT_EQ(session.positions().col(v), session.mesh().vertices.col(v));
@@ -232,14 +232,15 @@ TEST(EditSessionTest, SavedScenarioReadsBackAsTheSameEdit) {
             std::filesystem::canonical(inputs.mesh_path));
   HandleLayout layout;
   std::vector<int> watch;
-  Eigen::Affine3d transform;
+  HandleTransforms transform;
   ASSERT_TRUE(ResolveScenario(scenario, inputs.mesh, &layout, &watch, &transform, &error)) << error;
   EXPECT_EQ(layout.fixed, inputs.layout.fixed);
   EXPECT_EQ(layout.moveable, inputs.layout.moveable);
-  EXPECT_LT((transform.matrix() - edit.matrix()).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((transform[0].matrix() - edit.matrix()).cwiseAbs().maxCoeff(), 1e-12);
 
   // A transform that is not exactly a rotation and a translation cannot be one.
-  for (const Eigen::Affine3d& other : {Eigen::Affine3d(Eigen::Scaling(1.5)), inputs.path.back()}) {
+  for (const Eigen::Affine3d& other :
+       {Eigen::Affine3d(Eigen::Scaling(1.5)), inputs.path.back()[0]}) {
     EXPECT_FALSE(EditScenarioJson(what, inputs.mesh, inputs.layout, other, &text, &error));
     EXPECT_NE(error.find("save the .sel/.def pair"), std::string::npos) << error;
   }
@@ -261,7 +262,7 @@ TEST(EditSessionTest, InlineRegionsAreTheScenarioReadersWithTheScriptsNames) {
   ASSERT_TRUE(SelectInlineRegion({{"vertices", {9, 3, 9}}}, inputs.mesh, "x", &ids, &error));
   EXPECT_EQ(ids, std::vector<int>({3, 9}));
 
-  std::vector<Eigen::Affine3d> path;
+  std::vector<HandleTransforms> path;
   EXPECT_FALSE(InlineMotionPath({{"translation", {0, 1}}}, 1, inputs.mesh, inputs.layout.moveable,
                                 "s.json: actions[4]", &path, &error));
   EXPECT_EQ(error.rfind("s.json: actions[4].transform.translation: expected an array of 3", 0), 0u)
@@ -270,7 +271,7 @@ TEST(EditSessionTest, InlineRegionsAreTheScenarioReadersWithTheScriptsNames) {
                                "x", &path, &error))
       << error;
   ASSERT_EQ(path.size(), 4u);
-  EXPECT_NEAR(path[1].translation().y(), 0.5, 1e-12);
+  EXPECT_NEAR(path[1][0].translation().y(), 0.5, 1e-12);
 }
 
 TEST(EditSessionTest, InputCombinationsGetTheCommandLinesMessages) {

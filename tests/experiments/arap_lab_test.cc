@@ -36,7 +36,7 @@ TEST(ArapLabTest, FirstIterationWithinReadsAKnownTrace) {
 struct BentBar {
   Mesh mesh = MakeBar(10, 1.0, 2);
   HandleLayout layout;
-  std::vector<Eigen::Affine3d> path;
+  std::vector<HandleTransforms> path;
   BentBar() {
     for (int v = 0; v < mesh.num_vertices(); ++v) {
       const double x = mesh.vertices(0, v);
@@ -44,9 +44,10 @@ struct BentBar {
       if (x > 9.99) layout.moveable.push_back(v);
     }
     for (int f = 1; f <= 4; ++f) {
-      path.push_back(Eigen::Translation3d(10.0, 0.0, 0.0) *
-                     Eigen::AngleAxisd(0.25 * f * M_PI / 2, Eigen::Vector3d::UnitZ()) *
-                     Eigen::Translation3d(-10.0, 0.0, 0.0));
+      path.emplace_back(Eigen::Affine3d(
+          Eigen::Translation3d(10.0, 0.0, 0.0) *
+          Eigen::AngleAxisd(0.25 * f * M_PI / 2, Eigen::Vector3d::UnitZ()) *
+          Eigen::Translation3d(-10.0, 0.0, 0.0)));
     }
   }
 };

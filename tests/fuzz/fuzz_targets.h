@@ -85,13 +85,13 @@ inline void FuzzScenario(const uint8_t* data, size_t size) {
     static const Mesh* const mesh = new Mesh(MakeBar(4, 1.0, 1));
     HandleLayout layout;
     std::vector<int> watch;
-    Eigen::Affine3d transform;
+    HandleTransforms transform;
     if (ResolveScenario(scenario, *mesh, &layout, &watch, &transform, &error)) {
       Require(ValidateHandles(layout, mesh->num_vertices(), &error), "invalid resolved layout");
-      Require(transform.matrix().allFinite(), "non-finite scenario transform");
+      Require(transform.CheckFinite(&error), "non-finite scenario transform");
       if (scenario.frames <= 1000) {
-        for (const Eigen::Affine3d& frame : DragPath(scenario, *mesh, layout)) {
-          Require(frame.matrix().allFinite(), "non-finite drag path");
+        for (const HandleTransforms& frame : DragPath(scenario, *mesh, layout)) {
+          Require(frame.CheckFinite(&error), "non-finite drag path");
         }
       }
     } else {

@@ -417,7 +417,7 @@ TEST(GraphMethodTest, LargeArmadilloEditKeepsOptimisedNodesNearP) {
   Mesh mesh;
   HandleLayout layout;
   std::vector<int> watch;
-  Eigen::Affine3d target;
+  HandleTransforms target;
   std::string error;
   ASSERT_TRUE(ReadScenario(DataPath("scenarios/armadillo_claw.json"), &scenario, &error)) << error;
   ASSERT_TRUE(ReadMesh(scenario.mesh_path, &mesh, &error)) << error;

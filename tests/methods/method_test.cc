@@ -132,6 +132,100 @@ TEST_P(MethodTest, LiftKeepsTheFixedVerticesAndMovesTheHandle) {
   }
 }
 
+// Two handle groups on a bar (core/handles.h): the middle fixed, the left
+// end lifted and the right end lowered, each by its own transform.
+struct TwoHandleBar {
+  Mesh mesh = MakeBar(12, 1.0, 2);
+  HandleLayout layout;
+  HandleTransforms transforms{{Lift(1.0), Lift(-1.0)}};
+  TwoHandleBar() {
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      const double x = mesh.vertices(0, v);
+      if (std::abs(x - 6.0) <= 1.0) layout.fixed.push_back(v);
+      if (x <= 1.0 || x >= 11.0) {
+        layout.moveable.push_back(v);
+        layout.group.push_back(x <= 1.0 ? 0 : 1);
+      }
+    }
+  }
+  // Largest distance of a handle vertex from its group's target.
+  double HandleError(const Eigen::Matrix3Xd& deformed) const {
+    double error = 0.0;
+    for (size_t i = 0; i < layout.moveable.size(); ++i) {
+      const int v = layout.moveable[i];
+      error = std::max(error, (deformed.col(v) - transforms[layout.group[i]] *
+                                                     Eigen::Vector3d(mesh.vertices.col(v)))
+                                  .norm());
+    }
+    return error;
+  }
+};
+
+TEST_P(MethodTest, TwoHandleGroupsEachFollowTheirOwnTransform) {
+  const TwoHandleBar bar;
+  std::unique_ptr<EditingMethod> method = Create();
+  ASSERT_TRUE(method->Precompute(bar.mesh, options_, &error_)) << error_;
+  ASSERT_TRUE(method->SetHandles(bar.layout, &error_)) << error_;
+  EXPECT_EQ(method->num_handle_groups(), 2);
+  // Three transforms for two groups: refused, the pose kept.
+  EXPECT_FALSE(method->Drag(HandleTransforms({Lift(1.0), Lift(1.0), Lift(1.0)}), nullptr,
+                            &error_));
+  EXPECT_EQ(error_, "3 handle transforms for a layout of 2 handle groups (give one, or one a "
+                    "group)");
+  ASSERT_TRUE(method->Drag(bar.transforms, nullptr, &error_)) << error_;
+  const Eigen::Matrix3Xd& deformed = method->deformed_vertices();
+  // Exact for the methods that place the handle (CGAL, FastLSM, full_arap,
+  // rigid_cells), by position terms (w_con = 100) for the graph methods.
+  EXPECT_LT(bar.HandleError(deformed), method->graph_method() == nullptr ? 1e-12 : 0.1);
+  const GraphMethod* deformer = method->graph_method();
+  if (deformer == nullptr || deformer->fixed_region_exact()) {
+    for (int v : bar.layout.fixed) EXPECT_EQ(deformed.col(v), bar.mesh.vertices.col(v)) << v;
+  }
+  // Between the fixed middle and each end the bar follows that end: up on
+  // the left, down on the right.
+  for (int v = 0; v < bar.mesh.num_vertices(); ++v) {
+    const double x = bar.mesh.vertices(0, v), rise = deformed(2, v) - bar.mesh.vertices(2, v);
+    if (std::abs(x - 3.0) < 0.01) {
+      EXPECT_GT(rise, 0.0) << "vertex " << v;
+    }
+    if (std::abs(x - 9.0) < 0.01) {
+      EXPECT_LT(rise, 0.0) << "vertex " << v;
+    }
+  }
+}
+
+TEST_P(MethodTest, OneTransformMovesEveryGroupAsOneHandleWould) {
+  // Two groups given one transform, and the same vertices as one group.
+  const TwoHandleBar bar;
+  HandleLayout one_group = bar.layout;
+  one_group.group.clear();
+  std::unique_ptr<EditingMethod> two = Create(), one = Create();
+  ASSERT_TRUE(two->Precompute(bar.mesh, options_, &error_)) << error_;
+  ASSERT_TRUE(one->Precompute(bar.mesh, options_, &error_)) << error_;
+  ASSERT_TRUE(two->SetHandles(bar.layout, &error_)) << error_;
+  ASSERT_TRUE(one->SetHandles(one_group, &error_)) << error_;
+  ASSERT_TRUE(two->Drag(Lift(1.0), nullptr, &error_)) << error_;
+  ASSERT_TRUE(one->Drag(Lift(1.0), nullptr, &error_)) << error_;
+  EXPECT_LT(MaxDistance(two->deformed_vertices(), one->deformed_vertices()), 1e-9);
+}
+
+TEST(TwoHandleGroupsTest, TheSubspaceArapEnergyHoldsBothGroupsExactly) {
+  // --energy=arap places the handle vertices exactly (its exact constraints),
+  // each group at its own transform.
+  const TwoHandleBar bar;
+  for (const char* name : {"multiscale", "static"}) {
+    std::string error;
+    std::unique_ptr<EditingMethod> method = CreateMethod(name, &error);
+    ASSERT_NE(method, nullptr) << error;
+    MethodOptions options;
+    options.deformer.energy = Energy::kArap;
+    ASSERT_TRUE(method->Precompute(bar.mesh, options, &error)) << error;
+    ASSERT_TRUE(method->SetHandles(bar.layout, &error)) << error;
+    ASSERT_TRUE(method->Drag(bar.transforms, nullptr, &error)) << error;
+    EXPECT_LT(bar.HandleError(method->deformed_vertices()), 1e-12) << name;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(EveryMethod, MethodTest, testing::ValuesIn(MethodNames()),
                          [](const testing::TestParamInfo<std::string>& info) {
                            return info.param;

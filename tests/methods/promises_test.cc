@@ -166,7 +166,7 @@ struct ScenarioEdit {
   std::string name;
   Mesh mesh;
   HandleLayout layout;
-  std::vector<Eigen::Affine3d> path;
+  std::vector<HandleTransforms> path;
 };
 
 bool LoadScenarioEdit(const std::string& file, int frames, ScenarioEdit* edit,
@@ -177,7 +177,7 @@ bool LoadScenarioEdit(const std::string& file, int frames, ScenarioEdit* edit,
   edit->name = parsed.name;
   if (!ReadMesh(parsed.mesh_path, &edit->mesh, error)) return false;
   std::vector<int> watch;
-  Eigen::Affine3d target;
+  HandleTransforms target;
   if (!ResolveScenario(parsed, edit->mesh, &edit->layout, &watch, &target, error)) {
     *error = file + " on " + parsed.mesh_path + ": " + *error;
     return false;
@@ -197,7 +197,7 @@ TEST_P(FixedRegionTest, FixedVerticesStayAtRest) {
       << error << " (real meshes missing? run data/fetch_meshes.sh)";
   const Mesh& mesh = scenario.mesh;
   const HandleLayout& layout = scenario.layout;
-  const std::vector<Eigen::Affine3d>& path = scenario.path;
+  const std::vector<HandleTransforms>& path = scenario.path;
   ASSERT_FALSE(layout.fixed.empty()) << scenario.name << " fixes nothing";
   const double diagonal = BoundingBoxDiagonal(mesh);
   for (const Variant& variant : FixedHandleVariants()) {

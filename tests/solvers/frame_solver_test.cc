@@ -52,7 +52,7 @@ HandMinimum ThreeNodes() {
   position.nodes = {0};
   position.terms = {{1.0, Eigen::Vector3d::Zero(), g}};
   position.rest = g;
-  position.follows_handle = true;
+  position.handle_group = 0;
   position.sqrt_weight = b;
   energy.positions = {position};
   energy.gauge = GaugeTerms(energy);

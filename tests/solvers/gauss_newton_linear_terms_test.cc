@@ -68,7 +68,7 @@ TEST(GaussNewtonLinearTermsTest, ParallelGroupQrIsTheSameForAnyThreadCount) {
     for (int j : term.nodes)
       if (offset[j] >= 0) key.push_back(j);
     std::sort(key.begin(), key.end());
-    key.push_back(term.follows_handle ? 1 : 0);
+    key.push_back(term.handle_group);
     groups.insert(key);
   }
   ASSERT_GE(groups.size(), 2u);

@@ -296,7 +296,7 @@ TEST(GaussNewtonSolverTest, GaugeTermsOnlyForTheSpinsTheEnergyLeavesFree) {
   position.terms = {{0.5, 0.25 * e, Eigen::Vector3d::Zero()},
                     {0.5, Eigen::Vector3d(0.0, 0.0, 1.0), Eigen::Vector3d::Zero()}};
   position.rest = Eigen::Vector3d::Zero();
-  position.follows_handle = true;
+  position.handle_group = 0;
   position.sqrt_weight = 10.0;
   energy.positions = {position};
 
@@ -533,7 +533,7 @@ TEST(GaussNewtonSolverTest, CostIsExactFarFromTheOrigin) {
         position.nodes = {0};
         position.terms = {{1.0, sign * o, node}};
         position.rest = node + sign * o;
-        position.follows_handle = follows;
+        position.handle_group = follows ? 0 : -1;
         position.sqrt_weight = s;
         energy.positions.push_back(position);
       }

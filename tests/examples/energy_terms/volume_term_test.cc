@@ -69,7 +69,7 @@ SmallGraph MakeSmallGraph(bool all_follow) {
       position.terms = {{w, v - graph.nodes[j], graph.nodes[j]},
                         {1.0 - w, v - graph.nodes[neighbour], graph.nodes[neighbour]}};
       position.rest = v;
-      position.follows_handle = all_follow || v.x() >= 2.5;
+      position.handle_group = all_follow || v.x() >= 2.5 ? 0 : -1;
       position.sqrt_weight = 3.0;
       energy.positions.push_back(position);
     }
