@@ -15,7 +15,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 bool SameLayout(const HandleLayout& a, const HandleLayout& b) {
-  return a.fixed == b.fixed && a.moveable == b.moveable;
+  return a.fixed == b.fixed && a.moveable == b.moveable && a.group == b.group;
 }
 
 }  // namespace
@@ -427,12 +427,22 @@ void EditSession::SetMethodOptions(const MethodOptions& options) {
   SetOptions(options_);
 }
 
-Eigen::Vector3d EditSession::HandleCentroid() const {
+int EditSession::LayoutGroupOfLabel(int label_group) const {
+  for (int i = 0; i < static_cast<int>(committed_layout_.moveable.size()); ++i) {
+    if (HandleGroupOf(labels_[committed_layout_.moveable[i]]) == label_group) {
+      return committed_layout_.group_of(i);
+    }
+  }
+  return -1;
+}
+
+Eigen::Vector3d EditSession::HandleCentroid(int label_group) const {
   const Eigen::Matrix3Xd& points = positions();
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   int count = 0;
   for (int v = 0; v < static_cast<int>(labels_.size()); ++v) {
-    if (labels_[v] != VertexLabel::kHandle) continue;
+    if (!IsHandle(labels_[v])) continue;
+    if (label_group >= 0 && HandleGroupOf(labels_[v]) != label_group) continue;
     sum += points.col(v);
     ++count;
   }

@@ -151,9 +151,13 @@ class EditSession {
   // Bumped whenever positions() or labels() change, for the renderer.
   int geometry_version() const { return geometry_version_; }
   int labels_version() const { return labels_version_; }
-  // The handle's current centroid (deformed positions of the moveable
-  // vertices of the committed layout); the rest centroid without a layout.
-  Eigen::Vector3d HandleCentroid() const;
+  // The handle's current centroid (deformed positions of the vertices
+  // labelled handle group `label_group`, or of every handle vertex for -1);
+  // the mesh's bounding-box centre without one.
+  Eigen::Vector3d HandleCentroid(int label_group = -1) const;
+  // The committed layout's group of the vertices labelled handle group
+  // `label_group` (layouts number the groups without gaps), or -1 for none.
+  int LayoutGroupOfLabel(int label_group) const;
 
   // The last failure of a job or a Drag, "" when the last one succeeded;
   // error_in_path(): it was the input's drag path (the CLI adds "no output

@@ -324,7 +324,8 @@ void EditorApp::MouseButton(int button, bool press, int mods) {
     drag_mode_ = (mods & GLFW_MOD_SHIFT)     ? DragMode::kRotate
                  : (mods & GLFW_MOD_CONTROL) ? DragMode::kRoll
                                              : DragMode::kTranslate;
-    drag_anchor_ = session_->HandleCentroid();
+    const bool one_group = session_->committed_layout().num_groups() == 1;
+    drag_anchor_ = session_->HandleCentroid(one_group ? -1 : active_group_);
   } else if (button == GLFW_MOUSE_BUTTON_LEFT) {
     BeginStroke(mouse_.x(), mouse_.y());
   }
@@ -343,7 +344,7 @@ void EditorApp::MouseMove(double x, double y) {
       break;
     case Gesture::kPaint: {
       const VertexLabel label = tool_ == Tool::kFixed    ? VertexLabel::kFixed
-                                : tool_ == Tool::kHandle ? VertexLabel::kHandle
+                                : tool_ == Tool::kHandle ? HandleLabel(active_group_)
                                                          : VertexLabel::kFree;
       session_->Label(VerticesAlongStroke(stroke_screen_, ToViewport(previous.x(), previous.y()),
                                           ToViewport(x, y), brush_radius_, through_),
@@ -379,6 +380,17 @@ void EditorApp::Key(int key, int mods) {
       break;
     case GLFW_KEY_G:
       tool_ = Tool::kDrag;
+      break;
+    case GLFW_KEY_1:
+    case GLFW_KEY_2:
+    case GLFW_KEY_3:
+    case GLFW_KEY_4:
+    case GLFW_KEY_5:
+    case GLFW_KEY_6:
+    case GLFW_KEY_7:
+    case GLFW_KEY_8:
+    case GLFW_KEY_9:
+      active_group_ = key - GLFW_KEY_1;
       break;
     case GLFW_KEY_L:
       lasso_ = !lasso_;
@@ -468,7 +480,7 @@ void EditorApp::BeginStroke(double x, double y) {
   }
   gesture_ = Gesture::kPaint;
   const VertexLabel label = tool_ == Tool::kFixed    ? VertexLabel::kFixed
-                            : tool_ == Tool::kHandle ? VertexLabel::kHandle
+                            : tool_ == Tool::kHandle ? HandleLabel(active_group_)
                                                      : VertexLabel::kFree;
   session_->Label(VerticesInBrush(stroke_screen_, ToViewport(x, y), brush_radius_, through_),
                   label);
@@ -477,7 +489,7 @@ void EditorApp::BeginStroke(double x, double y) {
 void EditorApp::EndStroke() {
   if (gesture_ == Gesture::kLasso) {
     const VertexLabel label = tool_ == Tool::kFixed    ? VertexLabel::kFixed
-                              : tool_ == Tool::kHandle ? VertexLabel::kHandle
+                              : tool_ == Tool::kHandle ? HandleLabel(active_group_)
                                                        : VertexLabel::kFree;
     session_->Label(VerticesInLasso(stroke_screen_, lasso_points_, through_), label);
     lasso_points_.clear();
@@ -505,6 +517,14 @@ void EditorApp::PaintLasso(VertexLabel label, const std::vector<Eigen::Vector2d>
 
 void EditorApp::DragHandleBy(const Eigen::Vector2d& delta, DragMode mode) {
   if (!session_->ready() || delta.isZero()) return;
+  // With several handle groups only the active one moves.
+  const int num_groups = session_->committed_layout().num_groups();
+  const int moved_group = num_groups > 1 ? session_->LayoutGroupOfLabel(active_group_) : -1;
+  if (num_groups > 1 && moved_group < 0) {
+    status_.Show("handle group " + std::to_string(active_group_) +
+                 " has no vertex: paint it (tool Handle) or pick another group (keys 1-9)");
+    return;
+  }
   Eigen::Affine3d change = Eigen::Affine3d::Identity();
   if (mode == DragMode::kTranslate) {
     const Eigen::Vector3d move = camera_.ViewPlaneDelta(delta, drag_anchor_, viewport());
@@ -513,7 +533,8 @@ void EditorApp::DragHandleBy(const Eigen::Vector2d& delta, DragMode mode) {
   } else {
     // About the handle's current centroid: a trackball (the front of the
     // handle follows the mouse), or a roll about the view axis.
-    const Eigen::Vector3d pivot = session_->HandleCentroid();
+    const Eigen::Vector3d pivot =
+        session_->HandleCentroid(moved_group >= 0 ? active_group_ : -1);
     Eigen::Vector3d axis;
     double angle;
     if (mode == DragMode::kRotate) {
@@ -527,10 +548,12 @@ void EditorApp::DragHandleBy(const Eigen::Vector2d& delta, DragMode mode) {
     change.rotate(Eigen::AngleAxisd(angle, axis));
     change.translate(-pivot);
   }
-  // Every handle group moves by the change.
+  // The moved group (every group for one) by the change, the others where they are.
   std::vector<Eigen::Affine3d> moved;
   const HandleTransforms& current = session_->transform();
-  for (int g = 0; g < current.size(); ++g) moved.push_back(change * current[g]);
+  for (int g = 0; g < std::max(current.size(), num_groups); ++g) {
+    moved.push_back(moved_group < 0 || g == moved_group ? change * current[g] : current[g]);
+  }
   std::string error;
   if (!session_->Drag(HandleTransforms(std::move(moved)), &error)) status_.Show(error);
 }
@@ -541,7 +564,8 @@ bool EditorApp::MouseDragHandle(const Eigen::Vector2d& by, int steps, DragMode m
     *error = "no handle to drag (paint or label one first)";
     return false;
   }
-  drag_anchor_ = session_->HandleCentroid();
+  const bool one_group = session_->committed_layout().num_groups() == 1;
+  drag_anchor_ = session_->HandleCentroid(one_group ? -1 : active_group_);
   for (int step = 0; step < steps; ++step) {
     const size_t moves = session_->move_timings().size();
     DragHandleBy(by / steps, mode);

@@ -96,6 +96,10 @@ class EditorApp {
   void PaintLasso(VertexLabel label, const std::vector<Eigen::Vector2d>& polygon, bool through);
   // The drag tool from a script: `steps` mouse moves adding up to `by` pixels.
   bool MouseDragHandle(const Eigen::Vector2d& by, int steps, DragMode mode, std::string* error);
+  // The handle group the handle tool paints and the drag tool moves (label
+  // group: 0 .. kMaxHandleGroups - 1; keys 1-9 pick 0-8).
+  int active_group() const { return active_group_; }
+  void set_active_group(int group) { active_group_ = group; }
 
   OrbitCamera& camera() { return camera_; }
   ViewState& view() { return view_; }
@@ -153,6 +157,7 @@ class EditorApp {
 
   // Gestures.
   Tool tool_ = Tool::kOrbit;
+  int active_group_ = 0;
   bool lasso_ = false;
   bool through_ = false;
   double brush_radius_ = 16.0;

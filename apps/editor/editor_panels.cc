@@ -207,6 +207,16 @@ void EditorApp::DrawToolPanel() {
   ImGui::SameLine();
   ImGui::RadioButton("erase (E)", &tool, static_cast<int>(Tool::kErase));
   tool_ = static_cast<Tool>(tool);
+  int group = active_group_;
+  ImGui::SetNextItemWidth(100);
+  if (ImGui::InputInt("handle group", &group)) {
+    active_group_ = std::clamp(group, 0, kMaxHandleGroups - 1);
+  }
+  ImGui::SameLine();
+  ImGui::TextColored(Color(HandleGroupColor(active_group_)), "painted and dragged");
+  Help("Several handles move independently: paint each as its own group (keys 1-9 pick "
+       "groups 0-8); the drag tool moves the group picked here, the others stay where they "
+       "are.");
   int shape = lasso_ ? 1 : 0;
   ImGui::RadioButton("brush", &shape, 0);
   ImGui::SameLine();

@@ -7,15 +7,15 @@ namespace msdeform {
 namespace editor {
 
 Rgb LabelColor(VertexLabel label) {
-  switch (label) {
-    case VertexLabel::kFixed:
-      return kFixedColor;
-    case VertexLabel::kHandle:
-      return kHandleColor;
-    case VertexLabel::kFree:
-      break;
-  }
+  if (label == VertexLabel::kFixed) return kFixedColor;
+  if (IsHandle(label)) return HandleGroupColor(HandleGroupOf(label));
   return kFreeColor;
+}
+
+Rgb HandleGroupColor(int group) {
+  // Group 0 the handle's red, then colours that none of the other labels use.
+  static const Rgb kOthers[] = {{240, 140, 20}, {200, 40, 200}, {230, 210, 30}, {140, 70, 30}};
+  return group == 0 ? kHandleColor : kOthers[(group - 1) % 4];
 }
 
 Rgb NodeClassColor(NodeClass node_class) {

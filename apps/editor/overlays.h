@@ -32,6 +32,8 @@ constexpr Rgb kFixedNodeColor = {90, 90, 96};
 constexpr Rgb kEdgeColor = {30, 30, 36};
 
 Rgb LabelColor(VertexLabel label);
+// The colour of handle group g: kHandleColor for group 0.
+Rgb HandleGroupColor(int group);
 Rgb NodeClassColor(NodeClass node_class);
 
 // The colour map of e': perceptually uniform (viridis), e' = 0 (rigid, stays

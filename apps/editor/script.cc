@@ -26,7 +26,8 @@ enum class Type {
   kPolygon,
   kMatrix16,
   kObject,
-  kScalar
+  kScalar,
+  kGroup  // a handle group, 0 .. kMaxHandleGroups - 1
 };
 
 struct Field {
@@ -62,13 +63,14 @@ const std::map<std::string, ActionSpec>& Specs() {
         {},
         false}},
       {"label",
-       {{{"as", {Type::kString, kLabels}}, {"region", {Type::kObject}}},
+       {{{"as", {Type::kString, kLabels}}, {"region", {Type::kObject}}, {"group", {Type::kGroup}}},
         {"as", "region"},
         {},
         false}},
       {"clear", {{}, {}, {}, false}},
       {"brush",
        {{{"as", {Type::kString, kLabels}},
+         {"group", {Type::kGroup}},
          {"at", {Type::kPoint2}},
          {"at_vertex", {Type::kInt}},
          {"radius_px", {Type::kNumber}},
@@ -78,6 +80,7 @@ const std::map<std::string, ActionSpec>& Specs() {
         true}},
       {"lasso",
        {{{"as", {Type::kString, kLabels}},
+         {"group", {Type::kGroup}},
          {"polygon", {Type::kPolygon}},
          {"through", {Type::kBool}}},
         {"as", "polygon"},
@@ -87,13 +90,15 @@ const std::map<std::string, ActionSpec>& Specs() {
        {{{"transform", {Type::kObject}},
          {"matrix", {Type::kMatrix16}},
          {"def", {Type::kString}},
-         {"frames", {Type::kInt}}},
+         {"frames", {Type::kInt}},
+         {"group", {Type::kGroup}}},
         {},
         {"transform", "matrix", "def"},
         true}},
       {"mouse_drag",
        {{{"by", {Type::kPoint2}},
          {"steps", {Type::kInt}},
+         {"group", {Type::kGroup}},
          {"mode", {Type::kString, {"translate", "rotate", "roll"}}}},
         {"by"},
         {},
@@ -161,6 +166,11 @@ std::string Mismatch(const Json& value, const Field& field) {
       return "";
     case Type::kInt:
       return value.is_number_integer() ? "" : "an integer";
+    case Type::kGroup:
+      return value.is_number_integer() && value.get<long long>() >= 0 &&
+                     value.get<long long>() < kMaxHandleGroups
+                 ? ""
+                 : "a handle group, an integer in 0.." + std::to_string(kMaxHandleGroups - 1);
     case Type::kNumber:
       return value.is_number() ? "" : "a number";
     case Type::kBool:

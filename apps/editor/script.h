@@ -15,13 +15,16 @@
 //
 // Actions ("do") and their fields (docs: README.md, "Editor"):
 //   open        mesh, sel, def, scenario, frames     as the command line's flags
-//   label       as (fixed|handle|free), region       a scenario REGION; one layout change
+//   label       as (fixed|handle|free), region       a scenario REGION; one layout change;
+//               group (handle group, default 0: several handles move independently)
 //   clear                                            every vertex free; one layout change
-//   brush       as, at [x, y] | at_vertex, radius_px, through    the mouse brush at a pixel
-//   lasso       as, polygon [[x, y], ...], through   the mouse lasso
+//   brush       as, group, at [x, y] | at_vertex, radius_px, through    the mouse brush
+//   lasso       as, group, polygon [[x, y], ...], through   the mouse lasso
 //   drag        transform (scenario "transform") | matrix (16 numbers, row by row, as .def)
-//               | def (a .def file); frames (default 1): that many Drags from the current pose
-//   mouse_drag  by [dx, dy] pixels, steps (default 10), mode (translate|rotate|roll)
+//               | def (a .def file); frames (default 1): that many Drags from the current
+//               pose; group: only that handle group moves (default: every group)
+//   mouse_drag  by [dx, dy] pixels, steps (default 10), mode (translate|rotate|roll),
+//               group (the drag tool's handle group, as keys 1-9 pick it)
 //   reset                                            back to the rest pose
 //   set         flag, value                          any method/solver/weights/rigidity/
 //                                                    ablation flag of msdeform

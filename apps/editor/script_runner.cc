@@ -11,6 +11,7 @@
 #include "apps/editor/screenshot.h"
 #include "msdeform/core/drag_path.h"
 #include "msdeform/core/handles.h"
+#include "msdeform/core/scenario.h"
 
 namespace msdeform {
 namespace editor {
@@ -67,6 +68,7 @@ class Runner {
     if (kind == "drag") return Drag(args, action.where, error);
     if (kind == "mouse_drag") {
       const std::string mode = args.value("mode", "translate");
+      if (args.contains("group")) app_->set_active_group(args["group"].get<int>());
       return app_->MouseDragHandle(
           Eigen::Vector2d(args["by"][0].get<double>(), args["by"][1].get<double>()),
           args.value("steps", 10),
@@ -128,6 +130,7 @@ class Runner {
   static VertexLabel Label(const Json& args) {
     VertexLabel label = VertexLabel::kFree;
     ParseVertexLabel(args["as"].get<std::string>(), &label);  // checked by ReadScript
+    if (label == VertexLabel::kHandle) label = HandleLabel(args.value("group", 0));
     return label;
   }
 
@@ -211,7 +214,20 @@ class Runner {
     }
     const int frames = args.value("frames", 1);
     const Mesh& mesh = session_.mesh();
-    const std::vector<int>& moveable = session_.committed_layout().moveable;
+    const HandleLayout& layout = session_.committed_layout();
+    // "group": that handle group moves about its own centroid, the others stay.
+    int moved = -1;
+    std::vector<int> moveable = layout.moveable;
+    if (args.contains("group")) {
+      moved = session_.LayoutGroupOfLabel(args["group"].get<int>());
+      if (moved < 0) {
+        *error = "group: handle group " + std::to_string(args["group"].get<int>()) +
+                 " has no vertex";
+        return false;
+      }
+      moveable = HandleGroupVertices(layout, moved);
+    }
+    const HandleTransforms start = session_.transform();
     std::vector<HandleTransforms> path;
     if (args.contains("transform")) {
       if (!InlineMotionPath(args["transform"], frames, mesh, moveable, where, &path, error)) {
@@ -240,6 +256,11 @@ class Runner {
       centroid /= static_cast<double>(moveable.size());
       const std::vector<Eigen::Affine3d> steps = InterpolateDragPath(target, centroid, frames);
       path.assign(steps.begin(), steps.end());
+    }
+    for (size_t f = 0; f < path.size() && moved >= 0; ++f) {
+      std::vector<Eigen::Affine3d> frame;
+      for (int g = 0; g < layout.num_groups(); ++g) frame.push_back(g == moved ? path[f][0] : start[g]);
+      path[f] = HandleTransforms(std::move(frame));
     }
     for (size_t f = 0; f < path.size(); ++f) {
       if (!session_.Drag(path[f], error)) {

@@ -16,7 +16,7 @@ const char* VertexLabelName(VertexLabel label) {
     case VertexLabel::kHandle:
       return "handle";
   }
-  return "free";
+  return IsHandle(label) ? "handle" : "free";
 }
 
 bool ParseVertexLabel(const std::string& name, VertexLabel* label) {
@@ -131,9 +131,22 @@ std::vector<int> VerticesInLasso(const ScreenVertices& screen,
 
 HandleLayout LayoutFromLabels(const std::vector<VertexLabel>& labels) {
   HandleLayout layout;
+  std::vector<int> label_group;  // per moveable vertex
+  std::vector<int> number(256, -1);  // layout group of each label group
   for (int v = 0; v < static_cast<int>(labels.size()); ++v) {
     if (labels[v] == VertexLabel::kFixed) layout.fixed.push_back(v);
-    if (labels[v] == VertexLabel::kHandle) layout.moveable.push_back(v);
+    if (IsHandle(labels[v])) {
+      layout.moveable.push_back(v);
+      label_group.push_back(HandleGroupOf(labels[v]));
+      number[label_group.back()] = 0;
+    }
+  }
+  int groups = 0;
+  for (int& n : number) {
+    if (n == 0) n = groups++;
+  }
+  if (groups > 1) {
+    for (int g : label_group) layout.group.push_back(number[g]);
   }
   return layout;
 }
@@ -141,7 +154,9 @@ HandleLayout LayoutFromLabels(const std::vector<VertexLabel>& labels) {
 std::vector<VertexLabel> LabelsFromLayout(const HandleLayout& layout, int num_vertices) {
   std::vector<VertexLabel> labels(num_vertices, VertexLabel::kFree);
   for (int v : layout.fixed) labels[v] = VertexLabel::kFixed;
-  for (int v : layout.moveable) labels[v] = VertexLabel::kHandle;
+  for (int i = 0; i < static_cast<int>(layout.moveable.size()); ++i) {
+    labels[layout.moveable[i]] = HandleLabel(layout.group_of(i));
+  }
   return labels;
 }
 

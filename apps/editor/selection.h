@@ -20,10 +20,19 @@
 namespace msdeform {
 namespace editor {
 
-// The .sel status values (core/handles.h): 0 fixed, 1 free, 2 handle.
+// The .sel status values (core/handles.h): 0 fixed, 1 free, 2 handle; and,
+// as in Python's statuses, 2 + g for handle group g (kHandle is group 0).
 enum class VertexLabel : std::uint8_t { kFixed = 0, kFree = 1, kHandle = 2 };
 
-// "fixed", "free", "handle"; Parse is false for another name.
+inline VertexLabel HandleLabel(int group) { return static_cast<VertexLabel>(2 + group); }
+inline bool IsHandle(VertexLabel label) { return static_cast<int>(label) >= 2; }
+// The handle group of a handle label (-1 for fixed or free).
+inline int HandleGroupOf(VertexLabel label) {
+  return IsHandle(label) ? static_cast<int>(label) - 2 : -1;
+}
+
+// "fixed", "free", "handle" (every handle group); Parse is false for another
+// name and gives kHandle (group 0) for "handle".
 const char* VertexLabelName(VertexLabel label);
 bool ParseVertexLabel(const std::string& name, VertexLabel* label);
 
@@ -74,7 +83,9 @@ std::vector<int> VerticesInLasso(const ScreenVertices& screen,
                                  const std::vector<Eigen::Vector2d>& polygon, bool through);
 bool PointInPolygon(const Eigen::Vector2d& point, const std::vector<Eigen::Vector2d>& polygon);
 
-// Labels <-> layouts. LayoutFromLabels gives sorted lists (it may have no
+// Labels <-> layouts. The layout's handle groups are the labels' groups in
+// increasing order, numbered without gaps (labels of groups 0 and 3 give
+// layout groups 0 and 1). LayoutFromLabels gives sorted lists (it may have no
 // moveable vertex: check with ValidateHandles before using it).
 HandleLayout LayoutFromLabels(const std::vector<VertexLabel>& labels);
 std::vector<VertexLabel> LabelsFromLayout(const HandleLayout& layout, int num_vertices);

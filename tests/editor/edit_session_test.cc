@@ -274,6 +274,49 @@ TEST(EditSessionTest, InlineRegionsAreTheScenarioReadersWithTheScriptsNames) {
   EXPECT_NEAR(path[1][0].translation().y(), 0.5, 1e-12);
 }
 
+TEST(EditSessionTest, HandleGroupsArePaintedAndDraggedOneAtATime) {
+  OpenRequest request;
+  request.mesh = kMeshes + "cactus.off";
+  EditInputs inputs;
+  std::string error;
+  ASSERT_TRUE(LoadEditInputs(request, &inputs, &error)) << error;
+  EditSession session;
+  session.Open(std::move(inputs), DeformerOptions());
+  session.Wait();
+  ASSERT_TRUE(session.SetMethod("full_arap", &error)) << error;  // exact handles
+  session.Wait();
+  std::vector<int> fixed, left, right;
+  ASSERT_TRUE(SelectInlineRegion({{"slab", {{"axis", "x"}, {"from", 0.45}, {"to", 0.55}}}},
+                                 session.mesh(), "t", &fixed, &error));
+  ASSERT_TRUE(SelectInlineRegion({{"slab", {{"axis", "x"}, {"from", 0}, {"to", 0.1}}}},
+                                 session.mesh(), "t", &left, &error));
+  ASSERT_TRUE(SelectInlineRegion({{"slab", {{"axis", "x"}, {"from", 0.9}, {"to", 1}}}},
+                                 session.mesh(), "t", &right, &error));
+  session.Label(fixed, VertexLabel::kFixed);
+  session.Label(left, HandleLabel(0));
+  session.Label(right, HandleLabel(3));  // labels 0 and 3: layout groups 0 and 1
+  ASSERT_TRUE(session.CommitLayout());
+  session.Wait();
+  ASSERT_TRUE(session.ready()) << session.error();
+  const HandleLayout& layout = session.committed_layout();
+  EXPECT_EQ(layout.num_groups(), 2);
+  EXPECT_EQ(session.LayoutGroupOfLabel(3), 1);
+  EXPECT_EQ(session.LayoutGroupOfLabel(1), -1);
+  EXPECT_EQ(HandleGroupVertices(layout, 1), right);
+
+  // Group 1 moves, group 0 stays where it is (at rest).
+  const Eigen::Affine3d lift(Eigen::Translation3d(0, 0.05, 0));
+  ASSERT_TRUE(session.Drag(HandleTransforms({Eigen::Affine3d::Identity(), lift}), &error))
+      << error;
+  for (int v : right) {
+    EXPECT_LT((session.positions().col(v) - lift * session.mesh().vertices.col(v)).norm(), 1e-12);
+  }
+  for (int v : left) EXPECT_EQ(session.positions().col(v), session.mesh().vertices.col(v));
+  // The labels and the layout round-trip, groups included.
+  EXPECT_EQ(LayoutFromLabels(LabelsFromLayout(layout, session.mesh().num_vertices())).group,
+            layout.group);
+}
+
 TEST(EditSessionTest, InputCombinationsGetTheCommandLinesMessages) {
   EditInputs inputs;
   std::string error;

@@ -203,6 +203,34 @@ else
   fail "the energies script exited non-zero: $(cat "${work}/stderr")"
 fi
 
+# --- 2d. Two handle groups, one dragged. ------------------------------------
+# The middle of the cactus fixed, its left and right tenths two handle groups;
+# group 1 dragged, group 0 left at rest. The saved scenario has "handles", and
+# msdeform on it gives the saved mesh.
+cat > "${work}/groups.json" <<EOF
+[
+  {"do": "open", "mesh": "${meshes}/cactus.off"},
+  {"do": "set", "flag": "method", "value": "fastlsm"},
+  {"do": "label", "as": "fixed", "region": {"slab": {"axis": "x", "from": 0.45, "to": 0.55}}},
+  {"do": "label", "as": "handle", "region": {"slab": {"axis": "x", "from": 0, "to": 0.1}}},
+  {"do": "label", "as": "handle", "group": 1,
+   "region": {"slab": {"axis": "x", "from": 0.9, "to": 1}}},
+  {"do": "drag", "group": 1, "transform": {"translation_rel": [0, 0.05, 0]}},
+  {"do": "save", "mesh": "groups.off", "scenario": "groups_scenario.json", "frames": 1}
+]
+EOF
+if "${editor}" --quiet --script="${work}/groups.json" 2> "${work}/stderr"; then
+  grep -q '"handles"' "${work}/groups_scenario.json" || fail "the saved scenario has no handles"
+  if "${cli}" --quiet --scenario="${work}/groups_scenario.json" --method=fastlsm \
+       --out="${work}/cli_groups.off"; then
+    run_check same_mesh "${work}/groups.off" "${work}/cli_groups.off" 1e-9
+  else
+    fail "msdeform on the saved two-handle scenario"
+  fi
+else
+  fail "the handle groups script exited non-zero: $(cat "${work}/stderr")"
+fi
+
 # --- 3. Inputs msdeform refuses. --------------------------------------------
 # Every corpus entry that fails and takes only input and method flags: the
 # editor's one-line message must be msdeform's.

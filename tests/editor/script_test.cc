@@ -101,6 +101,10 @@ TEST_F(ScriptTest, RefusesWhatItCannotRunWithOneLine) {
        "actions[0].polygon: expected at least 3 points"},
       {R"([{"do": "set", "flag": "method", "value": [1]}])",
        "actions[0].value: expected a string, number or boolean"},
+      {R"([{"do": "label", "as": "handle", "group": 64, "region": {}}])",
+       "actions[0].group: expected a handle group, an integer in 0..63"},
+      {R"([{"do": "mouse_drag", "by": [1, 0], "group": -1}])",
+       "actions[0].group: expected a handle group, an integer in 0..63"},
   };
   for (const auto& [text, expected] : cases) {
     Script script;
