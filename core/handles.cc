@@ -218,6 +218,19 @@ Eigen::Matrix3Xd ConstrainedTargets(const Eigen::Matrix3Xd& rest,
   return targets;
 }
 
+Eigen::Matrix3Xd ConstrainedTargets(const Eigen::Matrix3Xd& rest,
+                                    const std::vector<int>& constrained,
+                                    const std::vector<int>& handle_group,
+                                    const Eigen::Matrix3Xd& moveable_targets) {
+  Eigen::Matrix3Xd targets(3, constrained.size());
+  Eigen::Index next = 0;  // the next moveable vertex's target
+  for (size_t j = 0; j < constrained.size(); ++j) {
+    targets.col(j) =
+        handle_group[j] >= 0 ? moveable_targets.col(next++) : rest.col(constrained[j]);
+  }
+  return targets;
+}
+
 bool ValidateHandles(const HandleLayout& layout, int num_vertices, std::string* error) {
   if (!CheckIds(layout.fixed, num_vertices, "fixed", error)) return false;
   if (!CheckIds(layout.moveable, num_vertices, "moveable", error)) return false;

@@ -116,6 +116,14 @@ Eigen::Matrix3Xd ConstrainedTargets(const Eigen::Matrix3Xd& rest,
                                     const std::vector<int>& handle_group,
                                     const HandleTransforms& handles);
 
+// The same with the moveable vertices' targets given one by one
+// (`moveable_targets`: 3 by #moveable, in the layout's moveable order, which
+// is the order of the constrained entries with a group).
+Eigen::Matrix3Xd ConstrainedTargets(const Eigen::Matrix3Xd& rest,
+                                    const std::vector<int>& constrained,
+                                    const std::vector<int>& handle_group,
+                                    const Eigen::Matrix3Xd& moveable_targets);
+
 // Reads a .sel file (one handle group) for a mesh with `num_vertices` vertices: status 0 goes to
 // `fixed`, 2 to `moveable`, 1 (free to deform) to neither. Errors (file, line
 // and problem in *error): unreadable file, a line that is not one integer,

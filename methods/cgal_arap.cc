@@ -7,6 +7,7 @@
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_deformation.h>
+#include <glog/logging.h>
 
 #include "msdeform/core/timing.h"
 #include "msdeform/methods/method_option_table.h"
@@ -140,12 +141,24 @@ bool CgalArap::Drag(const HandleTransforms& deformed_from_rest, CgalArapStats* s
     *error = "CgalArap::Drag before a successful Init";
     return false;
   }
+  Eigen::Matrix3Xd targets(3, impl_->handle.size());
+  for (size_t h = 0; h < impl_->handle.size(); ++h) {
+    targets.col(h) = deformed_from_rest[impl_->handle_group[h]] * impl_->handle_rest[h];
+  }
+  return DragTo(targets, stats, error);
+}
+
+bool CgalArap::DragTo(const Eigen::Matrix3Xd& targets, CgalArapStats* stats, std::string* error) {
+  if (impl_ == nullptr || (impl_->original == nullptr && impl_->sre == nullptr)) {
+    *error = "CgalArap::Drag before a successful Init";
+    return false;
+  }
+  CHECK_EQ(targets.cols(), static_cast<Eigen::Index>(impl_->handle.size()));
   CgalArapStats local;
   CgalArapStats& frame = stats != nullptr ? *stats : local;
   const auto solve_start = std::chrono::steady_clock::now();
   for (size_t h = 0; h < impl_->handle.size(); ++h) {
-    const Eigen::Vector3d target =
-        deformed_from_rest[impl_->handle_group[h]] * impl_->handle_rest[h];
+    const Eigen::Vector3d target = targets.col(h);
     impl_->Visit([&](auto& deformation) {
       deformation.set_target_position(impl_->handle[h], Point(target.x(), target.y(), target.z()));
     });
@@ -189,13 +202,28 @@ bool CgalArapMethod::DoDrag(const HandleTransforms& deformed_from_rest, MethodSt
   const auto frame_start = std::chrono::steady_clock::now();
   CgalArapStats frame;
   if (!arap_.Drag(deformed_from_rest, &frame, error)) return false;
+  FillStats(frame, frame_start, stats);
+  return true;
+}
+
+bool CgalArapMethod::DoDragTo(const Eigen::Matrix3Xd& targets, MethodStats* stats,
+                              std::string* error) {
+  const auto frame_start = std::chrono::steady_clock::now();
+  CgalArapStats frame;
+  if (!arap_.DragTo(targets, &frame, error)) return false;
+  FillStats(frame, frame_start, stats);
+  return true;
+}
+
+void CgalArapMethod::FillStats(const CgalArapStats& frame,
+                               std::chrono::steady_clock::time_point frame_start,
+                               MethodStats* stats) const {
   *stats = MethodStats();
   stats->solve_ms = frame.solve_ms;
   stats->iterations = options_.iterations;
   stats->initial_cost = stats->final_cost = std::numeric_limits<double>::quiet_NaN();
   stats->converged = true;
   stats->frame_ms = MillisecondsSince(frame_start);
-  return true;
 }
 
 namespace {

@@ -17,6 +17,7 @@
 #ifndef MSDEFORM_METHODS_CGAL_ARAP_H_
 #define MSDEFORM_METHODS_CGAL_ARAP_H_
 
+#include <chrono>
 #include <memory>
 #include <string>
 #include <vector>
@@ -64,6 +65,9 @@ class CgalArap {
   // Moves every handle vertex to deformed_from_rest[its group] * (its rest position)
   // and runs the iterations, starting from the previous frame.
   bool Drag(const HandleTransforms& deformed_from_rest, CgalArapStats* stats, std::string* error);
+  // The same with every handle vertex's target given (3 by #moveable, in the
+  // layout's moveable order).
+  bool DragTo(const Eigen::Matrix3Xd& targets, CgalArapStats* stats, std::string* error);
 
   const Eigen::Matrix3Xd& deformed_vertices() const { return deformed_vertices_; }
   int roi_size() const { return roi_size_; }
@@ -97,14 +101,19 @@ class CgalArapMethod : public EditingMethod {
   int variables() const override { return 3 * arap_.roi_size(); }
   double precompute_ms() const override { return 0.0; }
   double setup_ms() const override { return arap_.convert_ms() + arap_.preprocess_ms(); }
+  bool takes_vertex_targets() const override { return true; }
 
  protected:
   bool DoPrecompute(const Mesh& mesh, const MethodOptions& options, std::string* error) override;
   bool DoSetHandles(const HandleLayout& layout, std::string* error) override;
   bool DoDrag(const HandleTransforms& deformed_from_rest, MethodStats* stats,
               std::string* error) override;
+  bool DoDragTo(const Eigen::Matrix3Xd& targets, MethodStats* stats, std::string* error) override;
 
  private:
+  void FillStats(const CgalArapStats& frame, std::chrono::steady_clock::time_point frame_start,
+                 MethodStats* stats) const;
+
   CgalArap arap_;
   Mesh mesh_;
   CgalArapOptions options_;

@@ -69,11 +69,21 @@ bool FullArapMethod::DoSetHandles(const HandleLayout& layout, std::string* error
 }
 
 bool FullArapMethod::DoDrag(const HandleTransforms& deformed_from_rest, MethodStats* stats,
-                            std::string* error) {
+                            std::string*) {
+  Solve(ConstrainedTargets(mesh_.vertices, constrained_, handle_group_, deformed_from_rest),
+        stats);
+  return true;
+}
+
+bool FullArapMethod::DoDragTo(const Eigen::Matrix3Xd& targets, MethodStats* stats,
+                              std::string*) {
+  Solve(ConstrainedTargets(mesh_.vertices, constrained_, handle_group_, targets), stats);
+  return true;
+}
+
+void FullArapMethod::Solve(const Eigen::Matrix3Xd& targets, MethodStats* stats) {
   const auto frame_start = std::chrono::steady_clock::now();
-  summary_ = arap_.Solve(
-      ConstrainedTargets(mesh_.vertices, constrained_, handle_group_, deformed_from_rest),
-      &deformed_);
+  summary_ = arap_.Solve(targets, &deformed_);
   *stats = MethodStats();
   stats->solve_ms = MillisecondsSince(frame_start);
   stats->iterations = summary_.iterations;
@@ -82,7 +92,6 @@ bool FullArapMethod::DoDrag(const HandleTransforms& deformed_from_rest, MethodSt
   stats->final_cost = summary_.final_energy;
   stats->converged = summary_.converged;
   stats->frame_ms = MillisecondsSince(frame_start);
-  return true;
 }
 
 MSDEFORM_REGISTER_METHODS(full_arap, registry) {

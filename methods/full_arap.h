@@ -42,6 +42,7 @@ class FullArapMethod : public EditingMethod {
   double precompute_ms() const override { return precompute_ms_; }
   double setup_ms() const override { return arap_.setup_ms(); }
 
+  bool takes_vertex_targets() const override { return true; }
   // The last Drag's solve (iterations, energies, trace).
   const LocalGlobalArapSummary& last_summary() const { return summary_; }
 
@@ -50,13 +51,17 @@ class FullArapMethod : public EditingMethod {
   bool DoSetHandles(const HandleLayout& layout, std::string* error) override;
   bool DoDrag(const HandleTransforms& deformed_from_rest, MethodStats* stats,
               std::string* error) override;
+  bool DoDragTo(const Eigen::Matrix3Xd& targets, MethodStats* stats, std::string* error) override;
 
  private:
+  // One frame with the constrained vertices at `targets` (ConstrainedTargets).
+  void Solve(const Eigen::Matrix3Xd& targets, MethodStats* stats);
+
   Mesh mesh_;
   LocalGlobalArapOptions options_;
   LocalGlobalArap arap_;
-  // The constrained vertices (sorted) and, per entry, whether it follows the
-  // handle (else it is fixed at rest).
+  // The constrained vertices (sorted) and, per entry, its handle group (-1:
+  // fixed at rest).
   std::vector<int> constrained_;
   std::vector<int> handle_group_;  // per entry of constrained_, -1 fixed
   Eigen::Matrix3Xd deformed_;

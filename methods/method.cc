@@ -24,6 +24,7 @@ bool EditingMethod::SetHandles(const HandleLayout& layout, std::string* error) {
   stage_ = Stage::kPrecomputed;
   if (!DoSetHandles(layout, error)) return false;
   num_handle_groups_ = layout.num_groups();
+  num_moveable_ = static_cast<int>(layout.moveable.size());
   stage_ = Stage::kHandlesSet;
   return true;
 }
@@ -42,6 +43,34 @@ bool EditingMethod::Drag(const HandleTransforms& deformed_from_rest, MethodStats
   }
   MethodStats local;
   return DoDrag(deformed_from_rest, stats != nullptr ? stats : &local, error);
+}
+
+bool EditingMethod::DragTo(const Eigen::Matrix3Xd& targets, MethodStats* stats,
+                           std::string* error) {
+  if (stage_ != Stage::kHandlesSet) {
+    *error = name_ + ": Drag before a successful SetHandles";
+    return false;
+  }
+  if (!takes_vertex_targets()) {
+    *error = name_ + " moves the handle by a transform a handle group, not by vertex targets";
+    return false;
+  }
+  if (targets.cols() != num_moveable_) {
+    *error = std::to_string(targets.cols()) + " targets for " + std::to_string(num_moveable_) +
+             " moveable vertices";
+    return false;
+  }
+  if (!targets.allFinite()) {
+    *error = "the targets are not finite";
+    return false;
+  }
+  MethodStats local;
+  return DoDragTo(targets, stats != nullptr ? stats : &local, error);
+}
+
+bool EditingMethod::DoDragTo(const Eigen::Matrix3Xd&, MethodStats*, std::string* error) {
+  *error = name_ + ": DoDragTo is not implemented";
+  return false;
 }
 
 bool DragAlong(EditingMethod* method, const std::vector<HandleTransforms>& path,

@@ -62,6 +62,14 @@ class EditingMethod {
   // transform moves every group; else one a group, or false with a message.
   // `stats` may be null.
   bool Drag(const HandleTransforms& deformed_from_rest, MethodStats* stats, std::string* error);
+  // Moves each moveable vertex to its own target (`targets`: 3 by #moveable,
+  // in the layout's moveable order; libigl's bc) and deforms the mesh, for a
+  // method that places the handle vertices one by one
+  // (takes_vertex_targets()). The others take a transform a handle group
+  // (core/handles.h, HandleTransformsFromTargets fits one) and refuse this
+  // with a message.
+  bool DragTo(const Eigen::Matrix3Xd& targets, MethodStats* stats, std::string* error);
+  virtual bool takes_vertex_targets() const { return false; }
 
   // #V by 3 (as 3 by #V): the rest vertices until the first Drag.
   virtual const Eigen::Matrix3Xd& deformed_vertices() const = 0;
@@ -97,12 +105,15 @@ class EditingMethod {
   virtual bool DoSetHandles(const HandleLayout& layout, std::string* error) = 0;
   virtual bool DoDrag(const HandleTransforms& deformed_from_rest, MethodStats* stats,
                       std::string* error) = 0;
+  // Called with a checked `targets` when takes_vertex_targets().
+  virtual bool DoDragTo(const Eigen::Matrix3Xd& targets, MethodStats* stats, std::string* error);
 
  private:
   enum class Stage { kEmpty, kPrecomputed, kHandlesSet };
   std::string name_;
   Stage stage_ = Stage::kEmpty;
   int num_handle_groups_ = 1;
+  int num_moveable_ = 0;
 };
 
 // A drag along a path of handle transforms: the per-frame loop of msdeform,

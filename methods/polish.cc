@@ -86,10 +86,25 @@ Eigen::Matrix3Xd Polisher::Targets(const HandleTransforms& deformed_from_rest) c
 PolishReport Polisher::Polish(const HandleTransforms& deformed_from_rest,
                               Eigen::Matrix3Xd* vertices, const std::atomic<bool>* cancel) {
   CHECK(ready_) << "Polish before a successful Setup";
+  return PolishConstrained(Targets(deformed_from_rest), vertices, cancel);
+}
+
+PolishReport Polisher::PolishTo(const Eigen::Matrix3Xd& moveable_targets,
+                                Eigen::Matrix3Xd* vertices, const std::atomic<bool>* cancel) {
+  CHECK(ready_) << "Polish before a successful Setup";
+  CHECK_EQ(moveable_targets.cols(),
+           std::count_if(handle_group_.begin(), handle_group_.end(), [](int g) { return g >= 0; }));
+  return PolishConstrained(
+      ConstrainedTargets(rest_.vertices, constrained_, handle_group_, moveable_targets), vertices,
+      cancel);
+}
+
+PolishReport Polisher::PolishConstrained(const Eigen::Matrix3Xd& targets,
+                                         Eigen::Matrix3Xd* vertices,
+                                         const std::atomic<bool>* cancel) {
   CHECK_EQ(vertices->cols(), rest_.vertices.cols());
   const auto start = std::chrono::steady_clock::now();
   PolishReport report;
-  const Eigen::Matrix3Xd targets = Targets(deformed_from_rest);
   // The energy of the frame as the method left it: Solve's initial energy
   // when the constrained vertices are already at their targets (the methods
   // that hold them exactly), else one more local step.

@@ -88,8 +88,16 @@ class Polisher {
   // stops and *vertices is left as given (report.cancelled).
   PolishReport Polish(const HandleTransforms& deformed_from_rest, Eigen::Matrix3Xd* vertices,
                       const std::atomic<bool>* cancel = nullptr);
+  // The same with each moveable vertex's target given (3 by #moveable, in
+  // the layout's moveable order: EditingMethod::DragTo's).
+  PolishReport PolishTo(const Eigen::Matrix3Xd& moveable_targets, Eigen::Matrix3Xd* vertices,
+                        const std::atomic<bool>* cancel = nullptr);
 
  private:
+  // Polish with the constrained vertices at `targets` (3 by #constrained).
+  PolishReport PolishConstrained(const Eigen::Matrix3Xd& targets, Eigen::Matrix3Xd* vertices,
+                                 const std::atomic<bool>* cancel);
+
   Mesh rest_;
   PolishOptions options_;
   LocalGlobalArap arap_;

@@ -118,6 +118,7 @@ void SetHandles(PyMethod& self, const py::object& status) {
     self.is_polished = false;
     self.polisher_layout_set = false;
     self.last_transform = HandleTransforms();
+    self.last_is_targets = false;
     ok = self.method->SetHandles(layout, &error);
     if (ok) self.layout = std::move(layout);
   }
@@ -208,6 +209,7 @@ py::array_t<double> DragThrough(const py::object& self_object, PyMethod& self,
         continue;
       }
       self.last_transform = path[f];
+      self.last_is_targets = false;
       ++successes;
     }
     if (!log.frames.empty()) self.is_polished = false;
@@ -216,6 +218,32 @@ py::array_t<double> DragThrough(const py::object& self_object, PyMethod& self,
   }
   if (!ok) ThrowRuntimeError(error);
   // A new array, as libigl returns: the next drag does not change it.
+  std::lock_guard<std::mutex> lock(self.mutex);
+  return PositionsToArray(self.shown());
+}
+
+// drag(targets=...) for a method that places the handle vertices one by one:
+// EditingMethod::DragTo with the GIL released (then the lock taken, as
+// DragThrough does: the GIL is never waited for with the lock held).
+py::array_t<double> DragToTargets(PyMethod& self, const Eigen::Matrix3Xd& targets) {
+  MethodStats stats;
+  std::string error;
+  bool ok;
+  {
+    py::gil_scoped_release release;
+    std::lock_guard<std::mutex> lock(self.mutex);
+    ok = self.method->DragTo(targets, &stats, &error);
+    self.failed_frames.clear();
+    if (ok) {
+      self.is_polished = false;
+      self.last_is_targets = true;
+      self.last_targets = targets;
+      self.frames.push_back(std::move(stats));
+    } else {
+      self.failed_frames.push_back(1);
+    }
+  }
+  if (!ok) ThrowRuntimeError("frame 1 of 1: " + error);
   std::lock_guard<std::mutex> lock(self.mutex);
   return PositionsToArray(self.shown());
 }
@@ -239,19 +267,20 @@ py::array_t<double> Drag(const py::object& self_object, const py::object& matrix
                    "positions), one of the two");
   }
   if (!targets.is_none()) {
-    Eigen::Matrix3Xd positions;
-    {
-      std::lock_guard<std::mutex> lock(self.mutex);
-      positions = PositionsFromArray(targets, "targets");
-      HandleTransforms fitted;
-      std::string error;
-      const double tolerance = kTargetTolerance * BoundingBoxDiagonal(self.rest);
-      if (!HandleTransformsFromTargets(self.rest.vertices, self.layout, positions, tolerance,
-                                       &fitted, &error)) {
-        ThrowValueError("targets: " + error);
-      }
-      path.push_back(std::move(fitted));
+    const Eigen::Matrix3Xd positions = PositionsFromArray(targets, "targets");
+    if (self.method->takes_vertex_targets()) return DragToTargets(self, positions);
+    // The others move by a transform a group: each group's fit.
+    std::lock_guard<std::mutex> lock(self.mutex);
+    HandleTransforms fitted;
+    std::string error;
+    const double tolerance = kTargetTolerance * BoundingBoxDiagonal(self.rest);
+    if (!HandleTransformsFromTargets(self.rest.vertices, self.layout, positions, tolerance,
+                                     &fitted, &error)) {
+      ThrowValueError("targets: " + error + " (" + self.name() +
+                      " moves each group by one transform; full_arap, cgal_arap and "
+                      "cgal_sr_arap take any targets)");
     }
+    path.push_back(std::move(fitted));
   } else if (!PathFromArray(matrix, "M", num_groups, &path)) {
     path.push_back(FrameFromArray(matrix, "M", num_groups));
   }
@@ -343,7 +372,8 @@ py::dict Polish(const py::object& self_object, const py::kwargs& kwargs) {
     }
     if (ok) {
       Eigen::Matrix3Xd vertices = self.shown();
-      report = self.polisher.Polish(self.last_transform, &vertices);
+      report = self.last_is_targets ? self.polisher.PolishTo(self.last_targets, &vertices)
+                                    : self.polisher.Polish(self.last_transform, &vertices);
       report.setup_ms = setup_ms;
       // Copied into the buffer a deformed_vertices view may point at (a move
       // would hand that buffer to `vertices`, freed here, and leave the view
@@ -420,9 +450,10 @@ void BindDragging(py::class_<PyMethod>& c) {
         "M, each transform in turn. With several handle groups (set_handles' statuses 3, "
         "4, ...), a 4x4 M moves them all, a (groups, 4, 4) M moves group g by M[g], and a "
         "path is (frames, groups, 4, 4). targets= instead of M: a (#handle vertices, 3) array "
-        "of where the handle vertices go (in vertex order, as libigl's bc): each group "
-        "follows the rigid motion, or else the affine map, that reaches its targets to "
-        "within 1e-9 of the diagonal; targets that move a group otherwise raise ValueError "
+        "of where the handle vertices go (in vertex order, as libigl's bc). full_arap, "
+        "cgal_arap and cgal_sr_arap take any targets; the other methods move each group by "
+        "one transform, the rigid motion, or else the affine map, that reaches its targets "
+        "to within 1e-9 of the diagonal, and raise ValueError for targets that bend a group "
         "(give those parts their own groups). Returns the deformed vertices as a new float64 (#V, 3) "
         "array (as libigl returns one): the next drag or drag_along does not change it "
         "(deformed_vertices is the read-only view that follows the current frame). "

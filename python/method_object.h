@@ -35,8 +35,11 @@ struct PyMethod {
   std::vector<MethodStats> frames;  // every successful frame since set_handles
   std::vector<int> failed_frames;   // of the last drag or drag_along, 1-based
   Eigen::Matrix3Xd normals;  // deformed_normals of a method that is not a graph
-  // The last successful frame's handle transforms (identity after set_handles).
+  // The last successful frame's handle transforms (identity after set_handles),
+  // or, after a drag to vertex targets (last_is_targets), those targets.
   HandleTransforms last_transform;
+  bool last_is_targets = false;
+  Eigen::Matrix3Xd last_targets;
   // polish(): set up on the first call for a layout (polisher_layout_set);
   // `polished` replaces the method's frame as the deformed vertices until the
   // next drag or set_handles (`is_polished`).

@@ -209,6 +209,35 @@ TEST_P(MethodTest, OneTransformMovesEveryGroupAsOneHandleWould) {
   EXPECT_LT(MaxDistance(two->deformed_vertices(), one->deformed_vertices()), 1e-9);
 }
 
+TEST_P(MethodTest, VertexTargetsAreTakenOneByOneOrRefused) {
+  // Targets that bend the handle (no transform moves it there): a method
+  // that places the handle vertices one by one reaches each exactly; the
+  // others refuse them and keep the pose.
+  const BarEdit bar(8, 2);
+  std::unique_ptr<EditingMethod> method = Create();
+  ASSERT_TRUE(method->Precompute(bar.mesh, options_, &error_)) << error_;
+  ASSERT_TRUE(method->SetHandles(bar.layout, &error_)) << error_;
+  Eigen::Matrix3Xd targets(3, bar.layout.moveable.size());
+  for (size_t i = 0; i < bar.layout.moveable.size(); ++i) {
+    const Eigen::Vector3d rest = bar.mesh.vertices.col(bar.layout.moveable[i]);
+    targets.col(i) = rest + Eigen::Vector3d(0.0, 0.0, 0.5 + 0.3 * rest.y() * rest.y());
+  }
+  EXPECT_FALSE(method->DragTo(targets.leftCols(3), nullptr, &error_));
+  if (method->takes_vertex_targets()) {
+    EXPECT_EQ(error_, "3 targets for " + std::to_string(bar.layout.moveable.size()) +
+                          " moveable vertices");
+    ASSERT_TRUE(method->DragTo(targets, nullptr, &error_)) << error_;
+    for (size_t i = 0; i < bar.layout.moveable.size(); ++i) {
+      EXPECT_LT((method->deformed_vertices().col(bar.layout.moveable[i]) - targets.col(i)).norm(),
+                1e-12);
+    }
+  } else {
+    EXPECT_EQ(error_, GetParam() + " moves the handle by a transform a handle group, not by "
+                                   "vertex targets");
+    EXPECT_EQ(method->deformed_vertices(), bar.mesh.vertices);
+  }
+}
+
 TEST(TwoHandleGroupsTest, TheSubspaceArapEnergyHoldsBothGroupsExactly) {
   // --energy=arap places the handle vertices exactly (its exact constraints),
   // each group at its own transform.
