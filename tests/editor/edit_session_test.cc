@@ -13,6 +13,7 @@
 #include "apps/editor/edit_inputs.h"
 #include "apps/editor/inline_scenario.h"
 #include "apps/editor/saved_edit.h"
+#include "tests/editor/editor_test_util.h"
 #include "msdeform/core/metrics.h"
 #include "msdeform/core/scenario.h"
 #include "msdeform/methods/registry.h"
@@ -106,15 +107,9 @@ TEST(EditSessionTest, RunsAnyRegisteredMethodByName) {
 }
 
 TEST(EditSessionTest, LabelsBecomeALayoutAtCommit) {
-  OpenRequest request;
-  request.mesh = kMeshes + "cactus.off";
-  EditInputs inputs;
-  std::string error;
-  ASSERT_TRUE(LoadEditInputs(request, &inputs, &error)) << error;
-  EXPECT_FALSE(inputs.has_layout);
   EditSession session;
-  session.Open(std::move(inputs), DeformerOptions());
-  session.Wait();
+  ASSERT_NO_FATAL_FAILURE(OpenCactusMesh(&session));
+  std::string error;
   EXPECT_FALSE(session.ready());
   EXPECT_EQ(session.positions(), session.mesh().vertices);
 
@@ -275,14 +270,9 @@ TEST(EditSessionTest, InlineRegionsAreTheScenarioReadersWithTheScriptsNames) {
 }
 
 TEST(EditSessionTest, HandleGroupsArePaintedAndDraggedOneAtATime) {
-  OpenRequest request;
-  request.mesh = kMeshes + "cactus.off";
-  EditInputs inputs;
-  std::string error;
-  ASSERT_TRUE(LoadEditInputs(request, &inputs, &error)) << error;
   EditSession session;
-  session.Open(std::move(inputs), DeformerOptions());
-  session.Wait();
+  ASSERT_NO_FATAL_FAILURE(OpenCactusMesh(&session));
+  std::string error;
   ASSERT_TRUE(session.SetMethod("full_arap", &error)) << error;  // exact handles
   session.Wait();
   std::vector<int> fixed, left, right;

@@ -11,12 +11,11 @@
 
 #include "apps/editor/edit_inputs.h"
 #include "apps/editor/inline_scenario.h"
+#include "tests/editor/editor_test_util.h"
 
 namespace msdeform {
 namespace editor {
 namespace {
-
-const std::string kMeshes = std::string(MSDEFORM_DATA_DIR) + "/meshes/";
 
 // What the window does on a stroke's end: commit, and show why not.
 void EndStroke(EditSession* session, StatusLine* status) {
@@ -28,14 +27,9 @@ void EndStroke(EditSession* session, StatusLine* status) {
 // Paint the fixed region, then the handle, then drag: the "no moveable
 // handle" of the first stroke is gone by the drag.
 TEST(StatusLineTest, NoMoveableHandleGoesOnceAHandleIsPainted) {
-  OpenRequest request;
-  request.mesh = kMeshes + "cactus.off";
-  EditInputs inputs;
-  std::string error;
-  ASSERT_TRUE(LoadEditInputs(request, &inputs, &error)) << error;
   EditSession session;
-  session.Open(std::move(inputs), DeformerOptions());
-  session.Wait();
+  ASSERT_NO_FATAL_FAILURE(OpenCactusMesh(&session));
+  std::string error;
   StatusLine status;
 
   std::vector<int> fixed, handle;
