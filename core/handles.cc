@@ -110,28 +110,45 @@ namespace {
 
 // The rigid motion x -> R (x - c) + d that maps `from` (3 by n, centroid c)
 // onto `to` (centroid d) best in least squares (Kabsch: R from the SVD of the
-// cross-covariance, its determinant kept positive).
+// cross-covariance, its determinant kept positive). Points on a line leave
+// the spin about it free: then R is the least rotation that turns the line
+// onto its image (the identity for one point or no turn).
 Eigen::Affine3d BestRigidMotion(const Eigen::Matrix3Xd& from, const Eigen::Matrix3Xd& to) {
   const Eigen::Vector3d c = from.rowwise().mean(), d = to.rowwise().mean();
   const Eigen::Matrix3d covariance = (to.colwise() - d) * (from.colwise() - c).transpose();
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance,
                                               Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d flip = Eigen::Matrix3d::Identity();
-  if ((svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0) flip(2, 2) = -1.0;
+  const Eigen::Vector3d& sigma = svd.singularValues();
   Eigen::Affine3d motion = Eigen::Affine3d::Identity();
-  motion.linear() = svd.matrixU() * flip * svd.matrixV().transpose();
+  if (!(sigma[1] > 1e-12 * sigma[0])) {
+    if (sigma[0] > 0.0) {
+      motion.linear() =
+          Eigen::Quaterniond::FromTwoVectors(svd.matrixV().col(0), svd.matrixU().col(0))
+              .toRotationMatrix();
+    }
+  } else {
+    Eigen::Matrix3d flip = Eigen::Matrix3d::Identity();
+    if ((svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0) flip(2, 2) = -1.0;
+    motion.linear() = svd.matrixU() * flip * svd.matrixV().transpose();
+  }
   motion.translation() = d - motion.linear() * c;
   return motion;
 }
 
 // The affine map x -> A (x - c) + d that maps `from` onto `to` best in least
-// squares, A by a complete orthogonal decomposition (the minimum-norm A when
-// the points span less than 3 dimensions).
-Eigen::Affine3d BestAffineMap(const Eigen::Matrix3Xd& from, const Eigen::Matrix3Xd& to) {
+// squares, as `rigid`'s linear part R plus the least correction: A = R + D,
+// D by a complete orthogonal decomposition (its minimum-norm solution), so
+// that where the points span less than 3 dimensions A acts as R does across
+// them (not flattening a lattice cell driven by it).
+Eigen::Affine3d BestAffineMap(const Eigen::Matrix3Xd& from, const Eigen::Matrix3Xd& to,
+                              const Eigen::Affine3d& rigid) {
   const Eigen::Vector3d c = from.rowwise().mean(), d = to.rowwise().mean();
-  const Eigen::MatrixXd x = (from.colwise() - c).transpose();  // n by 3
-  const Eigen::MatrixXd y = (to.colwise() - d).transpose();
-  const Eigen::Matrix3d a = x.completeOrthogonalDecomposition().solve(y).transpose();
+  const Eigen::Matrix3Xd centred = from.colwise() - c;
+  const Eigen::MatrixXd x = centred.transpose();  // n by 3
+  const Eigen::MatrixXd y =
+      ((to.colwise() - d) - rigid.linear() * centred).transpose();  // what R leaves
+  const Eigen::Matrix3d a =
+      rigid.linear() + Eigen::Matrix3d(x.completeOrthogonalDecomposition().solve(y).transpose());
   Eigen::Affine3d map = Eigen::Affine3d::Identity();
   map.linear() = a;
   map.translation() = d - a * c;
@@ -174,7 +191,7 @@ bool HandleTransformsFromTargets(const Eigen::Matrix3Xd& rest, const HandleLayou
       to.col(k) = targets.col(members[g][k]);
     }
     Eigen::Affine3d map = BestRigidMotion(from, to);
-    if (!(LargestMiss(map, from, to) <= tolerance)) map = BestAffineMap(from, to);
+    if (!(LargestMiss(map, from, to) <= tolerance)) map = BestAffineMap(from, to, map);
     const double miss = LargestMiss(map, from, to);
     if (!(miss <= tolerance)) {
       std::ostringstream message;

@@ -52,25 +52,16 @@ bool FastLsm::DoSetHandles(const HandleLayout& layout, std::string* error) {
   const auto start = Clock::now();
   if (!ValidateHandles(layout, mesh_.num_vertices(), error)) return false;
   const int n = lattice_.num_particles();
-  std::vector<int> fixed;
-  if (!ParticlesOfVertices(lattice_, layout.fixed, &fixed, error)) return false;
-  // Each handle group drives the particles of its vertices' cells.
+  // Each handle group drives the particles of its vertices' cells; a cell
+  // holding a fixed vertex stays fixed.
   if (!HandleGroupOfParticles(lattice_, layout, &driven_group_, error)) return false;
   kind_.assign(n, Kind::kFree);
-  for (int p = 0; p < n; ++p) {
-    if (driven_group_[p] >= 0) kind_[p] = Kind::kDriven;
-  }
-  for (int p : fixed) kind_[p] = Kind::kFixed;  // a cell holding both stays fixed
   num_free_ = 0;
-  int num_driven = 0;
-  for (Kind k : kind_) {
-    num_free_ += k == Kind::kFree;
-    num_driven += k == Kind::kDriven;
-  }
-  if (num_driven == 0) {
-    *error = "every lattice cell of the moveable handle also holds a fixed vertex: the handle "
-             "cannot move; separate the handles";
-    return false;
+  for (int p = 0; p < n; ++p) {
+    kind_[p] = driven_group_[p] == kFixedParticle ? Kind::kFixed
+               : driven_group_[p] >= 0            ? Kind::kDriven
+                                                  : Kind::kFree;
+    num_free_ += kind_[p] == Kind::kFree;
   }
   positions_ = lattice_.rest_positions();
   velocities_ = Eigen::Matrix3Xd::Zero(3, n);

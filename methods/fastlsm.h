@@ -85,7 +85,7 @@ class FastLsm : public EditingMethod {
   Lattice lattice_;
   RigidityEstimator shape_matching_;  // its goals (Eq. 2) are FastLSM's
   std::vector<Kind> kind_;            // per particle
-  std::vector<int> driven_group_;     // per particle: the handle group driving it, or -1
+  std::vector<int> driven_group_;     // per particle: HandleGroupOfParticles (scales/rigidity.h)
   bool first_step_ = true;            // of the layout: shape matching cold-starts
   int num_free_ = 0;
   Eigen::Matrix3Xd positions_, velocities_, goals_;

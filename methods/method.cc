@@ -48,7 +48,7 @@ bool EditingMethod::Drag(const HandleTransforms& deformed_from_rest, MethodStats
 bool EditingMethod::DragTo(const Eigen::Matrix3Xd& targets, MethodStats* stats,
                            std::string* error) {
   if (stage_ != Stage::kHandlesSet) {
-    *error = name_ + ": Drag before a successful SetHandles";
+    *error = name_ + ": DragTo before a successful SetHandles";
     return false;
   }
   if (!takes_vertex_targets()) {

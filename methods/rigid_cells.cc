@@ -175,22 +175,17 @@ bool RigidCells::DoSetHandles(const HandleLayout& layout, std::string* error) {
   const auto start = Clock::now();
   StageTimes layout_stages;
   if (!ValidateHandles(layout, mesh_.num_vertices(), error)) return false;
-  std::vector<int> fixed;
-  if (!ParticlesOfVertices(lattice_, layout.fixed, &fixed, error)) return false;
-  // Each handle group drives the cells of its vertices.
+  // Each handle group drives the cells of its vertices; a cell holding a
+  // fixed vertex stays at rest.
   if (!HandleGroupOfParticles(lattice_, layout, &driven_group_, error)) return false;
   const int n = lattice_.num_particles();
   kind_.assign(n, Kind::kFree);
   for (int p = 0; p < n; ++p) {
-    if (driven_group_[p] >= 0) kind_[p] = Kind::kDriven;
+    kind_[p] = driven_group_[p] == kFixedParticle ? Kind::kFixed
+               : driven_group_[p] >= 0            ? Kind::kDriven
+                                                  : Kind::kFree;
   }
-  for (int p : fixed) kind_[p] = Kind::kFixed;  // a cell holding both stays at rest
   num_free_ = static_cast<int>(std::count(kind_.begin(), kind_.end(), Kind::kFree));
-  if (std::count(kind_.begin(), kind_.end(), Kind::kDriven) == 0) {
-    *error = "every lattice cell of the moveable handle also holds a fixed vertex: the handle "
-             "cannot move; separate the handles";
-    return false;
-  }
   vertex_kind_.assign(mesh_.num_vertices(), static_cast<char>(Kind::kFree));
   vertex_group_.assign(mesh_.num_vertices(), -1);
   for (int i = 0; i < static_cast<int>(layout.moveable.size()); ++i) {

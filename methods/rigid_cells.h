@@ -123,7 +123,7 @@ class RigidCells : public EditingMethod {
   std::vector<Kind> kind_;                       // per cell
   std::vector<char> vertex_kind_;                // per vertex: Kind of its constraint
   std::vector<int> vertex_group_;                // per vertex: its handle group, or -1
-  std::vector<int> driven_group_;                // per cell: the handle group driving it, or -1
+  std::vector<int> driven_group_;                // per cell: HandleGroupOfParticles (scales/rigidity.h)
   int num_free_ = 0;
   // Parameter blocks: quaternions 4 by #cells (x, y, z, w), positions 3 by #cells.
   Eigen::Matrix4Xd rotations_;

@@ -160,8 +160,9 @@ std::vector<HandleTransforms> DragAlongPathOf(const PyMethod& self, const py::ob
   std::vector<HandleTransforms> path;
   if (PathFromArray(matrix, "path", num_groups, &path)) {
     if (!frames.is_none()) {
-      ThrowValueError("frames: give either a path of transforms (frames, 4, 4) or one "
-                      "transform and frames, not both");
+      ThrowValueError("frames: give either a path of transforms (frames, 4, 4), or "
+                      "(frames, groups, 4, 4) for several handle groups, or one transform and "
+                      "frames, not both");
     }
     return path;
   }
@@ -256,11 +257,12 @@ py::array_t<double> Drag(const py::object& self_object, const py::object& matrix
                          const py::object& targets) {
   PyMethod& self = self_object.cast<PyMethod&>();
   std::vector<HandleTransforms> path;
-  int num_groups;
+  int num_groups, num_moveable;
   {
     std::lock_guard<std::mutex> lock(self.mutex);
     self.RequireHandles();
     num_groups = self.layout.num_groups();
+    num_moveable = static_cast<int>(self.layout.moveable.size());
   }
   if (matrix.is_none() == targets.is_none()) {
     ThrowTypeError("drag: give M (the handle transforms) or targets (the handle vertices' "
@@ -268,6 +270,11 @@ py::array_t<double> Drag(const py::object& self_object, const py::object& matrix
   }
   if (!targets.is_none()) {
     const Eigen::Matrix3Xd positions = PositionsFromArray(targets, "targets");
+    if (positions.cols() != num_moveable) {
+      ThrowValueError("targets: " + std::to_string(positions.cols()) + " rows for " +
+                      std::to_string(num_moveable) + " handle vertices");
+    }
+    if (!positions.allFinite()) ThrowValueError("targets: not finite");
     if (self.method->takes_vertex_targets()) return DragToTargets(self, positions);
     // The others move by a transform a group: each group's fit.
     std::lock_guard<std::mutex> lock(self.mutex);
@@ -495,7 +502,8 @@ void BindDragging(py::class_<PyMethod>& c) {
         return HandlePathToArray(DragAlongPathOf(self, matrix, frames), self.layout.num_groups());
       },
       py::arg("M"), py::arg("frames"),
-      "The (frames, 4, 4) path drag_along(M, frames=frames) drags through.");
+      "The path drag_along(M, frames=frames) drags through: (frames, 4, 4), or (frames, groups, "
+      "4, 4) for several handle groups.");
 }
 
 void BindStatistics(py::class_<PyMethod>& c) {

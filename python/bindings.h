@@ -84,9 +84,9 @@ py::array_t<int> StatusFromLayout(const HandleLayout& layout, int num_vertices);
 py::array_t<double> TransformToArray(const Eigen::Affine3d& transform);
 // (#frames, 4, 4).
 py::array_t<double> TransformsToArray(const std::vector<Eigen::Affine3d>& transforms);
-// One frame's handle transforms named `name` in errors: a 4x4 (or 3x4) that
-// every handle group follows, or, for a layout of G > 1 groups, a (G, 4, 4)
-// array, one a group.
+// One frame's handle transforms named `name` in errors: a 4x4 (or 3x4), or a
+// (1, 4, 4), that every handle group follows, or, for a layout of G > 1
+// groups, a (G, 4, 4) array, one a group.
 HandleTransforms FrameFromArray(const py::handle& matrix, const char* name, int num_groups);
 // A path: frames stacked on a first axis, (frames, 4, 4) for a layout of one
 // handle group, (frames, G, 4, 4) for G > 1. False (nothing read) when

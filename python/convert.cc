@@ -287,7 +287,7 @@ py::array_t<double> TransformsToArray(const std::vector<Eigen::Affine3d>& transf
 // array, one a group.
 HandleTransforms FrameFromArray(const py::handle& matrix, const char* name, int num_groups) {
   const py::array array = py::array::ensure(matrix);
-  if (num_groups > 1 && array && array.ndim() == 3) {
+  if (num_groups > 1 && array && array.ndim() == 3 && array.shape(0) != 1) {
     if (array.shape(0) != num_groups) {
       ThrowValueError(std::string(name) + ": " + std::to_string(array.shape(0)) +
                       " transforms for a layout of " + std::to_string(num_groups) +
@@ -299,6 +299,9 @@ HandleTransforms FrameFromArray(const py::handle& matrix, const char* name, int 
       transforms.push_back(TransformFromArray(array[py::int_(g)], at.c_str()));
     }
     return HandleTransforms(std::move(transforms));
+  }
+  if (num_groups > 1 && array && array.ndim() == 3) {  // (1, 4, 4): one for all
+    return TransformFromArray(array[py::int_(0)], name);
   }
   return TransformFromArray(matrix, name);
 }

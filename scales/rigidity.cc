@@ -141,7 +141,11 @@ bool ParticlesOfVertices(const Lattice& lattice, const std::vector<int>& vertice
 
 bool HandleGroupOfParticles(const Lattice& lattice, const HandleLayout& layout,
                             std::vector<int>* group_of_particle, std::string* error) {
-  group_of_particle->assign(lattice.num_particles(), -1);
+  std::vector<int> fixed;
+  if (!ParticlesOfVertices(lattice, layout.fixed, &fixed, error)) return false;
+  std::vector<int>& group = *group_of_particle;
+  group.assign(lattice.num_particles(), -1);
+  for (int p : fixed) group[p] = kFixedParticle;
   const int num_vertices = static_cast<int>(lattice.particle_of_vertex().size());
   for (int i = 0; i < static_cast<int>(layout.moveable.size()); ++i) {
     const int v = layout.moveable[i];
@@ -151,15 +155,30 @@ bool HandleGroupOfParticles(const Lattice& lattice, const HandleLayout& layout,
       return false;
     }
     const int g = layout.group_of(i);
-    int& group = (*group_of_particle)[lattice.particle_of_vertex(v)];
-    if (group >= 0 && group != g) {
-      *error = "a lattice cell holds vertices of handle groups " + std::to_string(group) +
-               " and " + std::to_string(g) +
-               " (vertex " + std::to_string(v) +
+    int& cell = group[lattice.particle_of_vertex(v)];
+    if (cell == kFixedParticle) continue;  // held at rest
+    if (cell >= 0 && cell != g) {
+      *error = "a lattice cell holds vertices of handle groups " + std::to_string(cell) + " and " +
+               std::to_string(g) + " (vertex " + std::to_string(v) +
                "): a cell follows one handle; separate the handles or refine the lattice";
       return false;
     }
-    group = g;
+    cell = g;
+  }
+  const int num_groups = layout.num_groups();
+  std::vector<char> moves(num_groups, 0);
+  for (int cell : group) {
+    if (cell >= 0) moves[cell] = 1;
+  }
+  for (int g = 0; g < num_groups; ++g) {
+    if (moves[g]) continue;
+    *error = num_groups == 1 ? std::string("every lattice cell of the moveable handle also holds "
+                                           "a fixed vertex: the handle cannot move; separate "
+                                           "the handles")
+                             : "every lattice cell of handle group " + std::to_string(g) +
+                                   " also holds a fixed vertex: that handle cannot move; "
+                                   "separate the handles";
+    return false;
   }
   return true;
 }

@@ -175,10 +175,14 @@ struct RigidityEstimate {
 bool ParticlesOfVertices(const Lattice& lattice, const std::vector<int>& vertices,
                          std::vector<int>* particles, std::string* error);
 
-// Per particle: the handle group (core/handles.h) of the moveable vertices its
-// surface cell holds, or -1 for none: the cells a lattice method drives with
-// that group's transform. False with a message naming both groups when a
-// cell holds vertices of two (it cannot follow both), or on a bad vertex id.
+// The cells a lattice method holds or drives: per particle, -1 for a free
+// cell, -2 for a cell that holds a fixed vertex (it stays at rest, whatever
+// else it holds), else the handle group (core/handles.h) of the moveable
+// vertices it holds, which it follows. False with a message on a bad vertex
+// id, on a cell (not fixed) that holds vertices of two groups (it cannot
+// follow both; naming them), or when every cell of a group also holds a
+// fixed vertex (that handle could not move).
+constexpr int kFixedParticle = -2;
 bool HandleGroupOfParticles(const Lattice& lattice, const HandleLayout& layout,
                             std::vector<int>* group_of_particle, std::string* error);
 

@@ -41,10 +41,12 @@ CeresArapProblem::CeresArapProblem(std::shared_ptr<const SubspaceArap> arap,
   const int num_slots = a.num_slots();
   const double scale = 1.0 / (a.length_unit() * a.length_unit());
   const CotangentWeights& cot = a.cotangent();
-  handle_.setZero();
+  const int num_groups = a.num_handle_groups();
+  handles_.assign(num_groups, Eigen::Matrix<double, 12, 1>::Zero());
   rotations_.assign(a.num_clusters(), Eigen::Matrix3d::Identity());
   // The constant parts: a translation slot holds t_j plus this (g_j less
-  // the slots' origin), the rest pseudo-node's slots hold these.
+  // the slots' origin), the rest pseudo-node's slots hold these; the handle
+  // groups' pseudo-nodes are constant blocks set each frame.
   SubspaceArap::Slots rest;
   a.Gather(NodeTransforms::Identity(n), Eigen::Affine3d::Identity(), &rest);
   auto* manifold_owner = new RotationMatrixManifold();  // the problem takes it
@@ -63,8 +65,8 @@ CeresArapProblem::CeresArapProblem(std::shared_ptr<const SubspaceArap> arap,
         column.block = blocks->Index(parameters->translations.col(j).data(), 3);
         column.constant = rest.row(slot).transpose();
       }
-    } else if (j == n) {
-      column.block = blocks->Index(handle_.data(), 12);
+    } else if (j < n + num_groups) {
+      column.block = blocks->Index(handles_[j - n].data(), 12);
       column.offset = 3 * m;
     } else {
       column.constant = rest.row(slot).transpose();  // the rest pseudo-node
@@ -87,8 +89,10 @@ CeresArapProblem::CeresArapProblem(std::shared_ptr<const SubspaceArap> arap,
         columns.push_back(column);
       }
     }
-    problem->AddParameterBlock(handle_.data(), 12);
-    problem->SetParameterBlockConstant(handle_.data());
+    for (Eigen::Matrix<double, 12, 1>& handle : handles_) {
+      problem->AddParameterBlock(handle.data(), 12);
+      problem->SetParameterBlockConstant(handle.data());
+    }
     if (rotation != nullptr) {
       problem->AddParameterBlock(rotation->data(), 9, manifold_owner);
       manifold_used = true;
@@ -169,8 +173,10 @@ CeresArapProblem::CeresArapProblem(std::shared_ptr<const SubspaceArap> arap,
 void CeresArapProblem::SetFrame(const HandleTransforms& handles, const NodeTransforms& parameters) {
   SubspaceArap::Slots u;
   arap_->Gather(parameters, handles, &u);
-  const int h = 4 * arap_->num_nodes();
-  for (int m = 0; m < 4; ++m) handle_.segment<3>(3 * m) = u.row(h + m).transpose();
+  for (int g = 0; g < static_cast<int>(handles_.size()); ++g) {
+    const int h = 4 * (arap_->num_nodes() + g);
+    for (int m = 0; m < 4; ++m) handles_[g].segment<3>(3 * m) = u.row(h + m).transpose();
+  }
   SubspaceArap::Rotations fitted;
   arap_->FitRotations(u, &fitted);
   for (size_t c = 0; c < rotations_.size(); ++c) rotations_[c] = fitted[c];

@@ -34,7 +34,7 @@ class CeresArapProblem {
   CeresArapProblem(std::shared_ptr<const SubspaceArap> arap, NodeTransforms* parameters,
                    const std::function<void(int)>& ensure_blocks, ceres::Problem* problem);
 
-  // Before a solve or an evaluation at `parameters`: the handle block and
+  // Before a solve or an evaluation at `parameters`: the handle blocks and
   // each cluster's rotation at its best fit.
   void SetFrame(const HandleTransforms& handles, const NodeTransforms& parameters);
 
@@ -43,7 +43,9 @@ class CeresArapProblem {
  private:
   std::shared_ptr<const SubspaceArap> arap_;
   std::vector<Eigen::Matrix3d> rotations_;  // R_c blocks
-  Eigen::Matrix<double, 12, 1> handle_;     // slot 4n + m, coordinate d at 3 m + d
+  // Per handle group g: slot 4 (n + g) + m, coordinate d at 3 m + d. Sized
+  // once (the problem holds pointers into it).
+  std::vector<Eigen::Matrix<double, 12, 1>> handles_;
 };
 
 }  // namespace msdeform

@@ -17,11 +17,11 @@
 //   x'_i[d] = sum_j w_ij [R_j(d, :), t'_j[d]] . [x_i - g_j; 1],
 // the same coefficients b_i (4 per node) for d = 0, 1, 2. So every column
 // ("slot") of the unknowns is shared by the three coordinates: slot 4j + m
-// holds R_j(d, m) (m < 3) or t'_j[d] (m = 3) in coordinate d. Two pseudo-nodes
-// complete it: the handle (slots 4n..4n+3: [A_H(d, :), t_H[d]], coefficients
-// [x_i; 1]) and the rest pose (slots 4n+4..4n+7: [e_d, 0]). With exact
-// constraints a moveable-handle vertex is the handle's pseudo-node and a
-// fixed vertex the rest's: both are constants outside the subspace, exact by
+// holds R_j(d, m) (m < 3) or t'_j[d] (m = 3) in coordinate d. Pseudo-nodes
+// complete it: one a handle group g (slots 4(n+g)..4(n+g)+3: [A_g(d, :),
+// t_g[d]], coefficients [x_i; 1]) and the rest pose after them (slots
+// 4(n+G)..4(n+G)+3: [e_d, 0]). With exact constraints a moveable-handle
+// vertex is its group's pseudo-node and a fixed vertex the rest's: both are constants outside the subspace, exact by
 // construction. Per coordinate d, with u_d the vector of all slots,
 //   2 unit^2 E = sum_d u_d^T Q u_d - 2 sum_c tr(R_c^T S_c) + C,
 //   S_c(d, :) = (K_c u_d)^T,  S_c = sum_{i in c} sum_k w_ik (x'_i - x'_k)(x_i - x_k)^T,
@@ -169,6 +169,7 @@ class SubspaceArap {
 
   const ArapOptions& options() const { return data_.options; }
   int num_nodes() const { return data_.num_nodes; }
+  int num_handle_groups() const { return data_.num_handle_groups; }
   int num_slots() const { return data_.num_slots(); }
   // Variable slots per coordinate (4 a Totally Free node, 3 a Half Free one);
   // the solve has 3 times as many variables.

@@ -564,6 +564,11 @@ bool EditorApp::MouseDragHandle(const Eigen::Vector2d& by, int steps, DragMode m
     *error = "no handle to drag (paint or label one first)";
     return false;
   }
+  if (session_->committed_layout().num_groups() > 1 &&
+      session_->LayoutGroupOfLabel(active_group_) < 0) {
+    *error = "handle group " + std::to_string(active_group_) + " has no vertex";
+    return false;
+  }
   const bool one_group = session_->committed_layout().num_groups() == 1;
   drag_anchor_ = session_->HandleCentroid(one_group ? -1 : active_group_);
   for (int step = 0; step < steps; ++step) {
@@ -604,7 +609,9 @@ void EditorApp::DrawCursor() {
   ImDrawList* draw = ImGui::GetForegroundDrawList();
   const ImU32 color =
       tool_ == Tool::kFixed    ? IM_COL32(kFixedColor[0], kFixedColor[1], kFixedColor[2], 255)
-      : tool_ == Tool::kHandle ? IM_COL32(kHandleColor[0], kHandleColor[1], kHandleColor[2], 255)
+      : tool_ == Tool::kHandle ? IM_COL32(HandleGroupColor(active_group_)[0],
+                                          HandleGroupColor(active_group_)[1],
+                                          HandleGroupColor(active_group_)[2], 255)
                                : IM_COL32(60, 60, 60, 255);
   if (gesture_ == Gesture::kLasso && lasso_points_.size() > 1) {
     std::vector<ImVec2> points;

@@ -13,8 +13,9 @@ Rgb LabelColor(VertexLabel label) {
 }
 
 Rgb HandleGroupColor(int group) {
-  // Group 0 the handle's red, then colours that none of the other labels use.
-  static const Rgb kOthers[] = {{240, 140, 20}, {200, 40, 200}, {230, 210, 30}, {140, 70, 30}};
+  // Group 0 the handle's red, then reds and pinks that neither the labels,
+  // the node classes (orange, magenta, grey) nor e''s viridis map use.
+  static const Rgb kOthers[] = {{240, 100, 170}, {140, 80, 30}, {120, 0, 50}, {255, 190, 220}};
   return group == 0 ? kHandleColor : kOthers[(group - 1) % 4];
 }
 

@@ -68,7 +68,14 @@ class Runner {
     if (kind == "drag") return Drag(args, action.where, error);
     if (kind == "mouse_drag") {
       const std::string mode = args.value("mode", "translate");
-      if (args.contains("group")) app_->set_active_group(args["group"].get<int>());
+      if (args.contains("group")) {
+        const int group = args["group"].get<int>();
+        if (session_.ready() && session_.LayoutGroupOfLabel(group) < 0) {
+          *error = "group: handle group " + std::to_string(group) + " has no vertex";
+          return false;
+        }
+        app_->set_active_group(group);
+      }
       return app_->MouseDragHandle(
           Eigen::Vector2d(args["by"][0].get<double>(), args["by"][1].get<double>()),
           args.value("steps", 10),

@@ -298,6 +298,34 @@ TEST(HandlesTest, TargetsBecomeEachGroupsRigidOrAffineMap) {
   EXPECT_EQ(error, "8 targets for 9 moveable vertices");
 }
 
+// A group on a line leaves the spin about it free: a translation of it is
+// fitted with no rotation, and a turn of the line by the least rotation.
+TEST(HandlesTest, TargetsOfAGroupOnALineGetTheLeastRotation) {
+  Eigen::Matrix3Xd rest(3, 3);
+  rest << 0, 1, 2,  //
+      0, 0, 0,      //
+      0, 0, 0;
+  HandleLayout layout;
+  layout.moveable = {0, 1, 2};
+  HandleTransforms fitted;
+  std::string error;
+  const Eigen::Vector3d shift(0.5, -1.0, 2.0);
+  ASSERT_TRUE(HandleTransformsFromTargets(rest, layout, rest.colwise() + shift, 1e-9, &fitted,
+                                          &error))
+      << error;
+  EXPECT_LT((fitted[0].linear() - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+  EXPECT_LT((fitted[0].translation() - shift).norm(), 1e-12);
+  // The line turned onto the y axis: a quarter turn about z.
+  Eigen::Matrix3Xd turned(3, 3);
+  turned << 0, 0, 0,  //
+      0, 1, 2,        //
+      0, 0, 0;
+  ASSERT_TRUE(HandleTransformsFromTargets(rest, layout, turned, 1e-9, &fitted, &error)) << error;
+  const Eigen::Matrix3d quarter =
+      Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  EXPECT_LT((fitted[0].linear() - quarter).norm(), 1e-12);
+}
+
 // A .sel file holds one group: a layout of two is refused, no file written.
 TEST(HandlesTest, WriteSelRefusesSeveralHandleGroups) {
   HandleLayout layout;

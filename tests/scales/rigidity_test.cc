@@ -170,6 +170,51 @@ TEST(RigidityTest, ParticlesOfVerticesAreUniqueAndChecked) {
   EXPECT_FALSE(ParticlesOfVertices(lattice, {-1}, &particles, &error));
 }
 
+TEST(RigidityTest, HandleGroupsOfParticlesFollowOneGroupAndYieldToFixed) {
+  const Mesh bar = MakeBar(4, 1.0, 4);
+  const Lattice lattice = BuildTestLattice(bar, /*cell_width=*/1.0);  // 16+ vertices a cell
+  // a, b and a third vertex (fixed below) of one cell, and c of another.
+  std::vector<std::vector<int>> of_particle(lattice.num_particles());
+  for (int v = 0; v < bar.num_vertices(); ++v) {
+    of_particle[lattice.particle_of_vertex(v)].push_back(v);
+  }
+  const auto crowded = std::find_if(of_particle.begin(), of_particle.end(),
+                                    [](const std::vector<int>& list) { return list.size() >= 3; });
+  ASSERT_NE(crowded, of_particle.end());
+  const int a = (*crowded)[0], b = (*crowded)[1];
+  const int c = of_particle[crowded == of_particle.begin() ? 1 : 0].empty()
+                    ? -1
+                    : of_particle[crowded == of_particle.begin() ? 1 : 0][0];
+  ASSERT_GE(c, 0);
+  std::vector<int> group;
+  std::string error;
+  HandleLayout layout;
+  layout.moveable = {a, b, c};
+  std::sort(layout.moveable.begin(), layout.moveable.end());
+  for (int v : layout.moveable) layout.group.push_back(v == a ? 0 : 1);  // a alone in group 0
+  // a and b share a cell but not a group: refused, naming both.
+  EXPECT_FALSE(HandleGroupOfParticles(lattice, layout, &group, &error));
+  EXPECT_NE(error.find("a lattice cell holds vertices of handle groups"), std::string::npos)
+      << error;
+  // The shared cell also holding a fixed vertex stays fixed: no conflict; but
+  // then group 0 (a alone) has no cell that moves.
+  for (int v = 0; v < bar.num_vertices(); ++v) {
+    if (v != a && v != b && lattice.particle_of_vertex(v) == lattice.particle_of_vertex(a)) {
+      layout.fixed = {v};
+      break;
+    }
+  }
+  ASSERT_EQ(layout.fixed.size(), 1u);
+  EXPECT_FALSE(HandleGroupOfParticles(lattice, layout, &group, &error));
+  EXPECT_EQ(error, "every lattice cell of handle group 0 also holds a fixed vertex: that handle "
+                   "cannot move; separate the handles");
+  // One group: it moves by c's cell; the shared cell is fixed.
+  layout.group.clear();
+  ASSERT_TRUE(HandleGroupOfParticles(lattice, layout, &group, &error)) << error;
+  EXPECT_EQ(group[lattice.particle_of_vertex(a)], kFixedParticle);
+  EXPECT_EQ(group[lattice.particle_of_vertex(c)], 0);
+}
+
 TEST(RigidityTest, EstimateRejectsBadHandles) {
   const Lattice lattice = BuildTestLattice(MakeBar(4));
   RigidityEstimator estimator;

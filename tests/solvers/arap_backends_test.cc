@@ -7,6 +7,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -232,19 +233,27 @@ TEST(ArapBackendsTest, AndersonReachesThePlainMinimumInFewerIterations) {
 
 // The three solvers from rest to the same minimum on a bent bar (fixed
 // first voxel, handle last), with exact and with soft constraints (Ceres's
-// extra block): energies to 1e-8 relative, vertices to 1e-6 of the
-// diagonal.
-class SameMinimumTest : public testing::TestWithParam<ArapConstraints> {};
+// extra block), and with the handle split in two groups (its lower and
+// upper half; the upper one also lifted): energies to 1e-8 relative,
+// vertices to 1e-6 of the diagonal.
+class SameMinimumTest
+    : public testing::TestWithParam<std::tuple<ArapConstraints, bool>> {};
 
 TEST_P(SameMinimumTest, AllBackendsReachIt) {
-  const BarEdit bar(8, 3);
+  const auto [constraints, two_groups] = GetParam();
+  BarEdit bar(8, 3);
   const double diagonal = BoundingBoxDiagonal(bar.mesh);
-  const Eigen::Affine3d handle = BentBarHandle();
+  HandleTransforms handle = BentBarHandle();
+  if (two_groups) {
+    for (int v : bar.layout.moveable) bar.layout.group.push_back(bar.mesh.vertices(1, v) > 0.5);
+    handle = HandleTransforms(
+        {BentBarHandle(), Eigen::Translation3d(0.0, 0.0, 0.2) * BentBarHandle()});
+  }
   std::vector<double> energies;
   std::vector<Eigen::Matrix3Xd> vertices;
   for (Backend backend : kBackends) {
     DeformerOptions options = ArapOptionsFor(backend);
-    options.arap.constraints = GetParam();
+    options.arap.constraints = constraints;
     options.stopping.max_iterations = 5000;
     // Levenberg-Marquardt's tail is slow on this energy (5000 iterations
     // end 1.9e-8 above the minimum; docs/decisions/arap-solvers.md): dogleg for Ceres.
@@ -260,7 +269,7 @@ TEST_P(SameMinimumTest, AllBackendsReachIt) {
     DragStats stats;
     ASSERT_TRUE(session->Drag(handle, &stats, &error)) << Name(backend) << ": " << error;
     vertices.push_back(session->deformed_vertices());
-    if (GetParam() == ArapConstraints::kExact) {
+    if (constraints == ArapConstraints::kExact) {
       // The spokes alone: with soft constraints the energy has position terms too.
       energies.push_back(
           SpokeEnergy(*FindSubspaceArap(setup->energy()), bar.mesh, session->deformed_vertices()));
@@ -276,8 +285,10 @@ TEST_P(SameMinimumTest, AllBackendsReachIt) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Constraints, SameMinimumTest,
-                         testing::Values(ArapConstraints::kExact, ArapConstraints::kSoft));
+INSTANTIATE_TEST_SUITE_P(ConstraintsAndGroups, SameMinimumTest,
+                         testing::Combine(testing::Values(ArapConstraints::kExact,
+                                                          ArapConstraints::kSoft),
+                                          testing::Bool()));
 
 // A rigid motion of the handle with nothing fixed: the optimum lies in the
 // subspace (every node moved by it); each solver reaches it from rest with
