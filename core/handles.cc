@@ -100,9 +100,13 @@ bool HandleTransforms::CheckFinite(std::string* error) const {
 }
 
 bool HandleTransforms::Fits(const HandleLayout& layout, std::string* error) const {
-  if (size() == 1 || size() == layout.num_groups()) return true;
+  return Fits(layout.num_groups(), error);
+}
+
+bool HandleTransforms::Fits(int num_groups, std::string* error) const {
+  if (size() == 1 || size() == num_groups) return true;
   *error = std::to_string(size()) + " handle transforms for a layout of " +
-           std::to_string(layout.num_groups()) + " handle groups (give one, or one a group)";
+           std::to_string(num_groups) + " handle groups (give one, or one a group)";
   return false;
 }
 

@@ -85,6 +85,8 @@ class HandleTransforms {
   // One transform, or one a group of `layout`; else *error says how many
   // were given and expected.
   bool Fits(const HandleLayout& layout, std::string* error) const;
+  // The same for a layout of `num_groups` groups.
+  bool Fits(int num_groups, std::string* error) const;
 
  private:
   std::vector<Eigen::Affine3d> transforms_ = {Eigen::Affine3d::Identity()};

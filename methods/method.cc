@@ -35,10 +35,8 @@ bool EditingMethod::Drag(const HandleTransforms& deformed_from_rest, MethodStats
     *error = name_ + ": Drag before a successful SetHandles";
     return false;
   }
-  if (!deformed_from_rest.CheckFinite(error)) return false;
-  if (deformed_from_rest.size() != 1 && deformed_from_rest.size() != num_handle_groups_) {
-    *error = std::to_string(deformed_from_rest.size()) + " handle transforms for a layout of " +
-             std::to_string(num_handle_groups_) + " handle groups (give one, or one a group)";
+  if (!deformed_from_rest.CheckFinite(error) ||
+      !deformed_from_rest.Fits(num_handle_groups_, error)) {
     return false;
   }
   MethodStats local;

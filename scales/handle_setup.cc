@@ -174,6 +174,7 @@ void HandleSetup::BuildEnergy() {
   const int n = graph.num_nodes();
   energy_ = DeformationEnergy();
   energy_.node_class = node_classes_;
+  energy_.num_handle_groups = handles_.num_groups();
   num_coherence_terms_ = 0;
   num_position_terms_ = 0;
 
@@ -233,7 +234,6 @@ void HandleSetup::BuildEnergy() {
   // handles are held at rest (handle_group -1; static baselines: all;
   // multi-scale: see below).
   const double sqrt_con = std::sqrt(options.w_con) * length_scale;
-  energy_.num_handle_groups = handles_.num_groups();
   auto add_position = [&](int v, int handle_group) {
     DeformationEnergy::Position term;
     for (int slot = 0; slot < graph.weights.k(); ++slot) {

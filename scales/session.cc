@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <utility>
+#include <vector>
 
 #include <glog/logging.h>
 
@@ -45,7 +46,7 @@ bool Session::Drag(const HandleTransforms& deformed_from_rest, DragStats* stats,
                    std::string* error) {
   const auto frame_start = std::chrono::steady_clock::now();
   if (!deformed_from_rest.CheckFinite(error) ||
-      !deformed_from_rest.Fits(setup_->handles(), error)) {
+      !deformed_from_rest.Fits(setup_->energy().num_handle_groups, error)) {
     return false;
   }
   const Precompute& pre = setup_->precompute();
@@ -106,9 +107,13 @@ bool Session::Drag(const HandleTransforms& deformed_from_rest, DragStats* stats,
   // The vertices a term family places exactly (the subspace ARAP energy's
   // exact constraints: constants outside the subspace).
   for (const std::shared_ptr<const TermFamily>& family : setup_->energy().families) {
+    // One transform for every group needs no group lookup (a binary search
+    // a vertex, every frame).
+    const bool one = deformed_from_rest.size() == 1;
     for (int v : family->exact_moveable()) {
-      deformed_vertices_.col(v) = deformed_from_rest[setup_->handles().GroupOfVertex(v)] *
-                                  Eigen::Vector3d(pre.mesh().vertices.col(v));
+      const Eigen::Affine3d& transform =
+          deformed_from_rest[one ? 0 : setup_->handles().GroupOfVertex(v)];
+      deformed_vertices_.col(v) = transform * Eigen::Vector3d(pre.mesh().vertices.col(v));
     }
     for (int v : family->exact_fixed()) deformed_vertices_.col(v) = pre.mesh().vertices.col(v);
   }
@@ -133,10 +138,16 @@ const Eigen::Matrix3Xd& Session::deformed_normals() const {
     // The exact constraints' vertices are not skinned positions: their
     // normals are the handle's transform of the rest normal (its inverse
     // transpose) and the rest normal.
+    // One normal transform a group (one for all when the frame gave one).
+    std::vector<Eigen::Matrix3d> normal_transforms;
+    for (int g = 0; g < handle_.size(); ++g) {
+      normal_transforms.push_back(handle_[g].linear().inverse().transpose());
+    }
+    const bool one = handle_.size() == 1;
     for (const std::shared_ptr<const TermFamily>& family : setup_->energy().families) {
       for (int v : family->exact_moveable()) {
-        const Eigen::Matrix3d normal_transform =
-            handle_[setup_->handles().GroupOfVertex(v)].linear().inverse().transpose();
+        const Eigen::Matrix3d& normal_transform =
+            normal_transforms[one ? 0 : setup_->handles().GroupOfVertex(v)];
         const Eigen::Vector3d n = normal_transform * Eigen::Vector3d(pre.rest_normals().col(v));
         const double length = n.norm();
         deformed_normals_.col(v) =
